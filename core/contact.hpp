@@ -1,0 +1,120 @@
+// Clearance contact between two spheres (thesis §3.1; model-notes §1-§3).
+//
+// The force pipeline, written once for every law:
+//   penetration delta = |p_ball - p_socket| - c           (thesis 3.1, 3.15)
+//   elastic force     F_el = K delta^n                     (geometry: Hertz, thesis 3.3)
+//   normal force      F_n = max(0, F_el (1 + chi(c_r) * delta' / delta'^-))
+//                                                          (law: chi; thesis 3.6-3.8)
+// delta'^- is the approach speed latched at the onset of a contact episode by the integration
+// driver, on an accepted step, never inside the right-hand side. It is guarded from below by
+// `min_impact_speed` so chi/delta'^- stays bounded for resting contact.
+// The clamp at zero is the single no-pull rule: a contact never pulls (unlike thesis eq. 3.14).
+#pragma once
+
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "core/math.hpp"
+#include "core/rigid_body.hpp"
+
+namespace rodend {
+
+/// Discrete state of one contact: changes only between accepted steps.
+struct ContactLatch {
+  bool in_contact = false;    ///< a contact episode is under way
+  double impact_speed = 0.0;  ///< approach speed delta'^- latched at onset [m/s]
+};
+
+/// A normal-contact law F = F_el (1 + chi delta'/delta'^-): it supplies chi(c_r).
+class NormalLaw {
+ public:
+  virtual ~NormalLaw() = default;
+  virtual std::string_view name() const = 0;
+  /// Hysteresis factor chi for the requested restitution coefficient c_r [-].
+  virtual double hysteresis_factor(double restitution) const = 0;
+  /// Laws that divide by c_r are undefined at c_r = 0 and reject it.
+  virtual bool defined_at_zero_restitution() const { return true; }
+};
+
+/// The catalogue of normal laws (core/laws/*.cpp, listed in core/laws/normal_laws.def).
+const NormalLaw* find_normal_law(std::string_view name);
+std::span<const NormalLaw* const> normal_laws();
+
+/// A friction law: coefficient mu(|v_t|) in F_t = -mu F_n v_t/|v_t| (thesis 3.11).
+class FrictionLaw {
+ public:
+  virtual ~FrictionLaw() = default;
+  virtual std::string_view name() const = 0;
+  /// Friction coefficient at slip speed `v` >= 0 [m/s]; 0 at v = 0 so the force is continuous.
+  virtual double coefficient(double slip_speed) const = 0;
+};
+
+/// Parameters shared by the friction laws (each uses the ones it needs).
+struct FrictionParams {
+  std::string law = "thesis";       ///< thesis | ambrosio | coulomb | none
+  double static_coefficient = 0.0;  ///< mu_st [-] (thesis 3.9)
+  double dynamic_coefficient = 0.0; ///< mu_dyn [-] (thesis 3.9); c_f of Ambrosio; mu of Coulomb
+  double static_speed = 1e-3;       ///< v_st [m/s] (thesis 3.9); v0 of Ambrosio; v_eps of Coulomb
+  double dynamic_speed = 1e-2;      ///< v_dyn [m/s] (thesis 3.9); v1 of Ambrosio
+  double viscous_coefficient = 0.0; ///< mu_v [s/m] (thesis 3.9)
+};
+std::unique_ptr<FrictionLaw> make_friction_law(const FrictionParams& p);
+std::span<const std::string_view> friction_law_names();
+
+/// Cubic blend of thesis eq. 3.10.
+double smooth_step(double x, double x0, double f0, double x1, double f1);
+
+/// Immutable model of one sphere-in-sphere clearance contact.
+struct SphericalContactModel {
+  double ball_radius = 0.0;       ///< R_b [m]
+  double clearance = 0.0;         ///< radial clearance c = R_s - R_b [m]
+  double stiffness = 0.0;         ///< K [N/m^n]
+  double exponent = 1.5;          ///< n [-]
+  double hysteresis = 0.0;        ///< chi [-]
+  double min_impact_speed = 1e-3; ///< guard on delta'^- [m/s]
+  std::shared_ptr<const FrictionLaw> friction;  ///< null: frictionless
+
+  double socket_radius() const { return ball_radius + clearance; }
+};
+
+/// Hertz stiffness of a ball inside a conformal socket (model-notes §1; thesis 3.4-3.5 fixed):
+/// K = 4/3 E* sqrt(R*), R* = R_b R_s / (R_s - R_b), 1/E* = (1-nu_b^2)/E_b + (1-nu_s^2)/E_s.
+double sphere_in_sphere_stiffness(double ball_radius, double socket_radius, double E_ball,
+                                  double nu_ball, double E_socket, double nu_socket);
+
+/// Everything the contact computes at one instant.
+struct ContactEval {
+  Vec3 normal = Vec3::UnitX();  ///< unit vector from socket centre to ball centre
+  double eccentricity = 0.0;    ///< |p_socket - p_ball| [m]
+  double penetration = 0.0;     ///< delta [m], negative for a gap
+  double penetration_rate = 0.0;///< delta' [m/s]
+  double elastic_force = 0.0;   ///< F_el [N]
+  double normal_force = 0.0;    ///< F_n >= 0 [N]
+  Vec3 normal_force_on_ball = Vec3::Zero();   ///< [N]
+  Vec3 friction_on_ball = Vec3::Zero();       ///< [N]
+  Vec3 moment_on_ball = Vec3::Zero();         ///< friction moment about ball centre [N m]
+  Vec3 moment_on_socket = Vec3::Zero();       ///< friction moment about socket centre [N m]
+  double slip_speed = 0.0;      ///< |v_t| [m/s]
+  double potential = 0.0;       ///< elastic energy K delta^(n+1)/(n+1) [J]
+  double damping_power = 0.0;   ///< power dissipated by hysteresis damping [W], >= 0
+  double friction_power = 0.0;  ///< power dissipated by friction [W], >= 0
+
+  Vec3 force_on_ball() const { return normal_force_on_ball + friction_on_ball; }
+};
+
+/// Penetration and its rate only (cheap; used by the driver to latch onsets).
+struct ContactGap {
+  double penetration;
+  double penetration_rate;
+};
+ContactGap contact_gap(const SphericalContactModel& m, const BodyKinematics& ball,
+                       const BodyKinematics& socket);
+
+/// Full contact evaluation. The latch supplies delta'^-; before the driver has latched an
+/// episode (trial stages past an onset), the current approach speed stands in for it.
+ContactEval evaluate_contact(const SphericalContactModel& m, const BodyKinematics& ball,
+                             const BodyKinematics& socket, const ContactLatch& latch);
+
+}  // namespace rodend

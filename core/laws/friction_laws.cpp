@@ -1,0 +1,73 @@
+// Friction laws: mu(|v_t|) in F_t = -mu F_n v_t/|v_t|.
+#include <array>
+#include <cmath>
+#include <stdexcept>
+
+#include "core/contact.hpp"
+
+namespace rodend {
+namespace {
+
+/// The thesis's empirical law (thesis 3.9-3.10, model-notes §2): mu rises from 0 at zero slip
+/// to mu_st at v_st along the cubic step centred on 0, blends to mu_dyn at v_dyn, plus a
+/// viscous term mu_v v.
+class ThesisFriction final : public FrictionLaw {
+ public:
+  explicit ThesisFriction(const FrictionParams& p) : p_(p) {}
+  std::string_view name() const override { return "thesis"; }
+  double coefficient(double v) const override {
+    const double st = p_.static_coefficient - p_.viscous_coefficient * p_.static_speed;
+    const double dyn = p_.dynamic_coefficient - p_.viscous_coefficient * p_.dynamic_speed;
+    const double base = (v <= p_.static_speed)
+                            ? smooth_step(v, -p_.static_speed, -st, p_.static_speed, st)
+                            : smooth_step(v, p_.static_speed, st, p_.dynamic_speed, dyn);
+    return base + p_.viscous_coefficient * v;
+  }
+
+ private:
+  FrictionParams p_;
+};
+
+/// Ambrosio's law (model-notes §2): mu = c_f c_d, c_d ramping linearly from 0 at v0 to 1 at v1.
+class AmbrosioFriction final : public FrictionLaw {
+ public:
+  explicit AmbrosioFriction(const FrictionParams& p) : p_(p) {}
+  std::string_view name() const override { return "ambrosio"; }
+  double coefficient(double v) const override {
+    const double v0 = p_.static_speed, v1 = p_.dynamic_speed;
+    const double cd = v <= v0 ? 0.0 : (v >= v1 ? 1.0 : (v - v0) / (v1 - v0));
+    return p_.dynamic_coefficient * cd;
+  }
+
+ private:
+  FrictionParams p_;
+};
+
+/// Regularised Coulomb: mu = mu_dyn tanh(v / v_eps), v_eps = static_speed.
+class CoulombFriction final : public FrictionLaw {
+ public:
+  explicit CoulombFriction(const FrictionParams& p) : p_(p) {}
+  std::string_view name() const override { return "coulomb"; }
+  double coefficient(double v) const override {
+    return p_.dynamic_coefficient * std::tanh(v / p_.static_speed);
+  }
+
+ private:
+  FrictionParams p_;
+};
+
+constexpr std::array<std::string_view, 4> kNames{"thesis", "ambrosio", "coulomb", "none"};
+
+}  // namespace
+
+std::span<const std::string_view> friction_law_names() { return kNames; }
+
+std::unique_ptr<FrictionLaw> make_friction_law(const FrictionParams& p) {
+  if (p.law == "thesis") return std::make_unique<ThesisFriction>(p);
+  if (p.law == "ambrosio") return std::make_unique<AmbrosioFriction>(p);
+  if (p.law == "coulomb") return std::make_unique<CoulombFriction>(p);
+  if (p.law == "none") return nullptr;
+  throw std::invalid_argument("unknown friction law '" + p.law + "'");
+}
+
+}  // namespace rodend

@@ -1,0 +1,55 @@
+// Parameter sets: a tree of named values, each with its unit and provenance.
+//
+// A scene's default parameter file (core/scenes/<scene>.params.json, embedded in the binary)
+// holds leaves of the form
+//   {"value": 0.2, "unit": "kg", "source": "thesis", "note": "thesis §3.3"}
+// with source one of "thesis", "assumed" (the note gives the reason) or "derived" (the note
+// says from what). String leaves may list their allowed "choices". Overrides address leaves by
+// dotted key path ("contact.clearance") and must match the leaf's type.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/errors.hpp"
+#include "core/math.hpp"
+
+namespace rodend {
+
+using Json = nlohmann::json;
+
+class ParameterSet {
+ public:
+  ParameterSet() = default;
+  /// Parses a parameter tree; `origin` names it in error messages. Checks every leaf's form.
+  static ParameterSet from_json(const Json& tree, const std::string& origin);
+  /// The embedded defaults of a scene.
+  static ParameterSet defaults_for(std::string_view scene);
+
+  /// Replaces the value at `path`. Throws InputError (key path `path`) for an unknown key or a
+  /// value of the wrong type or outside the leaf's choices.
+  void set(const std::string& path, const Json& value);
+  bool has(const std::string& path) const;
+
+  double number(const std::string& path) const;
+  std::string text(const std::string& path) const;
+  bool flag(const std::string& path) const;
+  Vec3 vec3(const std::string& path) const;
+
+  /// All leaves as {"dotted.path": value}, keys sorted.
+  Json values() const;
+  /// All leaves as {"dotted.path": {"value", "unit", "source", "note"}}.
+  Json leaves() const;
+  /// Every leaf path, sorted.
+  std::vector<std::string> paths() const;
+  /// The unit of a leaf ("" if none).
+  std::string unit(const std::string& path) const;
+
+ private:
+  const Json& leaf(const std::string& path) const;
+  Json tree_;
+};
+
+}  // namespace rodend

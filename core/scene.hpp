@@ -1,0 +1,92 @@
+// A scene: the immutable model of one simulated system, composed of parts (bodies, the
+// contact, springs, drivers, loads). Its state vector holds only the parts present.
+//
+// Model apart from data (as MuJoCo's mjModel / mjData): a Scene is constant after it is built
+// and may be shared between threads. Everything that changes lives in the state vector `x`
+// (continuous) or in DiscreteState (latched between accepted steps by the integration driver).
+#pragma once
+
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/contact.hpp"
+#include "core/params.hpp"
+#include "core/signals.hpp"
+
+namespace rodend {
+
+/// State that changes only between accepted steps.
+struct DiscreteState {
+  std::vector<ContactLatch> contacts;  ///< one per contact of the scene
+};
+
+/// Energy-audit terms at one instant [J]. `input_work` and `dissipated` are time integrals the
+/// scene carries as states of its own.
+struct EnergyTerms {
+  double mechanical = 0.0;   ///< kinetic + potential (gravity, springs, contact)
+  double input_work = 0.0;   ///< work of prescribed motions and applied loads since t = 0
+  double dissipated = 0.0;   ///< energy dissipated since t = 0
+};
+
+class Scene {
+ public:
+  virtual ~Scene() = default;
+  virtual std::string_view name() const = 0;
+
+  // --- state --------------------------------------------------------------------------------
+  /// Number of continuous states.
+  virtual int state_size() const = 0;
+  /// Initial continuous state.
+  virtual void initial_state(double* x) const = 0;
+  /// Characteristic magnitude of each state, in its own unit. The driver integrates x / scale,
+  /// so one scalar tolerance means the same thing for micrometres, metres and pascals.
+  virtual void state_scale(double* scale) const = 0;
+  /// Offsets of the unit quaternions in the state (renormalised by the driver between steps).
+  virtual std::span<const int> quaternion_offsets() const { return {}; }
+  /// Offsets of states that are only bookkeeping (energy integrals): excluded from error control.
+  virtual std::span<const int> audit_offsets() const { return {}; }
+
+  // --- dynamics -----------------------------------------------------------------------------
+  /// dx/dt at (t, x) with the discrete state `d`. Reads only the model, t, x and d.
+  virtual void derivatives(double t, const double* x, const DiscreteState& d,
+                           double* dxdt) const = 0;
+
+  // --- contacts (the driver latches their onsets) -------------------------------------------
+  virtual int contact_count() const { return 0; }
+  virtual ContactGap contact_gap(int /*contact*/, const double* /*x*/) const { return {-1.0, 0.0}; }
+  /// Clearance of a contact [m] (for penetration health checks).
+  virtual double contact_clearance(int /*contact*/) const { return 0.0; }
+
+  // --- outputs ------------------------------------------------------------------------------
+  /// The catalogue signals this scene provides (time is always provided).
+  virtual std::span<const SignalId> signals() const = 0;
+  /// Fills the frame with this scene's signals at (t, x, d), energy terms included.
+  virtual void outputs(double t, const double* x, const DiscreteState& d,
+                       SignalFrame& frame) const = 0;
+  /// Energy terms at (t, x).
+  virtual EnergyTerms energy(double t, const double* x, const DiscreteState& d) const = 0;
+};
+
+/// Builds a scene from its resolved parameters; throws InputError (key path into the
+/// parameters) for non-physical values.
+using SceneFactory = std::unique_ptr<Scene> (*)(const ParameterSet&);
+
+struct SceneEntry {
+  std::string_view name;
+  SceneFactory make;
+  std::string_view summary;
+};
+
+/// The catalogue of scenes (core/scenes/scenes.def).
+std::span<const SceneEntry> scene_catalogue();
+const SceneEntry* find_scene(std::string_view name);
+/// The embedded default parameter file of a scene (throws InputError for an unknown scene).
+std::string_view scene_default_parameters_json(std::string_view scene);
+
+/// Builds a scene by name from parameters (defaults plus overrides).
+std::unique_ptr<Scene> make_scene(std::string_view name, const ParameterSet& params);
+
+}  // namespace rodend

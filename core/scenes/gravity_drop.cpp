@@ -1,0 +1,109 @@
+// Scene gravity-drop: the socket is fixed (ground); the ball falls under gravity onto it
+// (thesis §3.3, fig. 3.24). Checks the contact: static Hertz penetration, no lateral drift,
+// restitution of an elastic contact.
+//
+// State: ball (13) | dissipated energy [J] (1).
+#include <array>
+
+#include "core/scene.hpp"
+#include "core/scenes/parts.hpp"
+
+namespace rodend {
+namespace {
+
+constexpr int kBall = 0;
+constexpr int kDissipated = BodyStateLayout::size;
+constexpr int kStates = kDissipated + 1;
+
+constexpr std::array kSignals{
+    SignalId::time,          SignalId::ball_position,      SignalId::ball_velocity,
+    SignalId::ball_angular_velocity, SignalId::socket_position, SignalId::eccentricity_vector,
+    SignalId::eccentricity,  SignalId::relative_position,  SignalId::penetration,
+    SignalId::penetration_rate, SignalId::impact_speed,    SignalId::contact_force_vector,
+    SignalId::contact_force, SignalId::friction_force_vector, SignalId::friction_force,
+    SignalId::slip_speed,    SignalId::wear_indicator,     SignalId::contact_angle,
+    SignalId::mechanical_energy, SignalId::input_work,     SignalId::dissipated_energy,
+    SignalId::energy_residual, SignalId::quaternion_norm_error};
+constexpr std::array kQuaternions{kBall + BodyStateLayout::q};
+constexpr std::array kAudit{kDissipated};
+
+class GravityDropScene final : public Scene {
+ public:
+  explicit GravityDropScene(const ParameterSet& p)
+      : ball_(read_body(p, "ball")),
+        contact_(read_spherical_contact(p, "contact", "friction")),
+        gravity_(p.vec3("gravity")),
+        offset_(p.vec3("ball.initial_offset")),
+        v0_(p.vec3("ball.initial_velocity")),
+        socket_(BodyKinematics::fixed(Vec3::Zero())) {}
+
+  std::string_view name() const override { return "gravity-drop"; }
+  int state_size() const override { return kStates; }
+  void initial_state(double* x) const override {
+    body_initial_state(x + kBall, offset_, v0_);
+    x[kDissipated] = 0.0;
+  }
+  void state_scale(double* s) const override {
+    // lengths on the clearance, speeds on the free-fall impact speed sqrt(2 g c)
+    const double L = contact_.clearance;
+    const double V = std::max(std::sqrt(2.0 * gravity_.norm() * L), 1e-3);
+    for (int i = 0; i < 3; ++i) {
+      s[kBall + BodyStateLayout::p + i] = L;
+      s[kBall + BodyStateLayout::v + i] = V;
+      s[kBall + BodyStateLayout::w + i] = V / contact_.ball_radius;
+    }
+    for (int i = 0; i < 4; ++i) s[kBall + BodyStateLayout::q + i] = 1.0;
+    s[kDissipated] = 1.0;
+  }
+  std::span<const int> quaternion_offsets() const override { return kQuaternions; }
+  std::span<const int> audit_offsets() const override { return kAudit; }
+  int contact_count() const override { return 1; }
+  double contact_clearance(int) const override { return contact_.clearance; }
+  ContactGap contact_gap(int, const double* x) const override {
+    return rodend::contact_gap(contact_, BodyKinematics::from_state(x + kBall), socket_);
+  }
+
+  void derivatives(double, const double* x, const DiscreteState& d,
+                   double* dxdt) const override {
+    const BodyKinematics ball = BodyKinematics::from_state(x + kBall);
+    const ContactEval c = evaluate_contact(contact_, ball, socket_, d.contacts[0]);
+    const Vec3 F = ball_.mass * gravity_ + c.force_on_ball();
+    body_derivatives(ball_, ball, F, c.moment_on_ball, x + kBall, dxdt + kBall);
+    dxdt[kDissipated] = c.damping_power + c.friction_power;
+  }
+
+  std::span<const SignalId> signals() const override { return kSignals; }
+  EnergyTerms energy(double, const double* x, const DiscreteState& d) const override {
+    const BodyKinematics ball = BodyKinematics::from_state(x + kBall);
+    const ContactEval c = evaluate_contact(contact_, ball, socket_, d.contacts[0]);
+    return {kinetic_energy(ball_, ball) - ball_.mass * gravity_.dot(ball.p_W) + c.potential, 0.0,
+            x[kDissipated]};
+  }
+  void outputs(double t, const double* x, const DiscreteState& d,
+               SignalFrame& f) const override {
+    const BodyKinematics ball = BodyKinematics::from_state(x + kBall);
+    const ContactEval c = evaluate_contact(contact_, ball, socket_, d.contacts[0]);
+    f.set(SignalId::ball_position, ball.p_W);
+    f.set(SignalId::ball_velocity, ball.v_W);
+    f.set(SignalId::ball_angular_velocity, ball.w_B);
+    f.set(SignalId::socket_position, socket_.p_W);
+    write_contact_signals(f, c, ball, socket_, d.contacts[0]);
+    const double e0 = 0.5 * ball_.mass * v0_.squaredNorm() - ball_.mass * gravity_.dot(offset_);
+    write_energy_signals(f, energy(t, x, d), e0);
+    f.set(SignalId::quaternion_norm_error, quaternion_norm_error(x, kBall + BodyStateLayout::q));
+  }
+
+ private:
+  RigidBodyParams ball_;
+  SphericalContactModel contact_;
+  Vec3 gravity_, offset_, v0_;
+  BodyKinematics socket_;
+};
+
+}  // namespace
+
+std::unique_ptr<Scene> make_gravity_drop_scene(const ParameterSet& p) {
+  return std::make_unique<GravityDropScene>(p);
+}
+
+}  // namespace rodend

@@ -1,0 +1,169 @@
+#include "core/scenes/parts.hpp"
+
+#include <cmath>
+#include <numbers>
+
+namespace rodend {
+
+double read_positive(const ParameterSet& p, const std::string& path, bool allow_zero) {
+  const double v = p.number(path);
+  if (allow_zero ? !(v >= 0.0) : !(v > 0.0))
+    throw InputError(path, std::string("expected a value ") + (allow_zero ? ">= 0" : "> 0") +
+                               " [" + p.unit(path) + "], got " + std::to_string(v));
+  return v;
+}
+
+RigidBodyParams read_body(const ParameterSet& p, const std::string& prefix) {
+  RigidBodyParams b;
+  b.mass = read_positive(p, prefix + ".mass");
+  b.inertia = p.vec3(prefix + ".inertia");
+  for (int i = 0; i < 3; ++i)
+    if (!(b.inertia[i] > 0.0))
+      throw InputError(prefix + ".inertia", "expected three principal moments > 0 [kg*m^2]");
+  return b;
+}
+
+SphericalContactModel read_spherical_contact(const ParameterSet& p, const std::string& prefix,
+                                             const std::string& fprefix) {
+  SphericalContactModel m;
+  m.ball_radius = read_positive(p, prefix + ".ball_radius");
+  const double c = p.number(prefix + ".clearance");
+  if (!(c > 0.0))
+    throw InputError(prefix + ".clearance",
+                     "expected a clearance > 0 [m] (the socket radius must exceed the ball "
+                     "radius), got " + std::to_string(c));
+  m.clearance = c;
+  const double Eb = read_positive(p, prefix + ".ball_youngs_modulus");
+  const double Es = read_positive(p, prefix + ".socket_youngs_modulus");
+  const double nub = p.number(prefix + ".ball_poisson_ratio");
+  const double nus = p.number(prefix + ".socket_poisson_ratio");
+  if (!(nub > -1.0 && nub < 0.5))
+    throw InputError(prefix + ".ball_poisson_ratio", "expected -1 < nu < 0.5");
+  if (!(nus > -1.0 && nus < 0.5))
+    throw InputError(prefix + ".socket_poisson_ratio", "expected -1 < nu < 0.5");
+  m.stiffness = p.number(prefix + ".stiffness_scale") *
+                sphere_in_sphere_stiffness(m.ball_radius, m.socket_radius(), Eb, nub, Es, nus);
+  if (!(m.stiffness > 0.0) || !std::isfinite(m.stiffness))
+    throw InputError(prefix + ".stiffness_scale", "expected a value > 0");
+  m.exponent = 1.5;
+  const std::string law_name = p.text(prefix + ".law");
+  const NormalLaw* law = find_normal_law(law_name);
+  if (!law) throw InputError(prefix + ".law", "unknown normal-contact law '" + law_name + "'");
+  const double cr = p.number(prefix + ".restitution");
+  if (!(cr >= 0.0 && cr <= 1.0))
+    throw InputError(prefix + ".restitution", "expected a restitution coefficient in [0, 1]");
+  if (cr == 0.0 && !law->defined_at_zero_restitution())
+    throw InputError(prefix + ".restitution",
+                     "law '" + law_name + "' divides by c_r and is undefined at c_r = 0");
+  m.hysteresis = law->hysteresis_factor(cr);
+  m.min_impact_speed = read_positive(p, prefix + ".min_impact_speed");
+
+  FrictionParams f;
+  f.law = p.text(fprefix + ".law");
+  f.static_coefficient = read_positive(p, fprefix + ".static_coefficient", true);
+  f.dynamic_coefficient = read_positive(p, fprefix + ".dynamic_coefficient", true);
+  f.static_speed = read_positive(p, fprefix + ".static_speed");
+  f.dynamic_speed = read_positive(p, fprefix + ".dynamic_speed");
+  f.viscous_coefficient = read_positive(p, fprefix + ".viscous_coefficient", true);
+  if (f.law != "coulomb" && !(f.dynamic_speed > f.static_speed))
+    throw InputError(fprefix + ".dynamic_speed", "expected dynamic_speed > static_speed");
+  try {
+    m.friction = make_friction_law(f);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(fprefix + ".law", e.what());
+  }
+  return m;
+}
+
+Spring3DParams read_spring(const ParameterSet& p, const std::string& prefix) {
+  Spring3DParams s;
+  s.stiffness = read_positive(p, prefix + ".stiffness", true);
+  s.damping = read_positive(p, prefix + ".damping", true);
+  s.rotational_stiffness = read_positive(p, prefix + ".rotational_stiffness", true);
+  s.rotational_damping = read_positive(p, prefix + ".rotational_damping", true);
+  return s;
+}
+
+LoadProfile read_load(const ParameterSet& p, const std::string& prefix) {
+  LoadProfile l;
+  const std::string kind = p.text(prefix + ".kind");
+  if (kind == "constant")
+    l.kind = LoadProfile::Kind::constant;
+  else if (kind == "sine")
+    l.kind = LoadProfile::Kind::sine;
+  else if (kind == "ramp")
+    l.kind = LoadProfile::Kind::ramp;
+  else
+    throw InputError(prefix + ".kind", "expected \"constant\", \"sine\" or \"ramp\"");
+  l.amplitude = p.vec3(prefix + ".amplitude");
+  l.frequency = read_positive(p, prefix + ".frequency", true);
+  l.ramp_time = read_positive(p, prefix + ".ramp_time");
+  const std::string frame = p.text(prefix + ".frame");
+  if (frame != "inertial" && frame != "body")
+    throw InputError(prefix + ".frame", "expected \"inertial\" or \"body\"");
+  l.body_frame = frame == "body";
+  return l;
+}
+
+Vec3 LoadProfile::at(double t) const {
+  switch (kind) {
+    case Kind::constant: return amplitude;
+    case Kind::sine: return amplitude * std::sin(2.0 * std::numbers::pi * frequency * t);
+    case Kind::ramp: return amplitude * (t / ramp_time);
+  }
+  return Vec3::Zero();
+}
+
+Vec3 LoadProfile::integral(double t) const {
+  switch (kind) {
+    case Kind::constant: return amplitude * t;
+    case Kind::sine: {
+      const double w = 2.0 * std::numbers::pi * frequency;
+      return w > 0.0 ? Vec3(amplitude * (1.0 - std::cos(w * t)) / w) : Vec3::Zero();
+    }
+    case Kind::ramp: return amplitude * (0.5 * t * t / ramp_time);
+  }
+  return Vec3::Zero();
+}
+
+}  // namespace rodend
+
+namespace rodend {
+
+void write_energy_signals(SignalFrame& frame, const EnergyTerms& e, double initial_mechanical) {
+  frame.set(SignalId::mechanical_energy, e.mechanical);
+  frame.set(SignalId::input_work, e.input_work);
+  frame.set(SignalId::dissipated_energy, e.dissipated);
+  frame.set(SignalId::energy_residual,
+            (e.mechanical - initial_mechanical) - e.input_work + e.dissipated);
+}
+
+double quaternion_norm_error(const double* x, int o) {
+  return std::abs(std::sqrt(x[o] * x[o] + x[o + 1] * x[o + 1] + x[o + 2] * x[o + 2] +
+                            x[o + 3] * x[o + 3]) -
+                  1.0);
+}
+
+}  // namespace rodend
+
+namespace rodend {
+
+void write_contact_signals(SignalFrame& f, const ContactEval& c, const BodyKinematics& ball,
+                           const BodyKinematics& socket, const ContactLatch& latch) {
+  const Vec3 rel = ball.p_W - socket.p_W;
+  f.set(SignalId::eccentricity_vector, Vec3(-rel));
+  f.set(SignalId::eccentricity, c.eccentricity);
+  f.set(SignalId::relative_position, rel);
+  f.set(SignalId::penetration, c.penetration);
+  f.set(SignalId::penetration_rate, c.penetration_rate);
+  f.set(SignalId::impact_speed, latch.in_contact ? latch.impact_speed : 0.0);
+  f.set(SignalId::contact_force_vector, c.normal_force_on_ball);
+  f.set(SignalId::contact_force, c.normal_force);
+  f.set(SignalId::friction_force_vector, c.friction_on_ball);
+  f.set(SignalId::friction_force, c.friction_on_ball.norm());
+  f.set(SignalId::slip_speed, c.normal_force > 0.0 ? c.slip_speed : 0.0);
+  f.set(SignalId::wear_indicator, c.normal_force * c.slip_speed);
+  f.set(SignalId::contact_angle, std::atan2(rel.y(), rel.x()));
+}
+
+}  // namespace rodend

@@ -1,0 +1,68 @@
+// Reading the parts every scene shares (bodies, the contact, springs, loads) from parameters,
+// with the physical checks that go with them. Each throws InputError naming the key path.
+#pragma once
+
+#include <string>
+
+#include "core/contact.hpp"
+#include "core/params.hpp"
+#include "core/rigid_body.hpp"
+#include "core/scene.hpp"
+#include "core/spring3d.hpp"
+
+namespace rodend {
+
+/// `<prefix>.mass` [kg] > 0 and `<prefix>.inertia` [kg m^2] (3 principal moments) > 0.
+RigidBodyParams read_body(const ParameterSet& p, const std::string& prefix);
+
+/// Moment of inertia of a solid sphere, 2/5 m R^2 [kg m^2], for bodies given as spheres.
+inline double solid_sphere_inertia(double mass, double radius) {
+  return 0.4 * mass * radius * radius;
+}
+
+/// The clearance contact under `<prefix>` (clearance, ball_radius, materials, law, restitution,
+/// min_impact_speed) and the friction under `<friction_prefix>`.
+SphericalContactModel read_spherical_contact(const ParameterSet& p, const std::string& prefix,
+                                             const std::string& friction_prefix);
+
+/// A 3-D spring under `<prefix>` (stiffness, damping, rotational_stiffness, rotational_damping),
+/// all >= 0.
+Spring3DParams read_spring(const ParameterSet& p, const std::string& prefix);
+
+/// A number that must be > 0 (or >= 0 with allow_zero).
+double read_positive(const ParameterSet& p, const std::string& path, bool allow_zero = false);
+
+/// A load history: `<prefix>.kind` in {constant, sine, ramp}, `<prefix>.amplitude` (3 numbers),
+/// `<prefix>.frequency` [Hz] for sine, `<prefix>.ramp_time` [s] for ramp.
+///   constant: A;  sine: A sin(2 pi f t);  ramp: A t / T
+struct LoadProfile {
+  enum class Kind { constant, sine, ramp } kind = Kind::constant;
+  Vec3 amplitude = Vec3::Zero();
+  double frequency = 0.0;  ///< [Hz]
+  double ramp_time = 1.0;  ///< [s]
+  bool body_frame = false;  ///< the amplitude is in the body frame (else inertial)
+  Vec3 at(double t) const;
+  /// Time integral of at() from 0 to t, and its double integral (for closed forms in tests).
+  Vec3 integral(double t) const;
+};
+LoadProfile read_load(const ParameterSet& p, const std::string& prefix);
+
+}  // namespace rodend
+
+namespace rodend {
+
+/// Writes the energy-audit signals from the terms at t and the mechanical energy at t = 0.
+void write_energy_signals(SignalFrame& frame, const EnergyTerms& e, double initial_mechanical);
+
+/// | |q| - 1 | of the raw (unnormalised) quaternion stored at x[offset..offset+3].
+double quaternion_norm_error(const double* x, int offset);
+
+}  // namespace rodend
+
+namespace rodend {
+
+/// Writes the contact signals (eccentricity, penetration, forces, slip, wear indicator, ...).
+void write_contact_signals(SignalFrame& f, const ContactEval& c, const BodyKinematics& ball,
+                           const BodyKinematics& socket, const ContactLatch& latch);
+
+}  // namespace rodend

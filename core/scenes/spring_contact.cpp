@@ -1,0 +1,160 @@
+// Scene spring-contact (thesis §3.3, fig. 3.25-3.26): the socket is tethered to ground by a
+// 3-D spring; the ball is pulled through a second 3-D spring whose far end follows a ramp.
+// Both spheres start concentric at the origin, at rest.
+//
+// State: ball (13) | socket (13) | input work [J] (1) | dissipated energy [J] (1).
+#include <array>
+
+#include "core/scene.hpp"
+#include "core/scenes/parts.hpp"
+
+namespace rodend {
+namespace {
+
+constexpr int kBall = 0;
+constexpr int kSocket = BodyStateLayout::size;
+constexpr int kWork = 2 * BodyStateLayout::size;
+constexpr int kDissipated = kWork + 1;
+constexpr int kStates = kDissipated + 1;
+
+constexpr std::array kSignals{
+    SignalId::time,          SignalId::ball_position,      SignalId::ball_velocity,
+    SignalId::ball_angular_velocity, SignalId::ball_euler_321, SignalId::socket_position,
+    SignalId::socket_velocity, SignalId::socket_angular_velocity, SignalId::socket_euler_321,
+    SignalId::eccentricity_vector, SignalId::eccentricity, SignalId::relative_position,
+    SignalId::penetration,   SignalId::penetration_rate,   SignalId::impact_speed,
+    SignalId::contact_force_vector, SignalId::contact_force, SignalId::friction_force_vector,
+    SignalId::friction_force, SignalId::slip_speed,        SignalId::wear_indicator,
+    SignalId::contact_angle, SignalId::drive_anchor_position, SignalId::mechanical_energy,
+    SignalId::input_work,    SignalId::dissipated_energy,  SignalId::energy_residual,
+    SignalId::quaternion_norm_error};
+constexpr std::array kQuaternions{kBall + BodyStateLayout::q, kSocket + BodyStateLayout::q};
+constexpr std::array kAudit{kWork, kDissipated};
+
+class SpringContactScene final : public Scene {
+ public:
+  explicit SpringContactScene(const ParameterSet& p)
+      : ball_(read_body(p, "ball")),
+        socket_(read_body(p, "socket")),
+        contact_(read_spherical_contact(p, "contact", "friction")),
+        tether_(read_spring(p, "tether")),
+        drive_(read_spring(p, "drive")),
+        drive_velocity_(p.vec3("drive.velocity")),
+        drive_start_(read_positive(p, "drive.start_time", true)),
+        gravity_(p.vec3("gravity")) {}
+
+  std::string_view name() const override { return "spring-contact"; }
+  int state_size() const override { return kStates; }
+  void initial_state(double* x) const override {
+    body_initial_state(x + kBall, Vec3::Zero());
+    body_initial_state(x + kSocket, Vec3::Zero());
+    x[kWork] = 0.0;
+    x[kDissipated] = 0.0;
+  }
+  void state_scale(double* s) const override {
+    const double L = contact_.clearance;
+    const double V = std::max(drive_velocity_.norm(), 1e-3);
+    for (int b : {kBall, kSocket}) {
+      for (int i = 0; i < 3; ++i) {
+        s[b + BodyStateLayout::p + i] = L;
+        s[b + BodyStateLayout::v + i] = V;
+        s[b + BodyStateLayout::w + i] = V / contact_.ball_radius;
+      }
+      for (int i = 0; i < 4; ++i) s[b + BodyStateLayout::q + i] = 1.0;
+    }
+    s[kWork] = s[kDissipated] = 1.0;
+  }
+  std::span<const int> quaternion_offsets() const override { return kQuaternions; }
+  std::span<const int> audit_offsets() const override { return kAudit; }
+  int contact_count() const override { return 1; }
+  double contact_clearance(int) const override { return contact_.clearance; }
+  ContactGap contact_gap(int, const double* x) const override {
+    return rodend::contact_gap(contact_, BodyKinematics::from_state(x + kBall),
+                               BodyKinematics::from_state(x + kSocket));
+  }
+
+  /// The driven far end of the ball spring: at rest until start_time, then a ramp.
+  SpringAnchor drive_anchor(double t) const {
+    SpringAnchor a;
+    const double tau = std::max(t - drive_start_, 0.0);
+    a.p_W = drive_velocity_ * tau;
+    a.v_W = t > drive_start_ ? drive_velocity_ : Vec3::Zero();
+    return a;
+  }
+
+  struct Forces {
+    ContactEval contact;
+    SpringEval tether, drive;
+  };
+  Forces forces(double t, const BodyKinematics& ball, const BodyKinematics& socket,
+                const DiscreteState& d) const {
+    return {evaluate_contact(contact_, ball, socket, d.contacts[0]),
+            evaluate_spring(tether_, SpringAnchor{}, socket),
+            evaluate_spring(drive_, drive_anchor(t), ball)};
+  }
+
+  void derivatives(double t, const double* x, const DiscreteState& d,
+                   double* dxdt) const override {
+    const BodyKinematics ball = BodyKinematics::from_state(x + kBall);
+    const BodyKinematics socket = BodyKinematics::from_state(x + kSocket);
+    const Forces f = forces(t, ball, socket, d);
+    const Vec3 F_ball = ball_.mass * gravity_ + f.contact.force_on_ball() + f.drive.force_on_body;
+    const Vec3 M_ball = f.contact.moment_on_ball + f.drive.moment_on_body;
+    const Vec3 F_socket =
+        socket_.mass * gravity_ - f.contact.force_on_ball() + f.tether.force_on_body;
+    const Vec3 M_socket = f.contact.moment_on_socket + f.tether.moment_on_body;
+    body_derivatives(ball_, ball, F_ball, M_ball, x + kBall, dxdt + kBall);
+    body_derivatives(socket_, socket, F_socket, M_socket, x + kSocket, dxdt + kSocket);
+    dxdt[kWork] = f.drive.anchor_power;
+    dxdt[kDissipated] = f.contact.damping_power + f.contact.friction_power +
+                        f.tether.damping_power + f.drive.damping_power;
+  }
+
+  std::span<const SignalId> signals() const override { return kSignals; }
+  EnergyTerms energy(double t, const double* x, const DiscreteState& d) const override {
+    const BodyKinematics ball = BodyKinematics::from_state(x + kBall);
+    const BodyKinematics socket = BodyKinematics::from_state(x + kSocket);
+    const Forces f = forces(t, ball, socket, d);
+    const double mech = kinetic_energy(ball_, ball) + kinetic_energy(socket_, socket) -
+                        ball_.mass * gravity_.dot(ball.p_W) -
+                        socket_.mass * gravity_.dot(socket.p_W) + f.contact.potential +
+                        f.tether.potential + f.drive.potential;
+    return {mech, x[kWork], x[kDissipated]};
+  }
+  void outputs(double t, const double* x, const DiscreteState& d,
+               SignalFrame& out) const override {
+    const BodyKinematics ball = BodyKinematics::from_state(x + kBall);
+    const BodyKinematics socket = BodyKinematics::from_state(x + kSocket);
+    const Forces f = forces(t, ball, socket, d);
+    out.set(SignalId::ball_position, ball.p_W);
+    out.set(SignalId::ball_velocity, ball.v_W);
+    out.set(SignalId::ball_angular_velocity, ball.w_B);
+    out.set(SignalId::ball_euler_321, euler321(ball.R_WB));
+    out.set(SignalId::socket_position, socket.p_W);
+    out.set(SignalId::socket_velocity, socket.v_W);
+    out.set(SignalId::socket_angular_velocity, socket.w_B);
+    out.set(SignalId::socket_euler_321, euler321(socket.R_WB));
+    write_contact_signals(out, f.contact, ball, socket, d.contacts[0]);
+    out.set(SignalId::drive_anchor_position, drive_anchor(t).p_W);
+    write_energy_signals(out, energy(t, x, d), 0.0);
+    out.set(SignalId::quaternion_norm_error,
+            std::max(quaternion_norm_error(x, kBall + BodyStateLayout::q),
+                     quaternion_norm_error(x, kSocket + BodyStateLayout::q)));
+  }
+
+ private:
+  RigidBodyParams ball_, socket_;
+  SphericalContactModel contact_;
+  Spring3DParams tether_, drive_;
+  Vec3 drive_velocity_;
+  double drive_start_;
+  Vec3 gravity_;
+};
+
+}  // namespace
+
+std::unique_ptr<Scene> make_spring_contact_scene(const ParameterSet& p) {
+  return std::make_unique<SpringContactScene>(p);
+}
+
+}  // namespace rodend

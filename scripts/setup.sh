@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Set-up for rodend: install the Debian 12 packages the project needs (only the
+# missing ones), then configure and build. Non-interactive and idempotent.
+#
+#   bash scripts/setup.sh            # Release build in ./build
+#   RODEND_BUILD_DIR=build-asan RODEND_CMAKE_ARGS="-DRODEND_SANITIZE=ON" bash scripts/setup.sh
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(
+  build-essential cmake pkg-config git
+  libeigen3-dev libboost-dev libhdf5-dev nlohmann-json3-dev catch2 libcli11-dev
+  libsundials-dev libopenmpi-dev openmpi-bin
+  python3 python3-numpy python3-h5py python3-matplotlib
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing Debian packages: ${missing[*]}" >&2
+  sudo=""
+  if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq
+  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+else
+  echo "setup: all Debian packages present" >&2
+fi
+
+build_dir="${RODEND_BUILD_DIR:-build}"
+# shellcheck disable=SC2086
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE="${RODEND_BUILD_TYPE:-Release}" \
+  -DRODEND_WERROR="${RODEND_WERROR:-ON}" ${RODEND_CMAKE_ARGS:-} >/dev/null
+cmake --build "$build_dir" -j"$(nproc)"
