@@ -1,1 +1,175 @@
-int main() { return 0; }
+// rodend: command-line entry point.
+//
+// Exit codes: 0 success (every case ok); 1 a case failed (or, for compare, a difference);
+// 2 bad input (the message names the file, the key path and what was expected).
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+#include "core/integrator.hpp"
+#include "core/scene.hpp"
+#include "sweep/runner.hpp"
+#include "sweep/study.hpp"
+
+using namespace rodend;
+
+namespace {
+
+void print_dry_run(const Study& s) {
+  std::cout << "study " << s.name << ": scene " << s.scene << ", " << s.cases.size()
+            << " case(s), results in " << s.output_dir.string() << "\n";
+  std::cout << "index\tcase_id\tmethod\tend_s";
+  for (const auto& k : s.axis_keys) std::cout << "\t" << k;
+  std::cout << "\n";
+  for (const auto& c : s.cases) {
+    std::cout << c.index << "\t" << c.id << "\t" << c.integrator.method << "\t" << c.time.end;
+    for (const auto& k : s.axis_keys) std::cout << "\t" << c.coordinates[k].dump();
+    std::cout << "\n";
+  }
+}
+
+int list_params(const std::string& scene, bool json) {
+  const ParameterSet p = ParameterSet::defaults_for(scene);
+  if (json) {
+    std::cout << p.leaves().dump(2) << "\n";
+    return 0;
+  }
+  const Json leaves = p.leaves();
+  for (const auto& [path, leaf] : leaves.items()) {
+    std::cout << path << " = " << leaf["value"].dump() << " [" << leaf["unit"].get<std::string>()
+              << "]  (" << leaf["source"].get<std::string>();
+    if (leaf.contains("note")) std::cout << ": " << leaf["note"].get<std::string>();
+    std::cout << ")\n";
+  }
+  return 0;
+}
+
+int list_signals(bool markdown, bool json) {
+  if (json) {
+    Json out = Json::array();
+    for (const auto& s : signal_catalogue())
+      out.push_back({{"name", s.name}, {"unit", s.unit}, {"width", s.width},
+                     {"description", s.description}});
+    std::cout << out.dump(2) << "\n";
+    return 0;
+  }
+  if (markdown) std::cout << "| signal | unit | width | description |\n|---|---|---|---|\n";
+  for (const auto& s : signal_catalogue()) {
+    if (markdown)
+      std::cout << "| `" << s.name << "` | " << s.unit << " | " << s.width << " | "
+                << s.description << " |\n";
+    else
+      std::cout << s.name << " [" << s.unit << "] x" << s.width << ": " << s.description << "\n";
+  }
+  return 0;
+}
+
+int list_metrics(bool markdown) {
+  if (markdown) std::cout << "| metric | unit | description |\n|---|---|---|\n";
+  for (const auto& m : metric_catalogue()) {
+    if (markdown)
+      std::cout << "| `" << m.name << "` | " << m.unit << " | " << m.description << " |\n";
+    else
+      std::cout << m.name << " [" << m.unit << "]: " << m.description << "\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "rodend: batch simulator for degraded rod-ends (spherical clearance joints) in "
+      "flight-control actuation.\n\n"
+      "A study file (JSON) names a scene, parameter overrides by dotted key path, an optional "
+      "grid over parameters and integrator settings, the integrator, the end time, the sample "
+      "interval and the signals to record. `rodend run` resolves and validates every case, "
+      "runs them in parallel and writes results/<study>/: one HDF5 file per case "
+      "(cases/<id>.h5: histories under /signals with a `unit` attribute each, the resolved "
+      "parameters, the integrator settings, status, wall time, step and right-hand-side "
+      "counts, metrics) and a summary table (summary.h5, summary.csv). See README.md.\n\n"
+      "Exit codes: 0 ok, 1 a case failed, 2 bad input.",
+      "rodend"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string(RODEND_VERSION_STRING));
+
+  auto* run = app.add_subcommand(
+      "run", "Run a study (or a single case: a study with no grid). Cases already complete in "
+             "the results directory are kept (resume); interrupted ones are rerun.");
+  std::string study_file;
+  RunOptions opt;
+  bool dry_run = false, quiet = false;
+  std::string results_root = "results";
+  std::string shard;
+  run->add_option("STUDY", study_file, "study file (JSON)")->required();
+  run->add_option("--threads,-j", opt.threads, "OpenMP threads over cases")
+      ->check(CLI::Range(1, 4096));
+  run->add_flag("--dry-run", dry_run, "resolve and validate every case, print the case count "
+                                      "and the resolved table, run nothing");
+  run->add_flag("--rerun-failed", opt.rerun_failed, "rerun cases whose stored status is a failure");
+  run->add_flag("--quiet,-q", quiet, "no progress on stderr");
+  run->add_option("--results-root", results_root,
+                  "where studies without an \"output\" key write (default: results)");
+  run->add_option("--shard", shard, "K/N: run only the K-th of N deterministic slices of the cases");
+
+  auto* rdir = app.add_subcommand("results-dir", "Print the results directory of a study.");
+  rdir->add_option("STUDY", study_file, "study file (JSON)")->required();
+  rdir->add_option("--results-root", results_root, "as for run");
+
+  auto* scenes = app.add_subcommand("scenes", "List the scenes.");
+  auto* params = app.add_subcommand(
+      "params", "Print a scene's default parameters with units and provenance.");
+  std::string scene_name;
+  bool as_json = false, markdown = false;
+  params->add_option("SCENE", scene_name, "scene name")->required();
+  params->add_flag("--json", as_json, "as JSON");
+  auto* signals = app.add_subcommand("signals", "Print the catalogue of recorded signals.");
+  signals->add_flag("--markdown", markdown, "as a Markdown table");
+  signals->add_flag("--json", as_json, "as JSON");
+  auto* metrics = app.add_subcommand("metrics", "Print the summary metrics.");
+  metrics->add_flag("--markdown", markdown, "as a Markdown table");
+
+  CLI11_PARSE(app, argc, argv);
+
+  try {
+    if (*scenes) {
+      for (const auto& s : scene_catalogue()) std::cout << s.name << "\t" << s.summary << "\n";
+      return 0;
+    }
+    if (*params) return list_params(scene_name, as_json);
+    if (*signals) return list_signals(markdown, as_json);
+    if (*metrics) return list_metrics(markdown);
+    if (*rdir) {
+      std::cout << load_study(study_file, results_root).output_dir.string() << "\n";
+      return 0;
+    }
+    if (*run) {
+      if (!shard.empty()) {
+        int k = 0, n = 0;
+        char slash = 0;
+        std::istringstream in(shard);
+        if (!(in >> k >> slash >> n) || slash != '/' || n < 1 || k < 1 || k > n || !in.eof())
+          throw InputError("--shard", "expected K/N with 1 <= K <= N, got '" + shard + "'");
+        opt.shard_index = k;
+        opt.shard_count = n;
+      }
+      const Study study = load_study(study_file, results_root);
+      if (dry_run) {
+        print_dry_run(study);
+        return 0;
+      }
+      opt.progress = !quiet;
+      const int rc = run_study(study, opt);
+      std::cerr << "rodend: results in " << study.output_dir.string() << "\n";
+      return rc;
+    }
+  } catch (const InputError& e) {
+    std::cerr << "rodend: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "rodend: error: " << e.what() << "\n";
+    return 2;
+  }
+  return 0;
+}

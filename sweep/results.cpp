@@ -1,1 +1,766 @@
-// placeholder
+// Results on disk: one HDF5 file per case, a summary table (HDF5 and CSV) per study.
+//
+// Rules of this file:
+// - Thread safety: Debian's HDF5 is built without thread safety. One process-wide std::mutex
+//   (g_hdf5_mutex) guards every HDF5 call; each function that touches HDF5 holds it for the
+//   whole open-write-close (or open-read-close) of a file. Nothing outside this file calls HDF5.
+// - Quiet: HDF5's automatic error printing is switched off once (H5Eset_auto2); HDF5 failures
+//   become std::runtime_error naming the file (read_case_record returns nullopt instead).
+// - Crash safety: a file is written under a hidden temporary name in its final directory
+//   (.<name>.tmp.<pid>.<counter>), closed, flushed to disk, then renamed to its final name
+//   (atomic on POSIX). A failed write removes the temporary file and throws; a partially
+//   written file never appears under the final name.
+//
+// Case file layout (stable interface, schema_version 1):
+//   /            attributes: schema_version (int), case_id, case_index (int64), scene, status,
+//                message, t_reached_s, wall_time_s (double), steps_accepted, steps_rejected,
+//                rhs_calls (int64), started_utc, finished_utc, rodend_version, git_revision,
+//                host, study_file, coordinates_json, parameters_json, case_json (strings)
+//   /parameters  one attribute per resolved parameter (dotted path): double, string, int8 0/1
+//                for booleans, 1-D double for arrays; units_json = {"path": "unit"}
+//   /signals     one dataset per recorded signal (catalogue name): double, (samples,) or
+//                (samples, width), chunked, shuffle + gzip 4; attributes unit, description
+//   /metrics     one scalar double attribute per metric (catalogue name), NaN when not
+//                applicable; units_json = {"name": "unit"}
+// Summary: summary.h5 (group /summary, one 1-D dataset per column, attribute columns = JSON
+// array of the names in order) and summary.csv (one header line, one line per case).
+// All string attributes and string datasets are variable-length UTF-8.
+#include "sweep/results.hpp"
+
+#include <fcntl.h>
+#include <hdf5.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <stdexcept>
+#include <utility>
+
+#ifndef RODEND_VERSION
+#define RODEND_VERSION "unknown"
+#endif
+#ifndef RODEND_GIT_REVISION
+#define RODEND_GIT_REVISION "unknown"
+#endif
+
+namespace rodend {
+namespace {
+
+namespace fs = std::filesystem;
+
+// ---------------------------------------------------------------------------------------------
+// Locking
+
+/// The one process-wide mutex around every HDF5 call.
+std::mutex g_hdf5_mutex;
+
+/// Holds g_hdf5_mutex; the first one also silences HDF5's automatic error printing.
+class Hdf5Lock {
+ public:
+  Hdf5Lock() : lock_(g_hdf5_mutex) {
+    static bool silenced = false;  // guarded by g_hdf5_mutex
+    if (!silenced) {
+      H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+      silenced = true;
+    }
+  }
+
+ private:
+  std::lock_guard<std::mutex> lock_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// RAII handles and error reporting
+
+/// Owns one hid_t and closes it with the matching H5?close function.
+class Handle {
+ public:
+  using Closer = herr_t (*)(hid_t);
+  Handle() = default;
+  Handle(hid_t id, Closer closer) : id_(id), closer_(closer) {}
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  Handle(Handle&& o) noexcept : id_(std::exchange(o.id_, H5I_INVALID_HID)), closer_(o.closer_) {}
+  Handle& operator=(Handle&& o) noexcept {
+    if (this != &o) {
+      close();
+      id_ = std::exchange(o.id_, H5I_INVALID_HID);
+      closer_ = o.closer_;
+    }
+    return *this;
+  }
+  ~Handle() { close(); }
+
+  hid_t get() const { return id_; }
+  /// Closes now; returns the closer's status (negative on failure).
+  herr_t close() noexcept {
+    herr_t r = 0;
+    if (id_ >= 0 && closer_) r = closer_(id_);
+    id_ = H5I_INVALID_HID;
+    return r;
+  }
+
+ private:
+  hid_t id_ = H5I_INVALID_HID;
+  Closer closer_ = nullptr;
+};
+
+/// Memory HDF5 allocated for a variable-length string read.
+struct Hdf5Free {
+  void operator()(char* p) const noexcept { H5free_memory(p); }
+};
+using Hdf5String = std::unique_ptr<char, Hdf5Free>;
+
+herr_t collect_error(unsigned n, const H5E_error2_t* e, void* data) {
+  auto* out = static_cast<std::pair<std::string, std::string>*>(data);
+  if (n == 0 && e->func_name) out->first = e->func_name;  // the API call
+  if (e->desc) out->second = e->desc;                     // the innermost cause, last
+  return 0;
+}
+
+/// The current HDF5 error stack, shortened to "API call: innermost description".
+std::string hdf5_error_text() {
+  std::pair<std::string, std::string> parts;
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, collect_error, &parts);
+  if (parts.first.empty() && parts.second.empty()) return {};
+  return parts.first.empty() ? parts.second : parts.first + ": " + parts.second;
+}
+
+/// Names the file (and the action) in error messages; checks HDF5 return values.
+class Context {
+ public:
+  Context(const fs::path& file, std::string action)
+      : file_(file.string()), action_(std::move(action)) {}
+
+  [[noreturn]] void fail(const std::string& what) const {
+    const std::string detail = hdf5_error_text();
+    throw std::runtime_error(action_ + " " + file_ + ": " + what +
+                             (detail.empty() ? "" : " (HDF5: " + detail + ")"));
+  }
+  /// Takes ownership of a new identifier; throws if it is invalid.
+  Handle own(hid_t id, Handle::Closer closer, const std::string& what) const {
+    if (id < 0) fail(what);
+    return Handle(id, closer);
+  }
+  void ok(herr_t status, const std::string& what) const {
+    if (status < 0) fail(what);
+  }
+  /// For htri_t results: true, false, or throws.
+  bool yes(htri_t result, const std::string& what) const {
+    if (result < 0) fail(what);
+    return result > 0;
+  }
+
+ private:
+  std::string file_, action_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Writing helpers
+
+Handle utf8_string_type(const Context& cx) {
+  Handle t = cx.own(H5Tcopy(H5T_C_S1), H5Tclose, "cannot create a string type");
+  cx.ok(H5Tset_size(t.get(), H5T_VARIABLE), "cannot create a string type");
+  cx.ok(H5Tset_cset(t.get(), H5T_CSET_UTF8), "cannot create a string type");
+  return t;
+}
+
+Handle scalar_space(const Context& cx) {
+  return cx.own(H5Screate(H5S_SCALAR), H5Sclose, "cannot create a dataspace");
+}
+
+Handle vector_space(const Context& cx, hsize_t n) {
+  return cx.own(H5Screate_simple(1, &n, nullptr), H5Sclose, "cannot create a dataspace");
+}
+
+void write_attribute(const Context& cx, hid_t obj, const std::string& name, hid_t file_type,
+                     hid_t mem_type, hid_t space, const void* data) {
+  const std::string what = "cannot write attribute " + name;
+  Handle a = cx.own(H5Acreate2(obj, name.c_str(), file_type, space, H5P_DEFAULT, H5P_DEFAULT),
+                    H5Aclose, what);
+  cx.ok(H5Awrite(a.get(), mem_type, data), what);
+  cx.ok(a.close(), what);
+}
+
+void attr_string(const Context& cx, hid_t obj, const std::string& name, const std::string& v) {
+  const Handle t = utf8_string_type(cx);
+  const Handle s = scalar_space(cx);
+  const char* p = v.c_str();
+  write_attribute(cx, obj, name, t.get(), t.get(), s.get(), &p);
+}
+
+void attr_double(const Context& cx, hid_t obj, const std::string& name, double v) {
+  const Handle s = scalar_space(cx);
+  write_attribute(cx, obj, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, s.get(), &v);
+}
+
+void attr_int64(const Context& cx, hid_t obj, const std::string& name, long long v) {
+  const Handle s = scalar_space(cx);
+  write_attribute(cx, obj, name, H5T_STD_I64LE, H5T_NATIVE_LLONG, s.get(), &v);
+}
+
+void attr_int(const Context& cx, hid_t obj, const std::string& name, int v) {
+  const Handle s = scalar_space(cx);
+  write_attribute(cx, obj, name, H5T_STD_I32LE, H5T_NATIVE_INT, s.get(), &v);
+}
+
+void attr_int8(const Context& cx, hid_t obj, const std::string& name, signed char v) {
+  const Handle s = scalar_space(cx);
+  write_attribute(cx, obj, name, H5T_STD_I8LE, H5T_NATIVE_SCHAR, s.get(), &v);
+}
+
+void attr_doubles(const Context& cx, hid_t obj, const std::string& name,
+                  const std::vector<double>& v) {
+  const Handle s = vector_space(cx, v.size());
+  write_attribute(cx, obj, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, s.get(), v.data());
+}
+
+Handle create_group(const Context& cx, hid_t parent, const std::string& name,
+                    bool track_link_order = false) {
+  const std::string what = "cannot create group " + name;
+  Handle gcpl;
+  if (track_link_order) {
+    // so that tools iterating the group (h5py) list its members in creation order
+    gcpl = cx.own(H5Pcreate(H5P_GROUP_CREATE), H5Pclose, what);
+    cx.ok(H5Pset_link_creation_order(gcpl.get(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED),
+          what);
+  }
+  return cx.own(H5Gcreate2(parent, name.c_str(), H5P_DEFAULT,
+                           track_link_order ? gcpl.get() : H5P_DEFAULT, H5P_DEFAULT),
+                H5Gclose, what);
+}
+
+/// A string value of the provenance object ("" if absent).
+std::string prov_text(const Json& prov, const char* key) {
+  if (!prov.is_object()) return {};
+  const auto it = prov.find(key);
+  return it != prov.end() && it->is_string() ? it->get<std::string>() : std::string();
+}
+
+std::string utc_now_iso8601() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Atomic file replacement
+
+/// `.<name>.tmp.<pid>.<counter>` beside `path`; unique within the process and across processes.
+fs::path temp_path_for(const fs::path& path) {
+  static std::atomic<unsigned long long> counter{0};
+  const std::string name = "." + path.filename().string() + ".tmp." +
+                           std::to_string(static_cast<long long>(::getpid())) + "." +
+                           std::to_string(counter.fetch_add(1));
+  return path.parent_path() / name;
+}
+
+/// Flushes a closed file to the disk, so that a rename after an OS crash never exposes an
+/// empty or partial file.
+void sync_to_disk(const fs::path& file, const fs::path& final_path) {
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0 || ::fsync(fd) != 0) {
+    if (fd >= 0) ::close(fd);
+    throw std::runtime_error("cannot write " + final_path.string() +
+                             ": cannot flush the temporary file " + file.string());
+  }
+  ::close(fd);
+}
+
+/// Runs write(temp) (which must create, write and close the temporary file), then renames the
+/// temporary file to `path`. On any failure removes the temporary file and rethrows.
+template <class Write>
+void write_atomically(const fs::path& path, Write&& write) {
+  if (path.filename().empty())
+    throw std::runtime_error("cannot write " + path.string() + ": not a file name");
+  std::error_code ec;
+  const fs::path dir = path.parent_path();
+  if (!dir.empty()) {
+    fs::create_directories(dir, ec);
+    if (ec)
+      throw std::runtime_error("cannot write " + path.string() + ": cannot create directory " +
+                               dir.string() + ": " + ec.message());
+  }
+  const fs::path temp = temp_path_for(path);
+  try {
+    write(temp);
+    sync_to_disk(temp, path);
+    fs::rename(temp, path, ec);
+    if (ec)
+      throw std::runtime_error("cannot write " + path.string() + ": cannot rename " +
+                               temp.string() + ": " + ec.message());
+  } catch (...) {
+    std::error_code ignored;
+    fs::remove(temp, ignored);
+    throw;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Case file
+
+void check_history(const fs::path& path, const History& h) {
+  auto bad = [&](const std::string& what) {
+    throw std::runtime_error("cannot write results file " + path.string() + ": " + what);
+  };
+  if (h.samples < 0) bad("negative sample count");
+  if (h.values.size() != h.signals.size())
+    bad("history has a different count of signals and value arrays");
+  for (std::size_t i = 0; i < h.signals.size(); ++i) {
+    const SignalSpec& s = signal_spec(h.signals[i]);
+    const auto expected = static_cast<std::size_t>(h.samples) * static_cast<std::size_t>(s.width);
+    if (h.values[i].size() != expected)
+      bad("signal " + std::string(s.name) + " has " + std::to_string(h.values[i].size()) +
+          " values, expected " + std::to_string(expected));
+  }
+}
+
+void write_case_root(const Context& cx, hid_t root, const CaseSpec& spec, const CaseRecord& r,
+                     const Json& prov) {
+  attr_int(cx, root, "schema_version", kResultsSchemaVersion);
+  attr_string(cx, root, "case_id", r.id);
+  attr_int64(cx, root, "case_index", r.index);
+  attr_string(cx, root, "scene", spec.scene);
+  attr_string(cx, root, "status", r.status);
+  attr_string(cx, root, "message", r.message);
+  attr_double(cx, root, "t_reached_s", r.t_reached);
+  attr_double(cx, root, "wall_time_s", r.wall_time);
+  attr_int64(cx, root, "steps_accepted", r.steps_accepted);
+  attr_int64(cx, root, "steps_rejected", r.steps_rejected);
+  attr_int64(cx, root, "rhs_calls", r.rhs_calls);
+  attr_string(cx, root, "started_utc", r.started_utc);
+  attr_string(cx, root, "finished_utc", r.finished_utc);
+  for (const char* key : {"rodend_version", "git_revision", "host", "study_file"})
+    attr_string(cx, root, key, prov_text(prov, key));
+  attr_string(cx, root, "coordinates_json", r.coordinates.dump());
+  attr_string(cx, root, "parameters_json", spec.parameters.leaves().dump());
+  attr_string(cx, root, "case_json", spec.canonical().dump());
+}
+
+void write_case_parameters(const Context& cx, hid_t root, const ParameterSet& params) {
+  const Handle g = create_group(cx, root, "parameters");
+  const Json values = params.values();
+  Json units = Json::object();
+  for (const auto& [path, v] : values.items()) {
+    if (v.is_boolean()) {
+      attr_int8(cx, g.get(), path, v.get<bool>() ? 1 : 0);
+    } else if (v.is_number()) {
+      attr_double(cx, g.get(), path, v.get<double>());
+    } else if (v.is_string()) {
+      attr_string(cx, g.get(), path, v.get<std::string>());
+    } else if (v.is_array() &&
+               std::all_of(v.begin(), v.end(), [](const Json& e) { return e.is_number(); })) {
+      attr_doubles(cx, g.get(), path, v.get<std::vector<double>>());
+    } else {
+      cx.fail("parameter " + path + " has a value of unsupported type: " + v.dump());
+    }
+    units[path] = params.unit(path);
+  }
+  attr_string(cx, g.get(), "units_json", units.dump());
+}
+
+void write_signal(const Context& cx, hid_t group, const SignalSpec& s,
+                  const std::vector<double>& values, long long samples) {
+  const std::string what = "cannot write signal " + std::string(s.name);
+  const hsize_t rows = static_cast<hsize_t>(samples);
+  const hsize_t width = static_cast<hsize_t>(s.width);
+  const int rank = s.width == 1 ? 1 : 2;
+  const hsize_t dims[2] = {rows, width};
+  // A chunked dataset needs maximum dimensions of at least one chunk: unlimited rows when empty.
+  const hsize_t maxdims[2] = {rows == 0 ? H5S_UNLIMITED : rows, width};
+  const hsize_t chunk[2] = {std::clamp<hsize_t>(rows, 1, 4096), width};
+
+  const Handle space = cx.own(H5Screate_simple(rank, dims, maxdims), H5Sclose, what);
+  const Handle dcpl = cx.own(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, what);
+  cx.ok(H5Pset_chunk(dcpl.get(), rank, chunk), what);
+  cx.ok(H5Pset_shuffle(dcpl.get()), what);
+  cx.ok(H5Pset_deflate(dcpl.get(), 4), what);
+  Handle d = cx.own(H5Dcreate2(group, std::string(s.name).c_str(), H5T_IEEE_F64LE, space.get(),
+                               H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
+                    H5Dclose, what);
+  if (rows > 0)
+    cx.ok(H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), what);
+  attr_string(cx, d.get(), "unit", std::string(s.unit));
+  attr_string(cx, d.get(), "description", std::string(s.description));
+  cx.ok(d.close(), what);
+}
+
+void write_case_signals(const Context& cx, hid_t root, const History& h) {
+  const Handle g = create_group(cx, root, "signals");
+  for (std::size_t i = 0; i < h.signals.size(); ++i)
+    write_signal(cx, g.get(), signal_spec(h.signals[i]), h.values[i], h.samples);
+}
+
+void write_case_metrics(const Context& cx, hid_t root, const MetricValues& m) {
+  const Handle g = create_group(cx, root, "metrics");
+  Json units = Json::object();
+  const auto cat = metric_catalogue();
+  for (std::size_t i = 0; i < cat.size() && i < m.size(); ++i) {
+    const std::string name(cat[i].name);
+    attr_double(cx, g.get(), name, m[i]);
+    units[name] = std::string(cat[i].unit);
+  }
+  attr_string(cx, g.get(), "units_json", units.dump());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading helpers (throw; read_case_record turns that into nullopt)
+
+Handle open_attribute(const Context& cx, hid_t obj, const char* name) {
+  const std::string what = std::string("cannot read attribute ") + name;
+  Handle a = cx.own(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose, what);
+  const Handle s = cx.own(H5Aget_space(a.get()), H5Sclose, what);
+  if (H5Sget_simple_extent_npoints(s.get()) != 1) cx.fail(what + ": not a single value");
+  return a;
+}
+
+std::string read_attr_string(const Context& cx, hid_t obj, const char* name) {
+  const std::string what = std::string("cannot read attribute ") + name;
+  const Handle a = open_attribute(cx, obj, name);
+  const Handle ft = cx.own(H5Aget_type(a.get()), H5Tclose, what);
+  if (H5Tget_class(ft.get()) != H5T_STRING || !cx.yes(H5Tis_variable_str(ft.get()), what))
+    cx.fail(what + ": not a variable-length string");
+  const Handle mt = utf8_string_type(cx);
+  char* raw = nullptr;
+  cx.ok(H5Aread(a.get(), mt.get(), &raw), what);
+  const Hdf5String owned(raw);
+  return raw ? std::string(raw) : std::string();
+}
+
+template <class T>
+T read_attr_number(const Context& cx, hid_t obj, const char* name, hid_t mem_type) {
+  const std::string what = std::string("cannot read attribute ") + name;
+  const Handle a = open_attribute(cx, obj, name);
+  const Handle ft = cx.own(H5Aget_type(a.get()), H5Tclose, what);
+  const H5T_class_t c = H5Tget_class(ft.get());
+  if (c != H5T_INTEGER && c != H5T_FLOAT) cx.fail(what + ": not a number");
+  T v{};
+  cx.ok(H5Aread(a.get(), mem_type, &v), what);
+  return v;
+}
+
+double read_attr_double(const Context& cx, hid_t obj, const char* name) {
+  return read_attr_number<double>(cx, obj, name, H5T_NATIVE_DOUBLE);
+}
+long long read_attr_int64(const Context& cx, hid_t obj, const char* name) {
+  return read_attr_number<long long>(cx, obj, name, H5T_NATIVE_LLONG);
+}
+
+CaseRecord read_case_locked(const fs::path& path) {
+  const Context cx(path, "cannot read results file");
+  Handle file =
+      cx.own(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, "cannot open the file");
+  CaseRecord r;
+  {
+    const Handle root = cx.own(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose, "no root");
+    const hid_t g = root.get();
+    if (read_attr_int64(cx, g, "schema_version") != kResultsSchemaVersion)
+      cx.fail("unsupported schema_version");
+    r.id = read_attr_string(cx, g, "case_id");
+    r.index = static_cast<long>(read_attr_int64(cx, g, "case_index"));
+    r.coordinates = Json::parse(read_attr_string(cx, g, "coordinates_json"));
+    r.status = read_attr_string(cx, g, "status");
+    r.message = read_attr_string(cx, g, "message");
+    r.t_reached = read_attr_double(cx, g, "t_reached_s");
+    r.wall_time = read_attr_double(cx, g, "wall_time_s");
+    r.steps_accepted = read_attr_int64(cx, g, "steps_accepted");
+    r.steps_rejected = read_attr_int64(cx, g, "steps_rejected");
+    r.rhs_calls = read_attr_int64(cx, g, "rhs_calls");
+    r.started_utc = read_attr_string(cx, g, "started_utc");
+    r.finished_utc = read_attr_string(cx, g, "finished_utc");
+
+    r.metrics.fill(std::numeric_limits<double>::quiet_NaN());
+    if (cx.yes(H5Lexists(g, "metrics", H5P_DEFAULT), "cannot look up /metrics")) {
+      const Handle m =
+          cx.own(H5Gopen2(g, "metrics", H5P_DEFAULT), H5Gclose, "cannot open /metrics");
+      const auto cat = metric_catalogue();
+      for (std::size_t i = 0; i < cat.size() && i < r.metrics.size(); ++i) {
+        const std::string name(cat[i].name);
+        if (cx.yes(H5Aexists(m.get(), name.c_str()), "cannot look up metric " + name))
+          r.metrics[i] = read_attr_double(cx, m.get(), name.c_str());
+      }
+    }
+  }
+  cx.ok(file.close(), "cannot close the file");
+  return r;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Summary
+
+struct Column {
+  enum class Kind { text, integer, real };
+  std::string name, unit, description;
+  Kind kind = Kind::real;
+  std::vector<std::string> texts;
+  std::vector<long long> integers;
+  std::vector<double> reals;
+};
+
+std::vector<Column> summary_columns(const Study& study, const std::vector<CaseRecord>& rows) {
+  std::vector<Column> cols;
+  auto text = [&](std::string name, std::string unit, std::string desc, auto get) {
+    Column c{std::move(name), std::move(unit), std::move(desc), Column::Kind::text, {}, {}, {}};
+    for (const CaseRecord& r : rows) c.texts.push_back(get(r));
+    cols.push_back(std::move(c));
+  };
+  auto integer = [&](std::string name, std::string unit, std::string desc, auto get) {
+    Column c{std::move(name), std::move(unit), std::move(desc), Column::Kind::integer, {}, {}, {}};
+    for (const CaseRecord& r : rows) c.integers.push_back(get(r));
+    cols.push_back(std::move(c));
+  };
+  auto real = [&](std::string name, std::string unit, std::string desc, auto get) {
+    Column c{std::move(name), std::move(unit), std::move(desc), Column::Kind::real, {}, {}, {}};
+    for (const CaseRecord& r : rows) c.reals.push_back(get(r));
+    cols.push_back(std::move(c));
+  };
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+
+  text("case_id", "", "case id: FNV-1a 64 hash of the canonical case description",
+       [](const CaseRecord& r) { return r.id; });
+  integer("case_index", "1", "position of the case in the expanded grid, 0-based",
+          [](const CaseRecord& r) { return static_cast<long long>(r.index); });
+
+  // grid coordinates: numeric columns when every value is a number, else text (strings as
+  // they are, other values as compact JSON); a missing value is NaN or ""
+  for (const std::string& key : study.axis_keys) {
+    std::string unit;
+    if (key.rfind("parameters.", 0) == 0 && !study.cases.empty()) {
+      const std::string path = key.substr(11);
+      if (study.cases.front().parameters.has(path))
+        unit = study.cases.front().parameters.unit(path);
+    }
+    const std::string desc = "grid coordinate " + key;
+    const bool numeric = std::all_of(rows.begin(), rows.end(), [&](const CaseRecord& r) {
+      return !r.coordinates.is_object() || !r.coordinates.contains(key) ||
+             r.coordinates[key].is_number();
+    });
+    auto value = [key](const CaseRecord& r) -> const Json* {
+      if (!r.coordinates.is_object()) return nullptr;
+      const auto it = r.coordinates.find(key);
+      return it == r.coordinates.end() ? nullptr : &*it;
+    };
+    if (numeric)
+      real(key, unit, desc, [&](const CaseRecord& r) {
+        const Json* v = value(r);
+        return v ? v->get<double>() : nan;
+      });
+    else
+      text(key, unit, desc, [&](const CaseRecord& r) {
+        const Json* v = value(r);
+        return !v ? std::string() : v->is_string() ? v->get<std::string>() : v->dump();
+      });
+  }
+
+  text("status", "", "\"ok\" or the reason the run stopped",
+       [](const CaseRecord& r) { return r.status; });
+  text("message", "", "details of a failed run (empty when ok)",
+       [](const CaseRecord& r) { return r.message; });
+  real("t_reached_s", "s", "simulation time reached",
+       [](const CaseRecord& r) { return r.t_reached; });
+  real("wall_time_s", "s", "wall-clock time of the run",
+       [](const CaseRecord& r) { return r.wall_time; });
+  integer("steps_accepted", "1", "accepted integration steps",
+          [](const CaseRecord& r) { return r.steps_accepted; });
+  integer("steps_rejected", "1", "rejected integration steps",
+          [](const CaseRecord& r) { return r.steps_rejected; });
+  integer("rhs_calls", "1", "right-hand-side evaluations",
+          [](const CaseRecord& r) { return r.rhs_calls; });
+  text("started_utc", "", "start of the run, UTC, ISO 8601",
+       [](const CaseRecord& r) { return r.started_utc; });
+  text("finished_utc", "", "end of the run, UTC, ISO 8601",
+       [](const CaseRecord& r) { return r.finished_utc; });
+
+  const auto cat = metric_catalogue();
+  for (std::size_t i = 0; i < cat.size() && i < MetricValues{}.size(); ++i)
+    real(std::string(cat[i].name), std::string(cat[i].unit), std::string(cat[i].description),
+         [i](const CaseRecord& r) { return r.metrics[i]; });
+
+  std::set<std::string> seen;
+  for (const Column& c : cols) {
+    if (c.name.empty() || c.name.find('/') != std::string::npos || c.name == ".")
+      throw std::runtime_error("summary column name \"" + c.name + "\" is not usable");
+    if (!seen.insert(c.name).second)
+      throw std::runtime_error("summary column \"" + c.name + "\" appears twice");
+  }
+  return cols;
+}
+
+void write_summary_column(const Context& cx, hid_t group, const Column& c) {
+  const std::string what = "cannot write summary column " + c.name;
+  const hsize_t n = c.kind == Column::Kind::text      ? c.texts.size()
+                    : c.kind == Column::Kind::integer ? c.integers.size()
+                                                      : c.reals.size();
+  const Handle space = vector_space(cx, n);
+  const Handle str = utf8_string_type(cx);
+  hid_t file_type = H5T_IEEE_F64LE, mem_type = H5T_NATIVE_DOUBLE;
+  const void* data = c.reals.data();
+  std::vector<const char*> ptrs;
+  if (c.kind == Column::Kind::text) {
+    for (const std::string& s : c.texts) ptrs.push_back(s.c_str());
+    file_type = mem_type = str.get();
+    data = ptrs.data();
+  } else if (c.kind == Column::Kind::integer) {
+    file_type = H5T_STD_I64LE;
+    mem_type = H5T_NATIVE_LLONG;
+    data = c.integers.data();
+  }
+  Handle d = cx.own(H5Dcreate2(group, c.name.c_str(), file_type, space.get(), H5P_DEFAULT,
+                               H5P_DEFAULT, H5P_DEFAULT),
+                    H5Dclose, what);
+  if (n > 0) cx.ok(H5Dwrite(d.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), what);
+  attr_string(cx, d.get(), "unit", c.unit);
+  attr_string(cx, d.get(), "description", c.description);
+  cx.ok(d.close(), what);
+}
+
+void write_summary_h5(const fs::path& final_path, const fs::path& temp, const Study& study,
+                      const std::vector<Column>& cols, std::size_t row_count, const Json& prov) {
+  Hdf5Lock lock;  // held for the whole create-write-close
+  const Context cx(final_path, "cannot write summary file");
+  Handle file = cx.own(H5Fcreate(temp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
+                       "cannot create " + temp.string());
+  {
+    const Handle root = cx.own(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose, "no root");
+    const hid_t g = root.get();
+    attr_int(cx, g, "schema_version", kResultsSchemaVersion);
+    attr_string(cx, g, "study_name", study.name);
+    const std::string study_file = prov_text(prov, "study_file");
+    attr_string(cx, g, "study_file", study_file.empty() ? study.file.string() : study_file);
+    for (const char* key : {"rodend_version", "git_revision", "host"})
+      attr_string(cx, g, key, prov_text(prov, key));
+    attr_int64(cx, g, "case_count", static_cast<long long>(row_count));
+    attr_string(cx, g, "provenance_json", prov.dump());
+    attr_string(cx, g, "study_json", study.source.dump());
+
+    const Handle summary = create_group(cx, g, "summary", /*track_link_order=*/true);
+    Json names = Json::array();
+    for (const Column& c : cols) {
+      write_summary_column(cx, summary.get(), c);
+      names.push_back(c.name);
+    }
+    attr_string(cx, summary.get(), "columns", names.dump());
+  }
+  cx.ok(file.close(), "cannot close " + temp.string());
+}
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string out = "\"";
+  for (const char ch : s) {
+    if (ch == '"') out += '"';
+    out += ch;
+  }
+  return out + "\"";
+}
+
+std::string csv_number(double v) {
+  if (std::isnan(v)) return "nan";
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+void write_summary_csv(const fs::path& final_path, const fs::path& temp,
+                       const std::vector<Column>& cols, std::size_t row_count) {
+  std::string text;
+  for (std::size_t j = 0; j < cols.size(); ++j) {
+    if (j) text += ',';
+    text += csv_field(cols[j].name);
+  }
+  text += '\n';
+  for (std::size_t i = 0; i < row_count; ++i) {
+    for (std::size_t j = 0; j < cols.size(); ++j) {
+      const Column& c = cols[j];
+      if (j) text += ',';
+      switch (c.kind) {
+        case Column::Kind::text:
+          text += csv_field(c.texts[i]);
+          break;
+        case Column::Kind::integer:
+          text += std::to_string(c.integers[i]);
+          break;
+        case Column::Kind::real:
+          text += csv_number(c.reals[i]);
+          break;
+      }
+    }
+    text += '\n';
+  }
+  std::FILE* f = std::fopen(temp.c_str(), "wb");
+  if (!f)
+    throw std::runtime_error("cannot write summary file " + final_path.string() +
+                             ": cannot create " + temp.string());
+  const bool written = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+  if (std::fclose(f) != 0 || !written)
+    throw std::runtime_error("cannot write summary file " + final_path.string() +
+                             ": write error on " + temp.string());
+}
+
+}  // namespace
+
+// -------------------------------------------------------------------------------------------
+// Public interface
+
+Json provenance(const Study& study) {
+  char host[256] = {};
+  if (::gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
+  return Json{{"rodend_version", RODEND_VERSION}, {"git_revision", RODEND_GIT_REVISION},
+              {"host", std::string(host)},        {"study_file", study.file.string()},
+              {"study_name", study.name},         {"created_utc", utc_now_iso8601()}};
+}
+
+void write_case_file(const fs::path& path, const CaseSpec& spec, const CaseRecord& record,
+                     const History& history, const Json& prov) {
+  check_history(path, history);
+  write_atomically(path, [&](const fs::path& temp) {
+    Hdf5Lock lock;  // held for the whole create-write-close
+    const Context cx(path, "cannot write results file");
+    Handle file = cx.own(H5Fcreate(temp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
+                         "cannot create " + temp.string());
+    {
+      const Handle root = cx.own(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose, "no root");
+      write_case_root(cx, root.get(), spec, record, prov);
+      write_case_parameters(cx, root.get(), spec.parameters);
+      write_case_signals(cx, root.get(), history);
+      write_case_metrics(cx, root.get(), record.metrics);
+    }
+    cx.ok(file.close(), "cannot close " + temp.string());
+  });
+}
+
+std::optional<CaseRecord> read_case_record(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return std::nullopt;
+  Hdf5Lock lock;  // held for the whole open-read-close
+  try {
+    return read_case_locked(path);
+  } catch (const std::exception&) {
+    // unreadable, corrupt, or of another schema version: the caller treats it as absent
+    return std::nullopt;
+  }
+}
+
+void write_summary(const fs::path& dir, const Study& study, const std::vector<CaseRecord>& rows,
+                   const Json& prov) {
+  const std::vector<Column> cols = summary_columns(study, rows);
+  const fs::path h5 = dir / "summary.h5";
+  write_atomically(h5, [&](const fs::path& temp) {
+    write_summary_h5(h5, temp, study, cols, rows.size(), prov);
+  });
+  const fs::path csv = dir / "summary.csv";
+  write_atomically(csv,
+                   [&](const fs::path& temp) { write_summary_csv(csv, temp, cols, rows.size()); });
+}
+
+}  // namespace rodend

@@ -1,1 +1,438 @@
-// placeholder
+#include "sweep/study.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <sstream>
+
+#include "core/scene.hpp"
+
+namespace rodend {
+namespace fs = std::filesystem;
+
+std::string fnv1a64_hex(std::string_view text) {
+  std::uint64_t h = 14695981039346656037ull;
+  for (unsigned char c : text) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
+namespace {
+
+/// Numbers of parameters are physical quantities: 1 and 1.0 are the same value, so integers are
+/// written as doubles in the canonical form.
+Json as_doubles(const Json& j) {
+  if (j.is_number()) return Json(j.get<double>());
+  if (j.is_array()) {
+    Json out = Json::array();
+    for (const Json& e : j) out.push_back(as_doubles(e));
+    return out;
+  }
+  if (j.is_object()) {
+    Json out = Json::object();
+    for (auto it = j.begin(); it != j.end(); ++it) out[it.key()] = as_doubles(*it);
+    return out;
+  }
+  return j;
+}
+
+Json to_json(const IntegratorSettings& s) {
+  return {{"method", s.method},           {"abs_tol", s.abs_tol},
+          {"rel_tol", s.rel_tol},         {"step", s.step},
+          {"max_step", s.max_step},       {"min_step", s.min_step},
+          {"max_steps", s.max_steps},     {"max_rhs_calls", s.max_rhs_calls},
+          {"contact_onset", s.contact_onset}};
+}
+
+}  // namespace
+
+Json CaseSpec::canonical() const {
+  Json sig = Json::array();
+  for (SignalId id : signals) sig.push_back(std::string(signal_spec(id).name));
+  return {{"scene", scene},
+          {"parameters", as_doubles(parameters.values())},
+          {"integrator", to_json(integrator)},
+          {"time", {{"end", time.end}, {"sample_interval", time.sample_interval}}},
+          {"health", {{"max_penetration_fraction", health.max_penetration_fraction}}},
+          {"metrics",
+           {{"post_impact_window", metrics.post_impact_window},
+            {"surface_motion_threshold", metrics.surface_motion_threshold}}},
+          {"signals", sig}};
+}
+
+std::string case_id(const CaseSpec& c) { return fnv1a64_hex(c.canonical().dump()); }
+
+namespace {
+
+std::string describe(const Json& j) {
+  if (j.is_number()) return "a number";
+  if (j.is_string()) return "a string";
+  if (j.is_boolean()) return "a boolean";
+  if (j.is_array()) return "an array";
+  if (j.is_object()) return "an object";
+  return "null";
+}
+
+double need_number(const Json& v, const std::string& key) {
+  if (!v.is_number()) throw InputError(key, "expected a number, got " + describe(v));
+  return v.get<double>();
+}
+long long need_integer(const Json& v, const std::string& key) {
+  if (!v.is_number()) throw InputError(key, "expected an integer, got " + describe(v));
+  const double d = v.get<double>();
+  if (d != std::floor(d) || std::abs(d) > 9e18)
+    throw InputError(key, "expected an integer, got " + v.dump());
+  return static_cast<long long>(d);
+}
+std::string need_string(const Json& v, const std::string& key) {
+  if (!v.is_string()) throw InputError(key, "expected a string, got " + describe(v));
+  return v.get<std::string>();
+}
+const Json& need_object(const Json& v, const std::string& key) {
+  if (!v.is_object()) throw InputError(key, "expected an object, got " + describe(v));
+  return v;
+}
+
+/// A case being resolved: the draft every setting is applied to.
+struct Draft {
+  std::string scene;
+  ParameterSet parameters;
+  IntegratorSettings integrator;
+  TimeSettings time;
+  HealthLimits health;
+  MetricsSettings metrics;
+};
+
+/// Applies one setting addressed by a full key path (parameters.*, integrator.*, time.*,
+/// health.*, metrics.*). Throws InputError with that key path.
+void apply(Draft& d, const std::string& key, const Json& v) {
+  const auto dot = key.find('.');
+  const std::string section = key.substr(0, dot);
+  const std::string field = dot == std::string::npos ? "" : key.substr(dot + 1);
+  if (field.empty()) throw InputError(key, "expected a key path such as parameters.contact.clearance");
+  if (section == "parameters") {
+    try {
+      d.parameters.set(field, v);
+    } catch (const InputError& e) {
+      throw e.located("", "parameters");
+    }
+    return;
+  }
+  if (section == "integrator") {
+    auto& s = d.integrator;
+    if (field == "method") s.method = need_string(v, key);
+    else if (field == "abs_tol") s.abs_tol = need_number(v, key);
+    else if (field == "rel_tol") s.rel_tol = need_number(v, key);
+    else if (field == "step") s.step = need_number(v, key);
+    else if (field == "max_step") s.max_step = need_number(v, key);
+    else if (field == "min_step") s.min_step = need_number(v, key);
+    else if (field == "max_steps") s.max_steps = need_integer(v, key);
+    else if (field == "max_rhs_calls") s.max_rhs_calls = need_integer(v, key);
+    else if (field == "contact_onset") s.contact_onset = need_string(v, key);
+    else
+      throw InputError(key, "unknown integrator setting; expected one of method, abs_tol, "
+                            "rel_tol, step, max_step, min_step, max_steps, max_rhs_calls, "
+                            "contact_onset");
+    return;
+  }
+  if (section == "time") {
+    if (field == "end") d.time.end = need_number(v, key);
+    else if (field == "sample_interval") d.time.sample_interval = need_number(v, key);
+    else throw InputError(key, "unknown time setting; expected end or sample_interval");
+    return;
+  }
+  if (section == "health") {
+    if (field == "max_penetration_fraction") {
+      d.health.max_penetration_fraction = need_number(v, key);
+      if (!(d.health.max_penetration_fraction > 0.0))
+        throw InputError(key, "expected a fraction > 0");
+    } else {
+      throw InputError(key, "unknown health setting; expected max_penetration_fraction");
+    }
+    return;
+  }
+  if (section == "metrics") {
+    if (field == "post_impact_window") d.metrics.post_impact_window = need_number(v, key);
+    else if (field == "surface_motion_threshold")
+      d.metrics.surface_motion_threshold = need_number(v, key);
+    else
+      throw InputError(key, "unknown metrics setting; expected post_impact_window or "
+                            "surface_motion_threshold");
+    return;
+  }
+  throw InputError(key, "unknown section '" + section +
+                            "'; expected parameters, integrator, time, health or metrics");
+}
+
+/// Flattens {"contact": {"clearance": 1e-4}} into {"contact.clearance": 1e-4}; dotted keys pass.
+void flatten(const Json& node, const std::string& prefix,
+             std::vector<std::pair<std::string, Json>>& out) {
+  for (auto it = node.begin(); it != node.end(); ++it) {
+    const std::string key = prefix.empty() ? it.key() : prefix + "." + it.key();
+    if (it->is_object())
+      flatten(*it, key, out);
+    else
+      out.emplace_back(key, *it);
+  }
+}
+
+/// Applies a section object ("integrator": {...}) as settings under that section.
+void apply_section(Draft& d, const Json& doc, const std::string& section) {
+  if (!doc.contains(section)) return;
+  const Json& obj = need_object(doc[section], section);
+  std::vector<std::pair<std::string, Json>> flat;
+  flatten(obj, section, flat);
+  for (const auto& [k, v] : flat) apply(d, k, v);
+}
+
+struct Axis {
+  std::vector<std::string> keys;            // several for a zip group
+  std::vector<std::vector<Json>> values;    // per key, same length
+  std::size_t size() const { return values.empty() ? 0 : values.front().size(); }
+};
+
+std::vector<Json> expand_values(const Json& a, const std::string& where) {
+  std::vector<Json> out;
+  const int forms = a.contains("values") + a.contains("linspace") + a.contains("logspace");
+  if (forms != 1)
+    throw InputError(where, "expected exactly one of \"values\", \"linspace\" or \"logspace\"");
+  if (a.contains("values")) {
+    const Json& v = a["values"];
+    if (!v.is_array() || v.empty())
+      throw InputError(where + ".values", "expected a non-empty array");
+    for (const Json& e : v) out.push_back(e);
+    return out;
+  }
+  const bool log = a.contains("logspace");
+  const std::string key = where + (log ? ".logspace" : ".linspace");
+  const Json& g = a[log ? "logspace" : "linspace"];
+  if (!g.is_array() || g.size() != 3)
+    throw InputError(key, "expected [start, stop, count]");
+  const double start = need_number(g[0], key + "[0]");
+  const double stop = need_number(g[1], key + "[1]");
+  const long long n = need_integer(g[2], key + "[2]");
+  if (n < 1 || n > 10'000'000) throw InputError(key + "[2]", "expected a count in [1, 1e7]");
+  if (log && !(start > 0.0 && stop > 0.0))
+    throw InputError(key, "expected start > 0 and stop > 0 (the values, not exponents)");
+  for (long long i = 0; i < n; ++i) {
+    const double f = n == 1 ? 0.0 : static_cast<double>(i) / static_cast<double>(n - 1);
+    double v = log ? std::exp(std::log(start) + f * (std::log(stop) - std::log(start)))
+                   : start + f * (stop - start);
+    if (i == n - 1) v = stop;  // end points exact
+    if (i == 0) v = start;
+    out.emplace_back(v);
+  }
+  return out;
+}
+
+Axis parse_axis(const Json& a, const std::string& where) {
+  need_object(a, where);
+  Axis axis;
+  if (a.contains("zip")) {
+    for (auto it = a.begin(); it != a.end(); ++it)
+      if (it.key() != "zip") throw InputError(where + "." + it.key(), "unknown key in a zip group");
+    const Json& members = a["zip"];
+    if (!members.is_array() || members.empty())
+      throw InputError(where + ".zip", "expected a non-empty array of axes");
+    for (std::size_t i = 0; i < members.size(); ++i) {
+      const std::string w = where + ".zip[" + std::to_string(i) + "]";
+      Axis m = parse_axis(members[i], w);
+      if (m.keys.size() != 1) throw InputError(w, "a zip group cannot contain another zip");
+      if (!axis.keys.empty() && m.size() != axis.size())
+        throw InputError(w, "zip members must have the same length: " +
+                                std::to_string(m.size()) + " vs " + std::to_string(axis.size()));
+      axis.keys.push_back(m.keys[0]);
+      axis.values.push_back(m.values[0]);
+    }
+    return axis;
+  }
+  for (auto it = a.begin(); it != a.end(); ++it)
+    if (it.key() != "key" && it.key() != "values" && it.key() != "linspace" &&
+        it.key() != "logspace")
+      throw InputError(where + "." + it.key(),
+                       "unknown key in a grid axis; expected key with values, linspace or "
+                       "logspace, or zip");
+  if (!a.contains("key")) throw InputError(where + ".key", "missing: the key path this axis varies");
+  axis.keys.push_back(need_string(a["key"], where + ".key"));
+  axis.values.push_back(expand_values(a, where));
+  return axis;
+}
+
+std::pair<std::size_t, std::size_t> line_column(const std::string& text, std::size_t byte) {
+  std::size_t line = 1, col = 1;
+  for (std::size_t i = 0; i < byte && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      col = 1;
+    } else {
+      ++col;
+    }
+  }
+  return {line, col};
+}
+
+}  // namespace
+
+Study parse_study(const Json& doc, const fs::path& file, const fs::path& results_root) {
+  const std::string fname = file.string();
+  try {
+    if (!doc.is_object()) throw InputError("", "a study must be a JSON object");
+    static const std::vector<std::string> kKeys{"name",   "description", "scene",  "parameters",
+                                                "integrator", "time",    "signals", "health",
+                                                "metrics", "grid",       "output"};
+    for (auto it = doc.begin(); it != doc.end(); ++it)
+      if (std::find(kKeys.begin(), kKeys.end(), it.key()) == kKeys.end())
+        throw InputError(it.key(), "unknown key; expected one of name, description, scene, "
+                                   "parameters, integrator, time, signals, health, metrics, "
+                                   "grid, output");
+    Study study;
+    study.file = file;
+    study.source = doc;
+    study.name = doc.contains("name") ? need_string(doc["name"], "name") : file.stem().string();
+    if (study.name.empty() || study.name.find('/') != std::string::npos || study.name == "." ||
+        study.name == "..")
+      throw InputError("name", "expected a non-empty name without '/'");
+    study.description = doc.contains("description") ? need_string(doc["description"], "description") : "";
+    if (!doc.contains("scene")) throw InputError("scene", "missing: which scene to run");
+    study.scene = need_string(doc["scene"], "scene");
+    study.output_dir = doc.contains("output") ? fs::path(need_string(doc["output"], "output"))
+                                              : results_root / study.name;
+
+    // the base draft: defaults, then the study's sections
+    Draft base;
+    base.scene = study.scene;
+    base.parameters = ParameterSet::defaults_for(study.scene);  // unknown scene -> key "scene"
+    if (!doc.contains("time")) throw InputError("time", "missing: {\"end\": ..., \"sample_interval\": ...}");
+    for (const char* section : {"parameters", "integrator", "time", "health", "metrics"})
+      apply_section(base, doc, section);
+    if (!doc["time"].contains("end")) throw InputError("time.end", "missing: the end time [s]");
+    if (!doc["time"].contains("sample_interval"))
+      throw InputError("time.sample_interval", "missing: the history sample interval [s]");
+
+    // recorded signals: "all" (default) or a list of names the scene provides
+    std::vector<SignalId> signals;
+    {
+      // the scene's signal list needs a built scene; the base draft must build
+      const auto scene = make_scene(study.scene, base.parameters);
+      const auto provided = scene->signals();
+      const Json sel = doc.contains("signals") ? doc["signals"] : Json("all");
+      if (sel.is_string() && sel.get<std::string>() == "all") {
+        signals.assign(provided.begin(), provided.end());
+      } else if (sel.is_array()) {
+        signals.push_back(SignalId::time);
+        for (std::size_t i = 0; i < sel.size(); ++i) {
+          const std::string key = "signals[" + std::to_string(i) + "]";
+          const std::string name = need_string(sel[i], key);
+          const auto id = signal_by_name(name);
+          if (!id) throw InputError(key, "unknown signal '" + name + "' (see `rodend signals`)");
+          if (std::find(provided.begin(), provided.end(), *id) == provided.end())
+            throw InputError(key, "signal '" + name + "' is not recorded by scene " + study.scene);
+          if (std::find(signals.begin(), signals.end(), *id) == signals.end())
+            signals.push_back(*id);
+        }
+        std::sort(signals.begin(), signals.end());
+      } else {
+        throw InputError("signals", "expected \"all\" or an array of signal names");
+      }
+    }
+
+    // the grid: axes, each a single key or a zip group; cartesian product, last axis fastest
+    std::vector<Axis> axes;
+    if (doc.contains("grid")) {
+      const Json& g = doc["grid"];
+      if (!g.is_array()) throw InputError("grid", "expected an array of axes");
+      for (std::size_t i = 0; i < g.size(); ++i)
+        axes.push_back(parse_axis(g[i], "grid[" + std::to_string(i) + "]"));
+    }
+    std::size_t total = 1;
+    for (const Axis& a : axes) {
+      for (const std::string& k : a.keys) {
+        if (std::find(study.axis_keys.begin(), study.axis_keys.end(), k) != study.axis_keys.end())
+          throw InputError("grid", "key '" + k + "' appears on more than one axis");
+        study.axis_keys.push_back(k);
+      }
+      total *= a.size();
+      if (total > 10'000'000) throw InputError("grid", "more than 1e7 cases");
+    }
+
+    study.cases.reserve(total);
+    for (std::size_t index = 0; index < total; ++index) {
+      Draft d = base;
+      CaseSpec c;
+      std::size_t rest = index;
+      std::vector<std::size_t> pos(axes.size());
+      for (std::size_t a = axes.size(); a-- > 0;) {
+        pos[a] = rest % axes[a].size();
+        rest /= axes[a].size();
+      }
+      try {
+        for (std::size_t a = 0; a < axes.size(); ++a)
+          for (std::size_t k = 0; k < axes[a].keys.size(); ++k) {
+            const Json& v = axes[a].values[k][pos[a]];
+            c.coordinates[axes[a].keys[k]] = v;
+            apply(d, axes[a].keys[k], v);
+          }
+        validate(d.integrator);
+        validate(d.time);
+        (void)make_scene(d.scene, d.parameters);  // the scene's own physical checks
+      } catch (const InputError& e) {
+        if (axes.empty()) throw;
+        std::string where = e.key_path();
+        throw InputError(where, e.problem() + " (grid case " + std::to_string(index) + ": " +
+                                    c.coordinates.dump() + ")");
+      }
+      c.index = static_cast<long>(index);
+      c.scene = d.scene;
+      c.parameters = std::move(d.parameters);
+      c.integrator = d.integrator;
+      c.time = d.time;
+      c.health = d.health;
+      c.metrics = d.metrics;
+      c.signals = signals;
+      c.id = case_id(c);
+      study.cases.push_back(std::move(c));
+    }
+    // distinct grid points must be distinct cases
+    {
+      std::vector<std::string> ids;
+      for (const auto& c : study.cases) ids.push_back(c.id);
+      std::sort(ids.begin(), ids.end());
+      if (std::adjacent_find(ids.begin(), ids.end()) != ids.end())
+        throw InputError("grid", "two grid points resolve to the same case (a repeated value?)");
+    }
+    return study;
+  } catch (const InputError& e) {
+    throw e.located(fname);
+  }
+}
+
+Study load_study(const fs::path& file, const fs::path& results_root) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError("", "cannot open the study file", file.string());
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string text = ss.str();
+  Json doc;
+  try {
+    doc = Json::parse(text);
+  } catch (const Json::parse_error& e) {
+    const auto [line, col] = line_column(text, e.byte > 0 ? e.byte - 1 : 0);
+    std::string what = e.what();
+    // nlohmann's message starts with "[json.exception.parse_error.101] parse error at ..."
+    const auto colon = what.find(": ");
+    const std::string detail = colon == std::string::npos ? what : what.substr(colon + 2);
+    throw InputError("", "JSON syntax error at line " + std::to_string(line) + ", column " +
+                             std::to_string(col) + ": " + detail,
+                     file.string());
+  }
+  return parse_study(doc, file, results_root);
+}
+
+}  // namespace rodend

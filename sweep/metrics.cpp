@@ -1,0 +1,120 @@
+#include "sweep/metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace rodend {
+namespace {
+
+constexpr std::array<MetricSpec, metric_count> kMetrics{{
+#define RODEND_METRIC(id, unit, doc) MetricSpec{#id, unit, doc},
+#include "sweep/metrics.def"
+#undef RODEND_METRIC
+}};
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+template <class T>
+bool provides(const Scene& s, T id) {
+  const auto sig = s.signals();
+  return std::find(sig.begin(), sig.end(), id) != sig.end();
+}
+
+double& at(MetricValues& v, MetricId id) { return v[static_cast<std::size_t>(id)]; }
+
+}  // namespace
+
+std::span<const MetricSpec> metric_catalogue() { return kMetrics; }
+
+MetricsAccumulator::MetricsAccumulator(const Scene& scene, const MetricsSettings& settings)
+    : settings_(settings),
+      has_contact_(provides(scene, SignalId::contact_force)),
+      has_surface_(provides(scene, SignalId::surface_angle)),
+      has_energy_(provides(scene, SignalId::energy_residual)) {
+  v_.fill(kNaN);
+  if (has_contact_) {
+    for (MetricId id : {MetricId::first_impact_peak_force, MetricId::max_contact_force,
+                        MetricId::max_eccentricity, MetricId::max_penetration,
+                        MetricId::contact_time, MetricId::wear_integral})
+      at(v_, id) = 0.0;
+    at(v_, MetricId::max_penetration) = -std::numeric_limits<double>::infinity();
+  }
+}
+
+void MetricsAccumulator::on_step(const SignalFrame& f) {
+  const double t = f.get(SignalId::time);
+  const double dt = first_step_ ? 0.0 : t - t_prev_;
+  if (has_contact_) {
+    const double F = f.get(SignalId::contact_force);
+    const double ecc = f.get(SignalId::eccentricity);
+    const double wear = f.get(SignalId::wear_indicator);
+    at(v_, MetricId::max_contact_force) = std::max(at(v_, MetricId::max_contact_force), F);
+    at(v_, MetricId::max_eccentricity) = std::max(at(v_, MetricId::max_eccentricity), ecc);
+    at(v_, MetricId::max_penetration) =
+        std::max(at(v_, MetricId::max_penetration), f.get(SignalId::penetration));
+    // trapezoids over accepted steps
+    at(v_, MetricId::wear_integral) += 0.5 * (wear + wear_prev_) * dt;
+    if (F > 0.0 || force_prev_ > 0.0)
+      at(v_, MetricId::contact_time) += (F > 0.0 && force_prev_ > 0.0) ? dt : 0.5 * dt;
+    // contact episodes, from the latched impact speed / force
+    const bool touching = f.get(SignalId::penetration) > 0.0;
+    if (touching && !in_contact_) {
+      ++episode_;
+      if (episode_ == 1) {
+        at(v_, MetricId::first_contact_time) = t;
+        at(v_, MetricId::first_impact_speed) = f.get(SignalId::impact_speed);
+        ecc_min_ = ecc_max_ = ecc;
+      }
+    }
+    in_contact_ = touching;
+    if (episode_ == 1 && touching)
+      at(v_, MetricId::first_impact_peak_force) =
+          std::max(at(v_, MetricId::first_impact_peak_force), F);
+    if (episode_ >= 1 && t <= at(v_, MetricId::first_contact_time) + settings_.post_impact_window) {
+      ecc_min_ = std::min(ecc_min_, ecc);
+      ecc_max_ = std::max(ecc_max_, ecc);
+    }
+    force_prev_ = F;
+    wear_prev_ = wear;
+  }
+  if (has_surface_) {
+    const double a = f.get(SignalId::surface_angle);
+    at(v_, MetricId::final_surface_angle) = a;
+    at(v_, MetricId::min_surface_angle) =
+        std::isnan(at(v_, MetricId::min_surface_angle)) ? a : std::min(at(v_, MetricId::min_surface_angle), a);
+    at(v_, MetricId::max_surface_angle) =
+        std::isnan(at(v_, MetricId::max_surface_angle)) ? a : std::max(at(v_, MetricId::max_surface_angle), a);
+    if (std::isnan(at(v_, MetricId::surface_motion_onset_time)) &&
+        std::abs(a) > settings_.surface_motion_threshold)
+      at(v_, MetricId::surface_motion_onset_time) = t;
+  }
+  if (has_energy_) {
+    const double w = f.get(SignalId::input_work);
+    const double d = f.get(SignalId::dissipated_energy);
+    const double r = f.get(SignalId::energy_residual);
+    // the mechanical-energy change is residual + input - dissipated
+    const double dE = r + w - d;
+    max_flow_ = std::max({max_flow_, std::abs(w), std::abs(d), std::abs(dE)});
+    max_residual_ = std::max(max_residual_, std::abs(r));
+    at(v_, MetricId::input_work) = w;
+    at(v_, MetricId::dissipated_energy) = d;
+  }
+  t_prev_ = t;
+  first_step_ = false;
+}
+
+MetricValues MetricsAccumulator::finish(const RunStats& stats) const {
+  MetricValues v = v_;
+  if (has_contact_) {
+    at(v, MetricId::impact_count) = static_cast<double>(stats.contact_onsets);
+    if (episode_ >= 1) at(v, MetricId::eccentricity_ptp_after_first_contact) = ecc_max_ - ecc_min_;
+    if (std::isinf(at(v, MetricId::max_penetration))) at(v, MetricId::max_penetration) = kNaN;
+  }
+  if (has_energy_) at(v, MetricId::energy_residual) = max_flow_ > 0.0 ? max_residual_ / max_flow_ : 0.0;
+  at(v, MetricId::max_penetration_fraction) = stats.max_penetration_fraction;
+  at(v, MetricId::max_quaternion_norm_error) = stats.max_quaternion_norm_error;
+  return v;
+}
+
+}  // namespace rodend

@@ -1,0 +1,56 @@
+// Summary metrics of a case, computed from the frames the driver produces on every accepted
+// step (so peaks are not limited by the sample interval).
+#pragma once
+
+#include <array>
+#include <span>
+#include <string_view>
+
+#include "core/integrator.hpp"
+
+namespace rodend {
+
+enum class MetricId : int {
+#define RODEND_METRIC(id, unit, doc) id,
+#include "sweep/metrics.def"
+#undef RODEND_METRIC
+  count_
+};
+inline constexpr int metric_count = static_cast<int>(MetricId::count_);
+
+struct MetricSpec {
+  std::string_view name;
+  std::string_view unit;
+  std::string_view description;
+};
+std::span<const MetricSpec> metric_catalogue();
+
+using MetricValues = std::array<double, metric_count>;
+
+/// Settings of the metrics (study key "metrics").
+struct MetricsSettings {
+  double post_impact_window = 0.05;          ///< [s] window for the eccentricity oscillation
+  double surface_motion_threshold = 1e-3;    ///< [rad] surface counts as moving beyond this
+};
+
+/// Accumulates the metrics from step frames.
+class MetricsAccumulator {
+ public:
+  MetricsAccumulator(const Scene& scene, const MetricsSettings& settings);
+  void on_step(const SignalFrame& f);
+  /// Final values; the driver's stats supply the health metrics.
+  MetricValues finish(const RunStats& stats) const;
+
+ private:
+  MetricsSettings settings_;
+  bool has_contact_ = false, has_surface_ = false, has_energy_ = false;
+  double t_prev_ = 0.0, force_prev_ = 0.0, wear_prev_ = 0.0;
+  bool first_step_ = true;
+  MetricValues v_{};
+  int episode_ = 0;          // contact episodes seen
+  bool in_contact_ = false;
+  double ecc_min_ = 0.0, ecc_max_ = 0.0;
+  double max_flow_ = 0.0, max_residual_ = 0.0;
+};
+
+}  // namespace rodend

@@ -1,0 +1,62 @@
+// Studies: a JSON file naming a scene, parameter overrides, a grid over parameters and
+// integrator settings, time settings and the signals to record. A single case is a study with
+// no grid. Every case is resolved and validated before anything runs.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/integrator.hpp"
+#include "core/params.hpp"
+#include "core/signals.hpp"
+#include "sweep/metrics.hpp"
+
+namespace rodend {
+
+/// One fully resolved case of a study.
+struct CaseSpec {
+  std::string id;            ///< 16 hex digits: FNV-1a 64 of canonical() (see case_id)
+  long index = 0;            ///< position in the expanded grid, 0-based
+  Json coordinates = Json::object();  ///< grid key -> value for this case (empty without a grid)
+  std::string scene;
+  ParameterSet parameters;   ///< defaults plus study overrides plus grid values
+  IntegratorSettings integrator;
+  TimeSettings time;
+  HealthLimits health;
+  MetricsSettings metrics;
+  std::vector<SignalId> signals;  ///< recorded signals, catalogue order, time first
+
+  /// The canonical resolved description: scene, every parameter value, integrator, time,
+  /// health, metrics settings and recorded signals. Its compact dump (sorted keys, shortest
+  /// round-trip floats) is hashed into the id.
+  Json canonical() const;
+};
+
+/// A loaded study.
+struct Study {
+  std::filesystem::path file;          ///< the study file
+  std::string name;                    ///< "name" key, else the file stem
+  std::string description;
+  std::string scene;
+  std::filesystem::path output_dir;    ///< "output" key, else results/<name>
+  std::vector<std::string> axis_keys;  ///< grid coordinate keys, in axis order
+  std::vector<CaseSpec> cases;
+  Json source;                         ///< the study file as parsed
+};
+
+/// FNV-1a 64-bit hash of a string, as 16 lowercase hex digits.
+std::string fnv1a64_hex(std::string_view text);
+/// The id of a case: hash of canonical().dump().
+std::string case_id(const CaseSpec& c);
+
+/// Reads, expands and validates a study. `results_root` is where studies without an "output"
+/// key write (results/ of the working directory by default). Throws InputError naming the
+/// file, the key path and, for a grid, the case.
+Study load_study(const std::filesystem::path& file,
+                 const std::filesystem::path& results_root = "results");
+/// The same from an already parsed document; `file` is used in messages and for the name.
+Study parse_study(const Json& doc, const std::filesystem::path& file,
+                  const std::filesystem::path& results_root = "results");
+
+}  // namespace rodend
