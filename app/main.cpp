@@ -92,7 +92,7 @@ int main(int argc, char** argv) {
       "Exit codes: 0 ok, 1 a case failed, 2 bad input.",
       "rodend"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", std::string(RODEND_VERSION_STRING));
+  app.set_version_flag("--version", std::string(RODEND_VERSION) + " (" + RODEND_GIT_REVISION + ")");
 
   auto* run = app.add_subcommand(
       "run", "Run a study (or a single case: a study with no grid). Cases already complete in "

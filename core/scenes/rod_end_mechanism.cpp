@@ -1,0 +1,196 @@
+#include "core/scenes/rod_end_mechanism.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "core/scenes/parts.hpp"
+
+namespace rodend {
+namespace {
+
+SliderCrank read_geometry(const ParameterSet& p) {
+  const double s = read_positive(p, "geometry.crank");
+  const double t = read_positive(p, "geometry.frame");
+  const double l0 = read_positive(p, "geometry.rod");
+  try {
+    return SliderCrank(s, t, l0);
+  } catch (const std::invalid_argument& e) {
+    throw InputError("geometry.rod", std::string(e.what()) + ": need |frame - crank| < rod < frame + crank");
+  }
+}
+
+Quat about_z(double angle) { return Quat(Eigen::AngleAxisd(angle, Vec3::UnitZ())); }
+
+}  // namespace
+
+RodEndMechanism::RodEndMechanism(const ParameterSet& p)
+    : geometry_(read_geometry(p)),
+      ball_(read_body(p, "ball")),
+      socket_(read_body(p, "socket")),
+      contact_(read_spherical_contact(p, "contact", "friction")),
+      slider_spring_(read_spring(p, "slider_spring")),
+      crank_spring_(read_spring(p, "crank_spring")),
+      hinge_(read_hinge(p, "hinge")),
+      gravity_(p.vec3("gravity")),
+      misalignment_z_(p.number("socket.misalignment_z")) {
+  const double m = read_positive(p, "surface.mass", true);
+  const double I = read_positive(p, "surface.inertia", true);
+  const double s = geometry_.crank();
+  surface_inertia_ = m * (s / 3.0) * (s / 3.0) + I;  // eq. 4.16 with the typo of 4.15 fixed
+  if (!(surface_inertia_ > 0.0))
+    throw InputError("surface.inertia", "the surface needs a mass or an inertia > 0");
+  surface_damping_ = read_positive(p, "surface.damping", true);
+}
+
+void RodEndMechanism::check_closure(const ActuatorMotion& motion, const std::string& key) const {
+  // scan the whole profile finely: the extremes are at the ends of the strokes, but a scan
+  // also reports the first offending time
+  const double T = motion.duration();
+  const int n = 20000 * motion.cycles;
+  for (int i = 0; i <= n; ++i) {
+    const double t = T * i / n;
+    const double l = geometry_.rod_zero() + motion.at(t).position;
+    // a margin keeps d(rod angle)/dl (which divides by sin alpha) finite
+    const double margin = 1e-6 * geometry_.max_rod();
+    if (l <= geometry_.min_rod() + margin || l >= geometry_.max_rod() - margin) {
+      std::ostringstream m;
+      m << "the mechanism cannot close: rod length " << l << " m at t = " << t
+        << " s is outside (" << geometry_.min_rod() << ", " << geometry_.max_rod()
+        << ") m = (|frame - crank|, frame + crank)";
+      throw InputError(key, m.str());
+    }
+  }
+}
+
+void RodEndMechanism::initial_state(double* x) const {
+  // both spheres at the rod end of the mechanism at rest (thesis §5); the socket offset along
+  // z by the misalignment (thesis "initial condition")
+  body_initial_state(x + kBall, Vec3::Zero());
+  body_initial_state(x + kSocket, Vec3(0.0, 0.0, misalignment_z_));
+  x[kTheta] = 0.0;
+  x[kThetaDot] = 0.0;
+}
+
+void RodEndMechanism::state_scale(double* s) const {
+  // lengths on the clearance, speeds on 0.1 m/s (the actuator's rate), angles on 1 mrad
+  const double L = contact_.clearance, V = 0.1;
+  for (int b : {kBall, kSocket}) {
+    for (int i = 0; i < 3; ++i) {
+      s[b + BodyStateLayout::p + i] = L;
+      s[b + BodyStateLayout::v + i] = V;
+      s[b + BodyStateLayout::w + i] = V / contact_.ball_radius;
+    }
+    for (int i = 0; i < 4; ++i) s[b + BodyStateLayout::q + i] = 1.0;
+  }
+  s[kTheta] = 1e-3;
+  s[kThetaDot] = V / geometry_.crank();
+}
+
+ContactGap RodEndMechanism::gap(const double* x) const {
+  return contact_gap(contact_, BodyKinematics::from_state(x + kBall),
+                     BodyKinematics::from_state(x + kSocket));
+}
+
+RodEndMechanism::Eval RodEndMechanism::evaluate(double t, double u, double u_dot, const double* x,
+                                                const ContactLatch& latch) const {
+  Eval e;
+  e.ball = BodyKinematics::from_state(x + kBall);
+  e.socket = BodyKinematics::from_state(x + kSocket);
+  e.theta = x[kTheta];
+  e.theta_dot = x[kThetaDot];
+
+  // rod end from the rod length (eq. 4.1-4.3, differentiated for the velocity)
+  e.rod_length = geometry_.rod_zero() + u;
+  e.rod_angle = geometry_.rod_angle(e.rod_length);
+  e.rod_angle_rate = geometry_.rod_angle_slope(e.rod_length) * u_dot;
+  e.rod_direction = Vec3(std::cos(e.rod_angle), std::sin(e.rod_angle), 0.0);
+  e.slider_anchor.p_W = geometry_.rod_end(e.rod_length) + Vec3(0.0, 0.0, misalignment_z_);
+  e.slider_anchor.v_W = geometry_.rod_end_velocity(e.rod_length, u_dot);
+  e.slider_anchor.q_ref = about_z(e.rod_angle);  // rod angle is 0 at actuator zero
+  e.slider_anchor.w_ref_W = Vec3(0.0, 0.0, e.rod_angle_rate);
+
+  // crank end from the crank angle (eq. 4.17-4.21)
+  e.crank_anchor.p_W = geometry_.crank_end(e.theta);
+  e.crank_anchor.v_W = geometry_.crank_end_velocity(e.theta, e.theta_dot);
+  e.crank_anchor.q_ref = about_z(e.theta);
+  e.crank_anchor.w_ref_W = Vec3(0.0, 0.0, e.theta_dot);
+
+  e.contact = evaluate_contact(contact_, e.ball, e.socket, latch);
+  e.slider_spring = evaluate_spring(slider_spring_, e.slider_anchor, e.socket);
+  e.crank_spring = evaluate_spring(crank_spring_, e.crank_anchor, e.ball);
+
+  // the crank takes the reaction of the ball spring at its end; only the in-plane components
+  // do work (the hinge bearing takes the rest) (thesis eq. 4.12-4.14 in vector form)
+  const Vec3 arm = e.crank_anchor.p_W - geometry_.crank_pivot();
+  e.crank_torque = arm.cross(-e.crank_spring.force_on_body).z() - e.crank_spring.moment_on_body.z();
+  e.hinge_moment = hinge_.at(t, e.theta);
+  return e;
+}
+
+void RodEndMechanism::derivatives(const Eval& e, const double* x, double* dxdt) const {
+  const Vec3 F_ball = ball_.mass * gravity_ + e.contact.force_on_ball() + e.crank_spring.force_on_body;
+  const Vec3 M_ball = e.contact.moment_on_ball + e.crank_spring.moment_on_body;
+  const Vec3 F_socket =
+      socket_.mass * gravity_ - e.contact.force_on_ball() + e.slider_spring.force_on_body;
+  const Vec3 M_socket = e.contact.moment_on_socket + e.slider_spring.moment_on_body;
+  body_derivatives(ball_, e.ball, F_ball, M_ball, x + kBall, dxdt + kBall);
+  body_derivatives(socket_, e.socket, F_socket, M_socket, x + kSocket, dxdt + kSocket);
+  // crank and surface: (m (s/3)^2 + I) theta'' = F s - c theta' + M_hinge (eq. 4.16, fixed)
+  dxdt[kTheta] = e.theta_dot;
+  dxdt[kThetaDot] =
+      (e.crank_torque - surface_damping_ * e.theta_dot + e.hinge_moment) / surface_inertia_;
+}
+
+double RodEndMechanism::mechanical_energy(const Eval& e) const {
+  return kinetic_energy(ball_, e.ball) + kinetic_energy(socket_, e.socket) +
+         0.5 * surface_inertia_ * e.theta_dot * e.theta_dot -
+         ball_.mass * gravity_.dot(e.ball.p_W) - socket_.mass * gravity_.dot(e.socket.p_W) +
+         e.contact.potential + e.slider_spring.potential + e.crank_spring.potential;
+}
+
+double RodEndMechanism::input_power(const Eval& e) const {
+  return e.slider_spring.anchor_power + e.hinge_moment * e.theta_dot;
+}
+
+double RodEndMechanism::dissipated_power(const Eval& e) const {
+  return e.contact.damping_power + e.contact.friction_power + e.slider_spring.damping_power +
+         e.crank_spring.damping_power + surface_damping_ * e.theta_dot * e.theta_dot;
+}
+
+double RodEndMechanism::rod_axial_force(const Eval& e) const {
+  return e.slider_spring.force_on_body.dot(e.rod_direction);
+}
+
+void RodEndMechanism::outputs(const Eval& e, const double* x, SignalFrame& f) const {
+  f.set(SignalId::ball_position, e.ball.p_W);
+  f.set(SignalId::ball_velocity, e.ball.v_W);
+  f.set(SignalId::ball_angular_velocity, e.ball.w_B);
+  f.set(SignalId::ball_euler_321, euler321(e.ball.R_WB));
+  f.set(SignalId::socket_position, e.socket.p_W);
+  f.set(SignalId::socket_velocity, e.socket.v_W);
+  f.set(SignalId::socket_angular_velocity, e.socket.w_B);
+  f.set(SignalId::socket_euler_321, euler321(e.socket.R_WB));
+  // contact signals need the latch only for impact_speed, which the scene sets
+  f.set(SignalId::rod_inclination, e.rod_angle);
+  f.set(SignalId::slider_end_position, e.slider_anchor.p_W);
+  f.set(SignalId::crank_end_position, e.crank_anchor.p_W);
+  f.set(SignalId::surface_angle, e.theta);
+  f.set(SignalId::surface_rate, e.theta_dot);
+  double dxdt[size];
+  derivatives(e, x, dxdt);
+  f.set(SignalId::surface_acceleration, dxdt[kThetaDot]);
+  f.set(SignalId::hinge_moment, e.hinge_moment);
+  f.set(SignalId::slider_spring_force, e.slider_spring.force_on_body);
+  // thesis §4 sign conventions: slider spring compression positive, crank spring tension
+  // positive, both along the rod
+  f.set(SignalId::slider_spring_axial_force, e.slider_spring.force_on_body.dot(e.rod_direction));
+  f.set(SignalId::slider_spring_moment, e.slider_spring.moment_on_body);
+  f.set(SignalId::crank_spring_force, e.crank_spring.force_on_body);
+  f.set(SignalId::crank_spring_axial_force, e.crank_spring.force_on_body.dot(e.rod_direction));
+  f.set(SignalId::crank_spring_moment, e.crank_spring.moment_on_body);
+  f.set(SignalId::quaternion_norm_error,
+        std::max(quaternion_norm_error(x, kBall + BodyStateLayout::q),
+                 quaternion_norm_error(x, kSocket + BodyStateLayout::q)));
+}
+
+}  // namespace rodend

@@ -1,0 +1,83 @@
+// The rod-end inside the slider-crank (thesis §4-§5): rod end -> 3-D spring -> socket ->
+// clearance contact -> ball -> 3-D spring -> crank end; the crank carries the control surface
+// (a triangular plate, mass centre at s/3) with rotational damping and a hinge moment.
+// What drives the rod length is left to the scene: a prescribed motion (rod-end-kinematic) or
+// a hydraulic actuator (rod-end-actuator).
+//
+// States (28, from the part's offset): ball (13) | socket (13) | theta [rad] | theta' [rad/s].
+#pragma once
+
+#include "core/contact.hpp"
+#include "core/params.hpp"
+#include "core/rigid_body.hpp"
+#include "core/scenes/drivers.hpp"
+#include "core/scenes/slider_crank.hpp"
+#include "core/signals.hpp"
+#include "core/spring3d.hpp"
+
+namespace rodend {
+
+class RodEndMechanism {
+ public:
+  static constexpr int kBall = 0;
+  static constexpr int kSocket = BodyStateLayout::size;
+  static constexpr int kTheta = 2 * BodyStateLayout::size;
+  static constexpr int kThetaDot = kTheta + 1;
+  static constexpr int size = kThetaDot + 1;
+
+  /// Reads geometry.*, ball.*, socket.*, contact.*, friction.*, slider_spring.*,
+  /// crank_spring.*, surface.*, hinge.*, gravity. Throws InputError.
+  explicit RodEndMechanism(const ParameterSet& p);
+
+  /// Everything the mechanism computes at one instant, for rod extension u and rate u'.
+  struct Eval {
+    BodyKinematics ball, socket;
+    double theta = 0.0, theta_dot = 0.0;
+    double rod_length = 0.0, rod_angle = 0.0, rod_angle_rate = 0.0;
+    Vec3 rod_direction = Vec3::UnitX();
+    SpringAnchor slider_anchor, crank_anchor;
+    ContactEval contact;
+    SpringEval slider_spring, crank_spring;
+    double hinge_moment = 0.0;
+    double crank_torque = 0.0;  ///< spring torque on the crank about its pivot [N m]
+  };
+  Eval evaluate(double t, double u, double u_dot, const double* x, const ContactLatch& l) const;
+
+  void initial_state(double* x) const;
+  void state_scale(double* s) const;
+  /// Writes the 28 derivatives.
+  void derivatives(const Eval& e, const double* x, double* dxdt) const;
+  /// Kinetic + potential energy of the mechanism [J].
+  double mechanical_energy(const Eval& e) const;
+  /// Power delivered by the rod end (through the slider spring) and the hinge moment [W].
+  double input_power(const Eval& e) const;
+  /// Power dissipated by contact damping, friction, spring dampers and the crank damper [W].
+  double dissipated_power(const Eval& e) const;
+  /// Force the rod end exerts on the slider spring along the rod: the actuator's external load
+  /// (compression positive) [N].
+  double rod_axial_force(const Eval& e) const;
+  /// Writes the mechanism's signals (contact, spheres, springs, crank/surface).
+  void outputs(const Eval& e, const double* x, SignalFrame& f) const;
+
+  ContactGap gap(const double* x) const;
+  const SphericalContactModel& contact() const { return contact_; }
+  const SliderCrank& geometry() const { return geometry_; }
+  double surface_inertia() const { return surface_inertia_; }
+
+  /// Checks that the mechanism closes over a rod-extension history; throws InputError naming
+  /// `key` with the offending time and rod length.
+  void check_closure(const ActuatorMotion& motion, const std::string& key) const;
+
+ private:
+  SliderCrank geometry_;
+  RigidBodyParams ball_, socket_;
+  SphericalContactModel contact_;
+  Spring3DParams slider_spring_, crank_spring_;
+  double surface_inertia_ = 0.0;  ///< m (s/3)^2 + I about the hinge [kg m^2] (eq. 4.15-4.16)
+  double surface_damping_ = 0.0;  ///< c [N m s/rad]
+  HingeMoment hinge_;
+  Vec3 gravity_;
+  double misalignment_z_ = 0.0;   ///< socket offset along z [m]
+};
+
+}  // namespace rodend

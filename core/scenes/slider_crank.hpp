@@ -1,0 +1,61 @@
+// Slider-crank geometry of the thesis mechanism (thesis §4, eq. 4.1-4.3, 4.17-4.21;
+// model-notes §5).
+//
+// Frame: the origin is the rod-end at actuator zero (both spheres start there, thesis §5),
+// x along the actuator rod at zero (pointing from its base O to the rod end P), y up, z out of
+// the mechanism plane. Extension of the actuator rotates the crank counter-clockwise (the
+// surface angle increases), and at the start of the stroke pushes the rod end along +x, turning
+// towards +y as the crank rotates (thesis §5.1).
+//
+//   O = (-l0, 0, 0)                actuator base (rod pivot)
+//   Q = s (-cos b0, sin b0, 0)     crank pivot, b0 the angle at P between PO and PQ (eq. 4.3)
+//   |OQ| = t (frame), |QP| = s (crank), |OP| = l (rod, l0 + actuator extension)
+#pragma once
+
+#include <cmath>
+
+#include "core/math.hpp"
+
+namespace rodend {
+
+class SliderCrank {
+ public:
+  /// s crank [m], t frame [m], l0 rod length at actuator zero [m]; requires a closed triangle.
+  SliderCrank(double s, double t, double l0);
+
+  double crank() const { return s_; }
+  double frame() const { return t_; }
+  double rod_zero() const { return l0_; }
+  /// Shortest and longest rod lengths that close the triangle [m].
+  double min_rod() const { return std::abs(t_ - s_); }
+  double max_rod() const { return t_ + s_; }
+  bool closes(double l) const { return l > min_rod() && l < max_rod(); }
+
+  const Vec3& base() const { return O_; }
+  const Vec3& crank_pivot() const { return Q_; }
+
+  /// Rod inclination to the x-axis for rod length l [rad] (from eq. 4.2: the angle at O).
+  double rod_angle(double l) const;
+  /// d(rod angle)/dl [rad/m], by differentiating eq. 4.2 (not eq. 4.8-4.9 as printed).
+  double rod_angle_slope(double l) const;
+  /// Rod-end (slider end) position for rod length l, and its velocity for rate l' [m, m/s].
+  Vec3 rod_end(double l) const;
+  Vec3 rod_end_velocity(double l, double l_dot) const;
+
+  /// Crank angle from its initial position for which the ideal mechanism closes at length l:
+  /// the law-of-cosines angle gamma(l) - gamma(l0) of eq. 4.1 [rad].
+  double ideal_crank_angle(double l) const;
+  /// Crank end position and velocity at crank angle theta (from its initial position) and rate
+  /// theta' (eq. 4.17-4.21) [m, m/s].
+  Vec3 crank_end(double theta) const;
+  Vec3 crank_end_velocity(double theta, double theta_dot) const;
+
+ private:
+  double s_, t_, l0_;
+  Vec3 O_, Q_;
+  double frame_angle_;   ///< direction of OQ [rad]
+  double crank_angle0_;  ///< direction of QP at actuator zero [rad]
+  double gamma0_;        ///< angle at Q at actuator zero [rad]
+};
+
+}  // namespace rodend

@@ -1,0 +1,173 @@
+// Shared test fixture: the tolerances every test uses (each with the reason for its size and the
+// error measured when it was chosen), integrator presets, and a Recorder that keeps the signals
+// a test needs from the frames the driver produces.
+//
+// Set RODEND_TEST_MEASURE=1 in the environment to print every measured error next to its bound
+// (`measured(...)`), e.g. to re-check the margins after a change to the integrator.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <initializer_list>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/integrator.hpp"
+#include "core/params.hpp"
+#include "core/scene.hpp"
+#include "core/signals.hpp"
+
+namespace rodend::test {
+
+// --- integrator presets -------------------------------------------------------------------------
+
+/// Tolerance of "tight" dopri5 runs on the scaled state: two decades above the ~1e-15 round-off
+/// of an O(1) scaled state, so the controller never asks for steps it cannot resolve.
+inline constexpr double kTightTol = 1e-12;
+/// Tolerance of the torque-free conservation run (the brief asks for abs = rel = 1e-13; over 30 s
+/// the measured drift is then ~1e-12, three decades inside the 1e-9 bound).
+inline constexpr double kConservationTol = 1e-13;
+
+inline IntegratorSettings dopri5(double tol, double max_step = 1e-3) {
+  IntegratorSettings s;
+  s.method = "dopri5";
+  s.abs_tol = tol;
+  s.rel_tol = tol;
+  s.max_step = max_step;
+  return s;
+}
+
+inline IntegratorSettings rk4(double step) {
+  IntegratorSettings s;
+  s.method = "rk4";
+  s.step = step;
+  return s;
+}
+
+// --- tolerances ---------------------------------------------------------------------------------
+// Every bound is a relative (rel_) or absolute (abs_) error in the unit named. "measured" is the
+// worst error seen on this machine (Release, gcc 12) when the bound was set.
+
+/// Free body, constant inputs: the translation is a quadratic in t, which dopri5 integrates
+/// exactly, so only round-off of ~1e3 steps on O(10) m remains. measured ~1e-15 (rel).
+inline constexpr double kFreeBodyPositionRel = 1e-12;
+/// Free body, constant moment about a principal axis: yaw psi = M t^2/(2 I) through the
+/// quaternion, a non-polynomial solution; at tol 1e-12 per step the global error stays below
+/// 1e-10 over 4 s. measured ~2e-13 rad (abs).
+inline constexpr double kFreeBodyYawAbs = 1e-9;  // [rad]
+/// Torque-free asymmetric body over 30 s at tol 1e-13: energy and |L| drift. The brief's bound.
+/// measured ~2e-13 (rel).
+inline constexpr double kConservationRel = 1e-9;
+/// Sine/ramp inputs against closed forms (translation) at tol 1e-12: measured ~1e-14 (rel to the
+/// peak value); the bound allows 1e3 steps of 1e-12 local error.
+inline constexpr double kLoadClosedFormRel = 1e-9;
+/// Sine/ramp moments against an independent RK4 (h = 2e-5 s) of Euler's equations: the RK4
+/// global error is ~ (h w)^4 with w up to ~40 rad/s, ~4e-11, plus the library's ~1e-11;
+/// measured ~3e-11 rad/s (angular velocity, rel to its peak) and ~1e-11 (rotation matrix entry).
+inline constexpr double kRotationReferenceRel = 1e-8;
+/// Quaternion norm drift of dopri5 between renormalisations (the driver renormalises at 1e-10).
+inline constexpr double kQuaternionNormAbs = 1e-10;
+
+/// Gravity drop: lateral drift. Gravity and the normal lie exactly along y for a ball starting at
+/// the socket centre, so x and z must stay exactly 0; the brief's bound 1e-12 m. measured 0.
+inline constexpr double kLateralDriftAbs = 1e-12;  // [m]
+/// Static penetration against Hertz (m g / K)^(2/3): the brief's 1 %. The settled ball still
+/// rings at the tolerance level; measured ~5e-6 (rel) at tol 1e-10.
+inline constexpr double kStaticPenetrationRel = 1e-2;
+/// Static normal force against m g: the brief's 0.1 %. measured ~1e-5 (rel).
+inline constexpr double kStaticForceRel = 1e-3;
+/// Elastic (c_r = 1, chi = 0) rebound speed against impact speed: the brief's 0.1 %. measured
+/// ~1e-10 (rel) at tol 1e-12.
+inline constexpr double kReboundRel = 1e-3;
+/// Latched impact speed against free fall sqrt(2 g c): the onset is located by bisection on the
+/// dense output, so the latched speed is the state's speed at the located onset. measured ~1e-12.
+inline constexpr double kImpactSpeedRel = 1e-6;
+/// Integrators agree on the gravity-drop history of y (first 0.05 s, one impact): max
+/// difference relative to the clearance. rk4 at 1e-6 s resolves the ~120 us Hertz contact with
+/// ~120 steps. The bound 1e-3 c = 0.5 um is 5x below the peak Hertz penetration (4 um), so
+/// a wrong contact force would show. measured ~3e-8 (rk4) and ~1e-9 (dopri5 at 1e-8).
+inline constexpr double kIntegratorAgreementRel = 1e-3;
+
+/// "Still" before the first contact: nothing acts on the tethered socket, so its position must
+/// stay exactly 0; the brief's 1e-15 m allows for nothing but a stray round-off.
+inline constexpr double kStillAbs = 1e-15;  // [m]
+/// Penetration never exceeds (F_max/K)^(2/3): exact at the instant of deepest penetration
+/// (delta' = 0, so F = K delta^n); frames may miss that instant by one step, which only lowers
+/// the seen penetration. The slack 1e-9 covers round-off in pow. measured -3e-4 (never above).
+inline constexpr double kHertzBoundSlackRel = 1e-9;
+/// Energy audit of spring-contact: |residual| / input work. The audit integrals are excluded from
+/// error control, so the residual is the quadrature error of the dissipation at tol 1e-8;
+/// measured ~2e-10. The bound 1e-6 is 5000x that, yet 1000x below what a missing or
+/// double-counted term (damping, friction, anchor power: each > 1e-3 of the input) would give.
+inline constexpr double kEnergyResidualRel = 1e-6;
+
+// --- measured errors ----------------------------------------------------------------------------
+
+/// Prints a measured error beside its bound when RODEND_TEST_MEASURE is set.
+inline void measured(const std::string& what, double value, double bound) {
+  static const bool on = std::getenv("RODEND_TEST_MEASURE") != nullptr;
+  if (on) std::printf("measured  %-60s %12.3e  (bound %.1e)\n", what.c_str(), value, bound);
+}
+
+// --- recorder -----------------------------------------------------------------------------------
+
+/// Frames reduced to the signals of interest, one row per frame: time, then each signal's
+/// components in the order given.
+class Track {
+ public:
+  Track() = default;
+  explicit Track(const std::vector<SignalId>& ids) : ids_(ids) {
+    offsets_.assign(static_cast<std::size_t>(signal_count), -1);
+    int o = 1;  // time first
+    for (SignalId id : ids_) {
+      offsets_[static_cast<std::size_t>(id)] = o;
+      o += signal_spec(id).width;
+    }
+    width_ = o;
+  }
+  void add(const SignalFrame& f) {
+    data_.push_back(f.get(SignalId::time));
+    for (SignalId id : ids_)
+      for (int k = 0; k < signal_spec(id).width; ++k) data_.push_back(f.get(id, k));
+  }
+  std::size_t size() const { return width_ == 0 ? 0 : data_.size() / static_cast<std::size_t>(width_); }
+  bool empty() const { return size() == 0; }
+  double time(std::size_t i) const { return data_[i * static_cast<std::size_t>(width_)]; }
+  double get(std::size_t i, SignalId id, int component = 0) const {
+    const int o = offsets_.at(static_cast<std::size_t>(id));
+    if (o < 0) throw std::logic_error("signal not recorded: " + std::string(signal_spec(id).name));
+    return data_[i * static_cast<std::size_t>(width_) + static_cast<std::size_t>(o + component)];
+  }
+  Vec3 get3(std::size_t i, SignalId id) const {
+    return Vec3(get(i, id, 0), get(i, id, 1), get(i, id, 2));
+  }
+  double back(SignalId id, int component = 0) const { return get(size() - 1, id, component); }
+
+ private:
+  std::vector<SignalId> ids_;
+  std::vector<int> offsets_;
+  int width_ = 0;
+  std::vector<double> data_;
+};
+
+/// Keeps the chosen signals of every sample (and of every accepted step if asked).
+class Recorder final : public RunObserver {
+ public:
+  explicit Recorder(std::initializer_list<SignalId> ids, bool record_steps = false)
+      : samples(std::vector<SignalId>(ids)), steps(std::vector<SignalId>(ids)),
+        record_steps_(record_steps) {}
+  void on_sample(const SignalFrame& f) override { samples.add(f); }
+  void on_step(const SignalFrame& f) override { steps.add(f); }
+  bool wants_steps() const override { return record_steps_; }
+
+  Track samples;
+  Track steps;
+
+ private:
+  bool record_steps_;
+};
+
+}  // namespace rodend::test

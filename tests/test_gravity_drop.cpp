@@ -1,0 +1,198 @@
+// Scene gravity-drop (thesis §3.3, fig. 3.24): a 0.2 kg ball released at the centre of a fixed
+// socket falls through the 0.5 mm clearance under gravity -y, bounces and comes to rest on the
+// Hertz contact. Checks static Hertz, no lateral drift, elastic restitution and the integrators.
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "fixture.hpp"
+
+using namespace rodend;
+using namespace rodend::test;
+
+namespace {
+
+// the defaults, restated so that the test does not take them from the code it checks
+constexpr double kMass = 0.2;           // [kg] thesis §3.3
+constexpr double kG = 9.81;             // [m/s^2]
+constexpr double kClearance = 0.5e-3;   // [m] thesis §3.3
+constexpr double kBallRadius = 0.01;    // [m] assumed in the parameter file
+constexpr double kE = 206e9, kNu = 0.3; // [Pa], [-] steel on steel
+
+/// Hertz stiffness of a ball in a conformal socket, model-notes §1, computed here by hand:
+/// K = 4/3 E* sqrt(R*), R* = R_b R_s / (R_s - R_b), 1/E* = 2 (1 - nu^2) / E.
+double hertz_stiffness() {
+  const double Rs = kBallRadius + kClearance;
+  const double R_star = kBallRadius * Rs / (Rs - kBallRadius);
+  const double E_star = 1.0 / (2.0 * (1.0 - kNu * kNu) / kE);
+  return 4.0 / 3.0 * E_star * std::sqrt(R_star);
+}
+
+Recorder drop(const ParameterSet& p, const IntegratorSettings& s, double end, double sample,
+              bool steps, RunResult* result = nullptr) {
+  auto scene = make_scene("gravity-drop", p);
+  Recorder rec({SignalId::ball_position, SignalId::ball_velocity, SignalId::penetration,
+                SignalId::penetration_rate, SignalId::impact_speed, SignalId::contact_force,
+                SignalId::contact_force_vector, SignalId::friction_force,
+                SignalId::mechanical_energy, SignalId::energy_residual},
+               steps);
+  const RunResult r = simulate(*scene, s, TimeSettings{end, sample}, rec);
+  REQUIRE(r.status == RunStatus::ok);
+  if (result) *result = r;
+  return rec;
+}
+
+}  // namespace
+
+TEST_CASE("gravity drop: the defaults are the thesis case", "[gravity-drop]") {
+  const ParameterSet p = ParameterSet::defaults_for("gravity-drop");
+  CHECK(p.number("ball.mass") == kMass);
+  CHECK(p.vec3("gravity") == Vec3(0.0, -kG, 0.0));
+  CHECK(p.number("contact.clearance") == kClearance);
+  CHECK(p.number("contact.ball_radius") == kBallRadius);
+  CHECK(p.vec3("ball.initial_offset") == Vec3::Zero());
+  CHECK(p.number("contact.ball_youngs_modulus") == kE);
+  CHECK(p.number("contact.socket_youngs_modulus") == kE);
+  CHECK(p.number("contact.ball_poisson_ratio") == kNu);
+  CHECK(p.number("contact.socket_poisson_ratio") == kNu);
+  CHECK(p.number("contact.stiffness_scale") == 1.0);
+}
+
+TEST_CASE("gravity drop: the ball settles on the static Hertz penetration", "[gravity-drop]") {
+  const ParameterSet p = ParameterSet::defaults_for("gravity-drop");
+  // 0.6 s: ~20 bounces of decreasing height (c_r = 0.8) end by ~0.15 s; the rest is settling
+  const double end = 0.6;
+  const Recorder rec = drop(p, dopri5(1e-10), end, 1e-3, false);
+  const Track& s = rec.samples;
+  REQUIRE(s.size() == 601);
+
+  const double K = hertz_stiffness();
+  const double weight = kMass * kG;
+  const double delta_static = std::pow(weight / K, 2.0 / 3.0);  // ~93 nm
+
+  // (a) no lateral drift at any sample: gravity and the contact normal lie along y
+  double lateral = 0.0;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const Vec3 p_ball = s.get3(i, SignalId::ball_position);
+    lateral = std::max({lateral, std::abs(p_ball.x()), std::abs(p_ball.z())});
+  }
+  measured("gravity drop: lateral drift [m]", lateral, kLateralDriftAbs);
+  CHECK(lateral <= kLateralDriftAbs);
+
+  // it has settled: over the last 0.1 s the ball is on the contact, in it all the time, and
+  // its speed is at the tolerance level (1e-6 m/s would be a 2.5 nm amplitude oscillation at
+  // the ~6 kHz contact frequency, 3 % of the static penetration)
+  double max_speed = 0.0, pen_spread = 0.0;
+  for (std::size_t i = s.size() - 101; i < s.size(); ++i) {
+    max_speed = std::max(max_speed, s.get3(i, SignalId::ball_velocity).norm());
+    pen_spread = std::max(pen_spread, std::abs(s.get(i, SignalId::penetration) - delta_static));
+    REQUIRE(s.get(i, SignalId::contact_force) > 0.0);
+  }
+  measured("gravity drop: max speed over the last 0.1 s [m/s]", max_speed, 1e-6);
+  CHECK(max_speed <= 1e-6);
+  CHECK(pen_spread <= kStaticPenetrationRel * delta_static);
+
+  // (b) the final penetration is the static Hertz one
+  const double pen = s.back(SignalId::penetration);
+  measured("gravity drop: static penetration rel error", std::abs(pen / delta_static - 1),
+           kStaticPenetrationRel);
+  CHECK(pen == Approx(delta_static).epsilon(kStaticPenetrationRel));
+  // the ball hangs at y = -(c + delta)
+  CHECK(s.back(SignalId::ball_position, 1) ==
+        Approx(-(kClearance + delta_static)).epsilon(kStaticPenetrationRel * delta_static / kClearance));
+
+  // (c) the normal force carries the weight, along +y; friction is zero (no slip)
+  const double fn = s.back(SignalId::contact_force);
+  measured("gravity drop: static normal force rel error", std::abs(fn / weight - 1), kStaticForceRel);
+  CHECK(fn == Approx(weight).epsilon(kStaticForceRel));
+  CHECK(s.back(SignalId::contact_force_vector, 1) == Approx(weight).epsilon(kStaticForceRel));
+  double friction = 0.0;
+  for (std::size_t i = 0; i < s.size(); ++i)
+    friction = std::max(friction, s.get(i, SignalId::friction_force));
+  measured("gravity drop: max friction force [N]", friction, 1e-12);
+  CHECK(friction <= 1e-12);
+}
+
+TEST_CASE("gravity drop: an elastic contact returns the impact speed", "[gravity-drop]") {
+  // c_r = 1: chi = 0 for Lankarani-Nikravesh, no damping; the contact is a pure Hertz spring
+  ParameterSet p = ParameterSet::defaults_for("gravity-drop");
+  p.set("contact.restitution", 1.0);
+  // 0.03 s: the first impact at sqrt(2 c / g) = 10.1 ms, the apex of the rebound at ~20.2 ms
+  const Recorder rec = drop(p, dopri5(kTightTol), 0.03, 1e-4, true);
+  const Track& st = rec.steps;
+
+  const double v_impact = std::sqrt(2.0 * kG * kClearance);  // free fall through c from rest
+  const double t_impact = std::sqrt(2.0 * kClearance / kG);
+
+  // find the first contact episode in the step frames
+  std::size_t first_in = 0, first_out = 0;
+  for (std::size_t i = 0; i < st.size(); ++i) {
+    if (first_in == 0 && st.get(i, SignalId::penetration) > 0.0) first_in = i;
+    if (first_in != 0 && st.get(i, SignalId::penetration) <= 0.0) {
+      first_out = i;
+      break;
+    }
+  }
+  REQUIRE(first_in > 0);
+  REQUIRE(first_out > first_in);
+
+  // the onset is located: the contact starts at the free-fall time, and the latched approach
+  // speed is the free-fall speed
+  CHECK(st.time(first_in) == Approx(t_impact).epsilon(1e-3));
+  const double latched = st.get(first_in, SignalId::impact_speed);
+  measured("elastic drop: latched impact speed rel error", std::abs(latched / v_impact - 1),
+           kImpactSpeedRel);
+  CHECK(latched == Approx(v_impact).epsilon(kImpactSpeedRel));
+
+  // speed at the instant the contact ends: the first step frame after the exit is in free
+  // flight, so the speed at the contact boundary y_b = -c follows from energy in free flight:
+  // v_b^2 = v^2 + 2 g (y - y_b)
+  const double y = st.get(first_out, SignalId::ball_position, 1);
+  const double vy = st.get(first_out, SignalId::ball_velocity, 1);
+  REQUIRE(vy > 0.0);  // rebounding
+  const double v_rebound = std::sqrt(vy * vy + 2.0 * kG * (y + kClearance));
+  measured("elastic drop: rebound / impact speed - 1", std::abs(v_rebound / v_impact - 1),
+           kReboundRel);
+  CHECK(v_rebound == Approx(v_impact).epsilon(kReboundRel));
+
+  // no energy is lost: the rebound reaches the release height y = 0 again
+  double apex = -1.0;
+  for (std::size_t i = first_out; i < st.size(); ++i)
+    apex = std::max(apex, st.get(i, SignalId::ball_position, 1));
+  const Track& s = rec.samples;
+  for (std::size_t i = 0; i < s.size(); ++i)
+    if (s.time(i) > st.time(first_out)) apex = std::max(apex, s.get(i, SignalId::ball_position, 1));
+  measured("elastic drop: rebound apex / clearance", std::abs(apex) / kClearance, kReboundRel);
+  CHECK(std::abs(apex) <= kReboundRel * kClearance);
+  // and the energy audit closes
+  CHECK(std::abs(s.back(SignalId::energy_residual)) <= 1e-9 * kMass * kG * kClearance);
+}
+
+TEST_CASE("gravity drop: the integrators agree on the history", "[gravity-drop]") {
+  const ParameterSet p = ParameterSet::defaults_for("gravity-drop");
+  // 0.05 s: the first impact (10.1 ms) and the second (~27 ms) with its ~120 us contact
+  const double end = 0.05, sample = 1e-4;
+  const Recorder ref = drop(p, dopri5(kTightTol, 1e-4), end, sample, false);
+
+  struct Case {
+    const char* name;
+    IntegratorSettings settings;
+  };
+  // rk4 at 1e-6 s: ~120 steps per Hertz contact; dopri5 at the default-like 1e-8
+  const auto c = GENERATE(Case{"rk4 h=1e-6", rk4(1e-6)}, Case{"dopri5 tol=1e-8", dopri5(1e-8)});
+  const Recorder other = drop(p, c.settings, end, sample, false);
+  REQUIRE(other.samples.size() == ref.samples.size());
+  double diff = 0.0;
+  int in_contact = 0;
+  for (std::size_t i = 0; i < ref.samples.size(); ++i) {
+    REQUIRE(other.samples.time(i) == ref.samples.time(i));
+    diff = std::max(diff, std::abs(other.samples.get(i, SignalId::ball_position, 1) -
+                                   ref.samples.get(i, SignalId::ball_position, 1)));
+    if (ref.samples.get(i, SignalId::penetration) > 0.0) ++in_contact;
+  }
+  measured(std::string("integrator agreement, max |dy| / c: ") + c.name, diff / kClearance,
+           kIntegratorAgreementRel);
+  CHECK(diff <= kIntegratorAgreementRel * kClearance);
+  // the window covers both free flight and contact, and the ball has rebounded by its end
+  CHECK(in_contact > 0);
+  CHECK(ref.samples.back(SignalId::ball_velocity, 1) != 0.0);
+}

@@ -1,0 +1,320 @@
+// Tests of the results files: case file round trip, crash safety (no temporary file left,
+// unreadable files read as absent), summary table (CSV header and rows).
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "sweep/results.hpp"
+
+namespace fs = std::filesystem;
+using namespace rodend;
+
+namespace {
+
+/// A fresh empty directory under the system temporary directory, removed at scope exit.
+class TempDir {
+ public:
+  TempDir() {
+    static std::atomic<int> counter{0};
+    path_ = fs::temp_directory_path() /
+            ("rodend-test-results-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+std::vector<std::string> entries(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::vector<std::string> lines_of(const fs::path& file) {
+  std::ifstream in(file);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+CaseSpec make_spec(long index, double clearance) {
+  CaseSpec spec;
+  spec.index = index;
+  spec.scene = "gravity-drop";
+  spec.parameters = ParameterSet::defaults_for("gravity-drop");
+  spec.parameters.set("contact.clearance", clearance);
+  spec.coordinates = Json{{"parameters.contact.clearance", clearance}};
+  spec.signals = {SignalId::time, SignalId::ball_position};
+  spec.id = "00000000000000" + std::to_string(10 + index);
+  return spec;
+}
+
+History make_history(long long samples) {
+  History h;
+  h.samples = samples;
+  h.signals = {SignalId::time, SignalId::ball_position};
+  h.values.resize(2);
+  for (long long i = 0; i < samples; ++i) {
+    h.values[0].push_back(1e-3 * static_cast<double>(i));
+    for (int k = 0; k < 3; ++k) h.values[1].push_back(static_cast<double>(10 * i + k));
+  }
+  return h;
+}
+
+CaseRecord make_record(const CaseSpec& spec) {
+  CaseRecord r;
+  r.id = spec.id;
+  r.index = spec.index;
+  r.coordinates = spec.coordinates;
+  r.status = spec.index == 0 ? "ok" : "penetration_limit";
+  r.message = spec.index == 0 ? "" : "penetration, \"deep\", at t = 0.01 s";
+  r.t_reached = 0.25 + static_cast<double>(spec.index);
+  r.wall_time = 1.5;
+  r.steps_accepted = 12345678901LL;
+  r.steps_rejected = 17;
+  r.rhs_calls = 98765;
+  r.started_utc = "2024-05-01T10:00:00Z";
+  r.finished_utc = "2024-05-01T10:00:02Z";
+  for (std::size_t i = 0; i < r.metrics.size(); ++i)
+    r.metrics[i] = i % 3 == 2 ? std::numeric_limits<double>::quiet_NaN()
+                              : 0.125 * static_cast<double>(i) + 1e-17;
+  return r;
+}
+
+Study make_study(const fs::path& dir) {
+  Study study;
+  study.file = dir / "clearance.json";
+  study.name = "clearance";
+  study.scene = "gravity-drop";
+  study.output_dir = dir;
+  study.axis_keys = {"parameters.contact.clearance"};
+  study.cases = {make_spec(0, 5e-4), make_spec(1, 1e-3)};
+  study.source =
+      Json{{"scene", "gravity-drop"}, {"grid", {{"parameters.contact.clearance", {5e-4, 1e-3}}}}};
+  return study;
+}
+
+void require_same_record(const CaseRecord& got, const CaseRecord& want) {
+  CHECK(got.id == want.id);
+  CHECK(got.index == want.index);
+  CHECK(got.coordinates == want.coordinates);
+  CHECK(got.status == want.status);
+  CHECK(got.message == want.message);
+  CHECK(got.t_reached == want.t_reached);
+  CHECK(got.wall_time == want.wall_time);
+  CHECK(got.steps_accepted == want.steps_accepted);
+  CHECK(got.steps_rejected == want.steps_rejected);
+  CHECK(got.rhs_calls == want.rhs_calls);
+  CHECK(got.started_utc == want.started_utc);
+  CHECK(got.finished_utc == want.finished_utc);
+  for (std::size_t i = 0; i < want.metrics.size(); ++i) {
+    INFO("metric " << metric_catalogue()[i].name);
+    if (std::isnan(want.metrics[i]))
+      CHECK(std::isnan(got.metrics[i]));
+    else
+      CHECK(got.metrics[i] == want.metrics[i]);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("provenance names the version, revision, host and study", "[results]") {
+  TempDir tmp;
+  const Json p = provenance(make_study(tmp.path()));
+  for (const char* key :
+       {"rodend_version", "git_revision", "host", "study_file", "study_name", "created_utc"}) {
+    INFO(key);
+    REQUIRE(p.contains(key));
+    CHECK(p[key].is_string());
+  }
+  CHECK(p["study_name"] == "clearance");
+  const std::string t = p["created_utc"];
+  REQUIRE(t.size() == 20);
+  CHECK(t[4] == '-');
+  CHECK(t[10] == 'T');
+  CHECK(t.back() == 'Z');
+}
+
+TEST_CASE("a case file reads back as the record written", "[results]") {
+  TempDir tmp;
+  const CaseSpec spec = make_spec(1, 1e-3);
+  const CaseRecord record = make_record(spec);
+  const fs::path file = tmp.path() / "study" / "cases" / (spec.id + ".h5");  // parents created
+
+  write_case_file(file, spec, record, make_history(5000), provenance(make_study(tmp.path())));
+
+  const auto back = read_case_record(file);
+  REQUIRE(back.has_value());
+  require_same_record(*back, record);
+  // complete file under its final name, no temporary file left beside it
+  CHECK(entries(file.parent_path()) == std::vector<std::string>{spec.id + ".h5"});
+
+  SECTION("rewriting replaces the file") {
+    CaseRecord again = record;
+    again.status = "ok";
+    again.message = "";
+    write_case_file(file, spec, again, make_history(3), Json::object());
+    const auto back2 = read_case_record(file);
+    REQUIRE(back2.has_value());
+    CHECK(back2->status == "ok");
+    CHECK(back2->message.empty());
+    CHECK(entries(file.parent_path()) == std::vector<std::string>{spec.id + ".h5"});
+  }
+}
+
+TEST_CASE("a case with no samples still writes its signals", "[results]") {
+  TempDir tmp;
+  const CaseSpec spec = make_spec(0, 5e-4);
+  const CaseRecord record = make_record(spec);
+  const fs::path file = tmp.path() / "empty.h5";
+  write_case_file(file, spec, record, make_history(0), Json::object());
+  const auto back = read_case_record(file);
+  REQUIRE(back.has_value());
+  require_same_record(*back, record);
+}
+
+TEST_CASE("a failed case write leaves nothing behind", "[results]") {
+  TempDir tmp;
+  const CaseSpec spec = make_spec(0, 5e-4);
+  const CaseRecord record = make_record(spec);
+
+  SECTION("inconsistent history") {
+    History h = make_history(4);
+    h.values[1].pop_back();
+    const fs::path file = tmp.path() / "bad.h5";
+    CHECK_THROWS_AS(write_case_file(file, spec, record, h, Json::object()), std::runtime_error);
+    CHECK(entries(tmp.path()).empty());
+  }
+  SECTION("the signal twice: HDF5 fails half-way, the error names the file") {
+    History h = make_history(4);
+    h.signals.push_back(h.signals[0]);
+    h.values.push_back(h.values[0]);
+    const fs::path file = tmp.path() / "twice.h5";
+    CHECK_THROWS_WITH(write_case_file(file, spec, record, h, Json::object()),
+                      Catch::Contains(file.string()));
+    CHECK(entries(tmp.path()).empty());
+  }
+  SECTION("parent is a regular file") {
+    std::ofstream(tmp.path() / "plain") << "x";
+    CHECK_THROWS_AS(write_case_file(tmp.path() / "plain" / "case.h5", spec, record, make_history(2),
+                                    Json::object()),
+                    std::runtime_error);
+    CHECK(entries(tmp.path()) == std::vector<std::string>{"plain"});
+  }
+}
+
+TEST_CASE("missing and corrupt case files read as absent", "[results]") {
+  TempDir tmp;
+  CHECK_FALSE(read_case_record(tmp.path() / "missing.h5").has_value());
+  CHECK_FALSE(read_case_record(tmp.path()).has_value());  // a directory
+
+  const fs::path garbage = tmp.path() / "garbage.h5";
+  {
+    std::ofstream out(garbage, std::ios::binary);
+    for (int i = 0; i < 4096; ++i) out.put(static_cast<char>((i * 37 + 11) % 256));
+  }
+  CHECK_FALSE(read_case_record(garbage).has_value());
+
+  const fs::path empty = tmp.path() / "empty.h5";
+  std::ofstream(empty).close();
+  CHECK_FALSE(read_case_record(empty).has_value());
+
+  // a valid file cut short, as a crash during a copy would leave it
+  const CaseSpec spec = make_spec(0, 5e-4);
+  const fs::path good = tmp.path() / "good.h5";
+  write_case_file(good, spec, make_record(spec), make_history(2000), Json::object());
+  REQUIRE(read_case_record(good).has_value());
+  const auto size = fs::file_size(good);
+  const fs::path cut = tmp.path() / "cut.h5";
+  fs::copy_file(good, cut);
+  fs::resize_file(cut, size / 2);
+  CHECK_FALSE(read_case_record(cut).has_value());
+}
+
+TEST_CASE("case files written from several threads are all complete", "[results]") {
+  TempDir tmp;
+  constexpr int kThreads = 4, kPerThread = 5;
+  std::vector<std::thread> threads;
+  std::atomic<int> failures{0};
+  for (int t = 0; t < kThreads; ++t)
+    threads.emplace_back([&, t] {
+      for (int k = 0; k < kPerThread; ++k) {
+        const CaseSpec spec = make_spec(t * kPerThread + k, 5e-4);
+        try {
+          write_case_file(tmp.path() / (spec.id + ".h5"), spec, make_record(spec),
+                          make_history(500), Json::object());
+          const auto back = read_case_record(tmp.path() / (spec.id + ".h5"));
+          if (!back || back->index != spec.index) ++failures;
+        } catch (...) {
+          ++failures;
+        }
+      }
+    });
+  for (auto& th : threads) th.join();
+  CHECK(failures == 0);
+  CHECK(entries(tmp.path()).size() == static_cast<std::size_t>(kThreads * kPerThread));
+}
+
+TEST_CASE("the summary has one header line and one line per case", "[results]") {
+  TempDir tmp;
+  const Study study = make_study(tmp.path());
+  std::vector<CaseRecord> rows;
+  for (const CaseSpec& c : study.cases) rows.push_back(make_record(c));
+  const fs::path dir = tmp.path() / "out";
+
+  write_summary(dir, study, rows, provenance(study));
+
+  CHECK(entries(dir) == std::vector<std::string>{"summary.csv", "summary.h5"});
+  const auto lines = lines_of(dir / "summary.csv");
+  REQUIRE(lines.size() == 3);
+
+  std::string header =
+      "case_id,case_index,parameters.contact.clearance,status,message,t_reached_s,wall_time_s,"
+      "steps_accepted,steps_rejected,rhs_calls,started_utc,finished_utc";
+  for (const MetricSpec& m : metric_catalogue()) header += "," + std::string(m.name);
+  CHECK(lines[0] == header);
+
+  // first row: the id, index, the coordinate at full precision, empty message
+  CHECK(lines[1].rfind(rows[0].id + ",0,0.00050000000000000001,ok,,0.25,1.5,12345678901,17,98765,"
+                                    "2024-05-01T10:00:00Z,2024-05-01T10:00:02Z,",
+                       0) == 0);
+  // second row: a message with a comma and quotes is quoted, quotes doubled
+  CHECK(lines[2].find(",penetration_limit,\"penetration, \"\"deep\"\", at t = 0.01 s\",") !=
+        std::string::npos);
+  // NaN metrics are written as nan
+  CHECK(lines[1].find(",nan") != std::string::npos);
+
+  SECTION("rewriting replaces both files, and no temporary file is left") {
+    rows.pop_back();
+    write_summary(dir, study, rows, provenance(study));
+    CHECK(entries(dir) == std::vector<std::string>{"summary.csv", "summary.h5"});
+    CHECK(lines_of(dir / "summary.csv").size() == 2);
+  }
+}
+
+TEST_CASE("a summary of no cases is just the header", "[results]") {
+  TempDir tmp;
+  Study study = make_study(tmp.path());
+  study.cases.clear();
+  write_summary(tmp.path(), study, {}, provenance(study));
+  CHECK(entries(tmp.path()) == std::vector<std::string>{"summary.csv", "summary.h5"});
+  CHECK(lines_of(tmp.path() / "summary.csv").size() == 1);
+}
