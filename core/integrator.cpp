@@ -387,13 +387,21 @@ class Driver {
       if (settings_.contact_onset == "locate") {
         const double t_event = locate_onset();
         if (t_event < stepper_->t_now) {
-          emit_samples_until(t_event);
-          state_t z_event;
-          stepper_->interpolate(t_event, z_event);
+          // re-take the step from its start up to the onset: the crossing step's later stages
+          // felt the contact force, so its interpolant would leak that force into the samples
+          // before the onset and into the restart state
+          const state_t z_start = stepper_->z_prev;
+          stepper_->reset(z_start, stepper_->t_prev, t_event - stepper_->t_prev);
+          while (stepper_->t_now < t_event) {
+            stepper_->step(t_event);
+            check_health_after_step();
+            emit_samples_until(stepper_->t_now);
+          }
+          const state_t z_event = stepper_->z_now;
           unscale(z_event, x_);
           for (int c = 0; c < scene_.contact_count(); ++c) latch_if_touching(c, x_.data());
-          stepper_->reset(z_event, t_event, stepper_->suggested_dt());
-          stats_.t_reached = t_event;
+          stepper_->reset(z_event, stepper_->t_now, stepper_->suggested_dt());
+          stats_.t_reached = stepper_->t_now;
           continue;
         }
       }

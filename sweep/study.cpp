@@ -171,6 +171,16 @@ void apply(Draft& d, const std::string& key, const Json& v) {
                             "'; expected parameters, integrator, time, health or metrics");
 }
 
+/// Builds the scene to run its own physical checks; its key paths are under "parameters.".
+std::unique_ptr<Scene> build_checked(const std::string& scene, const ParameterSet& params) {
+  try {
+    return make_scene(scene, params);
+  } catch (const InputError& e) {
+    if (e.key_path() == "scene") throw;
+    throw e.located("", "parameters");
+  }
+}
+
 /// Flattens {"contact": {"clearance": 1e-4}} into {"contact.clearance": 1e-4}; dotted keys pass.
 void flatten(const Json& node, const std::string& prefix,
              std::vector<std::pair<std::string, Json>>& out) {
@@ -320,7 +330,7 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
     std::vector<SignalId> signals;
     {
       // the scene's signal list needs a built scene; the base draft must build
-      const auto scene = make_scene(study.scene, base.parameters);
+      const auto scene = build_checked(study.scene, base.parameters);
       const auto provided = scene->signals();
       const Json sel = doc.contains("signals") ? doc["signals"] : Json("all");
       if (sel.is_string() && sel.get<std::string>() == "all") {
@@ -381,7 +391,7 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
           }
         validate(d.integrator);
         validate(d.time);
-        (void)make_scene(d.scene, d.parameters);  // the scene's own physical checks
+        (void)build_checked(d.scene, d.parameters);  // the scene's own physical checks
       } catch (const InputError& e) {
         if (axes.empty()) throw;
         std::string where = e.key_path();

@@ -1,15 +1,22 @@
 #include "core/scenes/parts.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 namespace rodend {
+
+std::string format_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
 
 double read_positive(const ParameterSet& p, const std::string& path, bool allow_zero) {
   const double v = p.number(path);
   if (allow_zero ? !(v >= 0.0) : !(v > 0.0))
     throw InputError(path, std::string("expected a value ") + (allow_zero ? ">= 0" : "> 0") +
-                               " [" + p.unit(path) + "], got " + std::to_string(v));
+                               " [" + p.unit(path) + "], got " + format_number(v));
   return v;
 }
 
@@ -31,7 +38,7 @@ SphericalContactModel read_spherical_contact(const ParameterSet& p, const std::s
   if (!(c > 0.0))
     throw InputError(prefix + ".clearance",
                      "expected a clearance > 0 [m] (the socket radius must exceed the ball "
-                     "radius), got " + std::to_string(c));
+                     "radius), got " + format_number(c));
   m.clearance = c;
   const double Eb = read_positive(p, prefix + ".ball_youngs_modulus");
   const double Es = read_positive(p, prefix + ".socket_youngs_modulus");

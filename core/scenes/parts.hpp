@@ -29,6 +29,9 @@ SphericalContactModel read_spherical_contact(const ParameterSet& p, const std::s
 /// all >= 0.
 Spring3DParams read_spring(const ParameterSet& p, const std::string& prefix);
 
+/// A number for an error message (6 significant digits).
+std::string format_number(double v);
+
 /// A number that must be > 0 (or >= 0 with allow_zero).
 double read_positive(const ParameterSet& p, const std::string& path, bool allow_zero = false);
 

@@ -1,0 +1,75 @@
+"""Shared helpers of the command-line tests (run by CTest under /usr/bin/python3)."""
+import csv
+import glob
+import os
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+
+# columns that legitimately differ between two runs of the same case
+VOLATILE = {"wall_time_s", "started_utc", "finished_utc"}
+
+
+def rodend_path():
+    return os.environ["RODEND"]
+
+
+def run(args, **kw):
+    return subprocess.run([rodend_path()] + args, capture_output=True, text=True, **kw)
+
+
+def write_study(path, doc):
+    import json
+    with open(path, "w") as f:
+        json.dump(doc, f, indent=1)
+    return path
+
+
+def read_summary(study_dir):
+    with open(os.path.join(study_dir, "summary.csv"), newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def stable(rows):
+    return [{k: v for k, v in r.items() if k not in VOLATILE} for r in rows]
+
+
+def case_signals(study_dir):
+    """{case_id: {signal: array}} for every case file of a study."""
+    out = {}
+    for path in sorted(glob.glob(os.path.join(study_dir, "cases", "*.h5"))):
+        with h5py.File(path, "r") as f:
+            out[os.path.basename(path)[:-3]] = {k: f["signals"][k][()] for k in f["signals"]}
+    return out
+
+
+def assert_same_results(a, b, what):
+    """Same summary (but timings) and bitwise-identical histories."""
+    sa, sb = stable(read_summary(a)), stable(read_summary(b))
+    check(sa == sb, f"{what}: summaries differ\n{sa}\n{sb}")
+    ha, hb = case_signals(a), case_signals(b)
+    check(sorted(ha) == sorted(hb), f"{what}: different case files {sorted(ha)} vs {sorted(hb)}")
+    for cid in ha:
+        check(sorted(ha[cid]) == sorted(hb[cid]), f"{what}: case {cid} has different signals")
+        for sig in ha[cid]:
+            x, y = ha[cid][sig], hb[cid][sig]
+            check(x.shape == y.shape and np.array_equal(x, y, equal_nan=True),
+                  f"{what}: case {cid} signal {sig} differs")
+
+
+failures = []
+
+
+def check(cond, msg):
+    if not cond:
+        failures.append(msg)
+        print("FAIL:", msg, file=sys.stderr)
+
+
+def finish(name):
+    if failures:
+        print(f"{name}: {len(failures)} failure(s)", file=sys.stderr)
+        sys.exit(1)
+    print(f"{name}: all checks passed")

@@ -1,0 +1,176 @@
+// Parameter sets: the embedded defaults of every scene, the form of every leaf (unit and
+// provenance), overrides by key path, and the physical checks made when a scene is built.
+#include <catch2/catch.hpp>
+#include <functional>
+#include <string>
+
+#include "core/params.hpp"
+#include "core/scene.hpp"
+#include "fixture.hpp"
+
+using namespace rodend;
+
+namespace {
+
+InputError thrown_input_error(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e;
+  }
+  FAIL("expected an InputError");
+  return InputError("", "");
+}
+
+std::vector<std::string> scene_names() {
+  std::vector<std::string> names;
+  for (const SceneEntry& e : scene_catalogue()) names.emplace_back(e.name);
+  return names;
+}
+
+}  // namespace
+
+TEST_CASE("every scene's embedded defaults parse and build", "[params]") {
+  const auto names = scene_names();
+  REQUIRE(names.size() >= 3);
+  for (const std::string& scene : names) {
+    CAPTURE(scene);
+    // the document itself: names its scene and holds a parameter tree
+    const Json doc = Json::parse(scene_default_parameters_json(scene));
+    CHECK(doc.at("scene") == scene);
+    CHECK(doc.at("parameters").is_object());
+    ParameterSet p;
+    REQUIRE_NOTHROW(p = ParameterSet::defaults_for(scene));
+    CHECK_FALSE(p.paths().empty());
+    CHECK_NOTHROW(make_scene(scene, p));
+  }
+}
+
+TEST_CASE("every leaf has a unit and a provenance; non-thesis leaves say why", "[params]") {
+  for (const std::string& scene : scene_names()) {
+    const ParameterSet p = ParameterSet::defaults_for(scene);
+    const Json leaves = p.leaves();
+    for (auto it = leaves.begin(); it != leaves.end(); ++it) {
+      const std::string path = it.key();
+      const Json& leaf = it.value();
+      CAPTURE(scene, path);
+      REQUIRE(leaf.contains("unit"));
+      REQUIRE(leaf["unit"].is_string());
+      CHECK_FALSE(leaf["unit"].get<std::string>().empty());  // "1" when dimensionless
+      CHECK(p.unit(path) == leaf["unit"].get<std::string>());
+      REQUIRE(leaf.contains("source"));
+      const std::string source = leaf["source"].get<std::string>();
+      CHECK((source == "thesis" || source == "assumed" || source == "derived"));
+      if (source != "thesis") {
+        REQUIRE(leaf.contains("note"));
+        CHECK_FALSE(leaf["note"].get<std::string>().empty());
+      }
+      // numbers are finite, and string leaves with choices hold one of them
+      const Json& v = leaf["value"];
+      if (v.is_number()) CHECK(std::isfinite(v.get<double>()));
+      if (v.is_string() && leaf.contains("choices"))
+        CHECK(std::find(leaf["choices"].begin(), leaf["choices"].end(), v) !=
+              leaf["choices"].end());
+    }
+  }
+}
+
+TEST_CASE("the parser rejects malformed leaves with their key path", "[params]") {
+  const Json good = {{"ball", {{"mass", {{"value", 0.2}, {"unit", "kg"}, {"source", "thesis"}}}}}};
+  CHECK_NOTHROW(ParameterSet::from_json(good, "test.json"));
+
+  Json no_unit = good;
+  no_unit["ball"]["mass"].erase("unit");
+  InputError e = thrown_input_error([&] { ParameterSet::from_json(no_unit, "test.json"); });
+  CHECK(e.key_path() == "ball.mass.unit");
+  CHECK(e.file() == "test.json");
+
+  Json bad_source = good;
+  bad_source["ball"]["mass"]["source"] = "guessed";
+  e = thrown_input_error([&] { ParameterSet::from_json(bad_source, "test.json"); });
+  CHECK(e.key_path() == "ball.mass.source");
+
+  Json assumed_without_note = good;
+  assumed_without_note["ball"]["mass"]["source"] = "assumed";
+  e = thrown_input_error([&] { ParameterSet::from_json(assumed_without_note, "test.json"); });
+  CHECK(e.key_path() == "ball.mass.note");
+
+  Json bad_value = good;
+  bad_value["ball"]["mass"]["value"] = Json::array({"a", "b"});
+  e = thrown_input_error([&] { ParameterSet::from_json(bad_value, "test.json"); });
+  CHECK(e.key_path() == "ball.mass.value");
+}
+
+TEST_CASE("an unknown key is an InputError naming the key", "[params]") {
+  ParameterSet p = ParameterSet::defaults_for("gravity-drop");
+  for (const std::string key : {"contact.clearence", "nonsense", "ball.mass.value", "ball",
+                                "contact.clearance.extra"}) {
+    CAPTURE(key);
+    const InputError e = thrown_input_error([&] { p.set(key, 1.0); });
+    CHECK(e.key_path() == key);
+    CHECK_FALSE(p.has(key));
+    CHECK(thrown_input_error([&] { (void)p.number(key); }).key_path() == key);
+  }
+  CHECK(p.has("contact.clearance"));
+}
+
+TEST_CASE("a value of the wrong type is an InputError naming the key", "[params]") {
+  ParameterSet p = ParameterSet::defaults_for("gravity-drop");
+  struct Bad {
+    std::string key;
+    Json value;
+  };
+  const std::vector<Bad> cases{
+      {"ball.mass", "heavy"},                  // string for a number
+      {"ball.mass", Json::array({0.1, 0.2})},  // array for a number
+      {"ball.mass", true},                     // boolean for a number
+      {"gravity", 9.81},                       // number for a vector
+      {"gravity", Json::array({0.0, -9.81})},  // wrong length
+      {"contact.law", 3},                      // number for a string
+      {"contact.law", "newtonian"},            // string outside the choices
+  };
+  for (const Bad& b : cases) {
+    CAPTURE(b.key, b.value.dump());
+    const InputError e = thrown_input_error([&] { p.set(b.key, b.value); });
+    CHECK(e.key_path() == b.key);
+  }
+  // and the rejected values left the set unchanged
+  CHECK(p.number("ball.mass") == 0.2);
+  CHECK(p.text("contact.law") == "lankarani-nikravesh");
+  // a value of the right type is taken
+  p.set("ball.mass", 0.25);
+  CHECK(p.number("ball.mass") == 0.25);
+}
+
+TEST_CASE("non-physical values are rejected when the scene is built", "[params]") {
+  struct Bad {
+    std::string scene, key;
+    double value;
+  };
+  const auto b = GENERATE(Bad{"gravity-drop", "ball.mass", 0.0},
+                          Bad{"gravity-drop", "ball.mass", -0.2},
+                          Bad{"gravity-drop", "contact.clearance", 0.0},
+                          Bad{"gravity-drop", "contact.clearance", -1e-4},
+                          Bad{"gravity-drop", "contact.ball_radius", 0.0},
+                          Bad{"gravity-drop", "contact.restitution", 1.5},
+                          Bad{"gravity-drop", "contact.ball_poisson_ratio", 0.5},
+                          Bad{"gravity-drop", "contact.min_impact_speed", 0.0},
+                          Bad{"spring-contact", "ball.mass", 0.0},
+                          Bad{"spring-contact", "socket.mass", -1.0},
+                          Bad{"spring-contact", "contact.clearance", 0.0},
+                          Bad{"spring-contact", "tether.stiffness", -1.0},
+                          Bad{"free-body", "body.mass", 0.0});
+  CAPTURE(b.scene, b.key, b.value);
+  ParameterSet p = ParameterSet::defaults_for(b.scene);
+  REQUIRE_NOTHROW(make_scene(b.scene, p));
+  p.set(b.key, b.value);  // the type is right: only the physics is wrong
+  const InputError e = thrown_input_error([&] { make_scene(b.scene, p); });
+  CHECK(e.key_path() == b.key);
+}
+
+TEST_CASE("unknown scenes are an InputError", "[params]") {
+  CHECK(thrown_input_error([] { (void)ParameterSet::defaults_for("no-such-scene"); }).key_path() ==
+        "scene");
+  CHECK(thrown_input_error([] { make_scene("no-such-scene", ParameterSet{}); }).key_path() ==
+        "scene");
+}
