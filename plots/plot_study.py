@@ -1,0 +1,669 @@
+#!/usr/bin/python3
+"""Draw the figures of a rodend study's results.
+
+    /usr/bin/python3 plots/plot_study.py RESULTS_DIR [--pdf] [--out DIR] [--dpi N]
+
+Writes PNG figures (and PDF with --pdf) into RESULTS_DIR/plots/ (or --out): every figure that
+fits the study's scene and recorded signals. Prints one line per file written and, for each
+figure it does not draw, one line saying why ("skip ...: ..."). Exit status: 0 when every
+figure that applies was drawn, 1 when drawing one failed (the others are still drawn),
+2 when RESULTS_DIR is not a study's results folder.
+
+Needs only Debian's numpy, h5py and matplotlib (Agg backend).
+"""
+import argparse
+import math
+import os
+import sys
+import time
+import traceback
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
+
+from rodend_results import NotAStudy, format_value, open_study, short_key, unit_suffix  # noqa: E402
+
+# how each SI unit is shown on an axis: (shown unit, factor)
+DISPLAY = {
+    "m": ("mm", 1e3),
+    "rad": ("deg", 180.0 / math.pi),
+    "Pa": ("bar", 1e-5),
+    "m^3/s": ("L/min", 6e4),
+}
+POLAR_BINS = 72
+NONZERO_Z = 1e-9          # [m] a case with |z| above this leaves the xy-plane
+
+
+class Skip(Exception):
+    """A figure that does not apply; the message says why."""
+
+
+FIGURES = []              # (file stem, what, function) in drawing order
+
+
+def figure(stem, what):
+    def register(fn):
+        FIGURES.append((stem, what, fn))
+        return fn
+    return register
+
+
+# --- helpers ------------------------------------------------------------------------------
+
+def shown(values, unit):
+    """(values in the display unit, display unit)."""
+    if unit in DISPLAY:
+        name, factor = DISPLAY[unit]
+        return np.asarray(values) * factor, name
+    return np.asarray(values), unit
+
+
+def axis_label(name, unit):
+    return f"{name} [{unit}]" if unit not in ("", None) else name
+
+
+def with_signals(cases, *names):
+    """The cases that record every signal in names; Skip naming the first missing one if none."""
+    names = ("time",) + tuple(n for n in names if n != "time")
+    have = [c for c in cases if c.has(*names)]
+    if not have:
+        missing = next(n for n in names if not any(c.has(n) for c in cases))
+        raise Skip(f"signal {missing} not recorded")
+    return have
+
+
+def first_present(cases, *names):
+    """The first of the alternative signal names that some case records (or None)."""
+    for n in names:
+        if any(c.has(n) for c in cases):
+            return n
+    return None
+
+
+def sample_weights(t):
+    """Trapezoid weights: each sample's share of the time axis [s]."""
+    w = np.zeros_like(t, dtype=float)
+    if len(t) > 1:
+        dt = np.diff(t)
+        w[1:] += dt / 2
+        w[:-1] += dt / 2
+    return w
+
+
+def clearance_of(case):
+    c = case.parameter("contact.clearance")
+    try:
+        c = float(c)
+    except (TypeError, ValueError):
+        return None
+    return c if math.isfinite(c) and c > 0 else None
+
+
+def clearances_vary(cases):
+    values = {clearance_of(c) for c in cases}
+    return len(values) > 1
+
+
+class Style:
+    """One colour per case, fixed for the whole study so every figure matches."""
+
+    def __init__(self, study):
+        cases = study.cases()
+        n = len(cases)
+        if n <= 10:
+            cmap = plt.get_cmap("tab10")
+            colors = [cmap(i) for i in range(n)]
+        else:
+            cmap = plt.get_cmap("viridis")
+            colors = [cmap(i / max(n - 1, 1)) for i in range(n)]
+        self.color = {c.id: colors[i] for i, c in enumerate(cases)}
+
+    def __call__(self, case):
+        return self.color.get(case.id, "k")
+
+
+def title(study, text):
+    return f"{text}\nstudy {study.name} ({study.scene}, {len(study.cases())} case(s))"
+
+
+def case_legend(fig, cases, style, extra=(), where="bottom"):
+    """A figure legend naming each case's grid coordinates, below (or right of) the axes."""
+    handles = [Line2D([], [], color=style(c), lw=2) for c in cases]
+    labels = [c.label for c in cases]
+    for h, l in extra:
+        handles.append(h)
+        labels.append(l)
+    longest = max((len(l) for l in labels), default=10)
+    if where == "right":
+        return fig.legend(handles, labels, loc="center left", bbox_to_anchor=(1.0, 0.5),
+                          fontsize="small", frameon=False)
+    ncol = max(1, min(len(labels), int(90 // max(longest, 1))))
+    return fig.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, 0.0),
+                      ncol=ncol, fontsize="small", frameon=False)
+
+
+def clearance_lines(ax, cases, style, factor, both_signs=False):
+    """Dashed clearance level(s); returns the legend entry."""
+    values = [(c, clearance_of(c)) for c in cases if clearance_of(c)]
+    if not values:
+        return None
+    vary = clearances_vary(cases)
+    drawn = set()
+    for c, v in values:
+        if not vary and v in drawn:
+            continue
+        drawn.add(v)
+        color = style(c) if vary else "k"
+        ax.axhline(v * factor, color=color, ls="--", lw=0.9, alpha=0.8)
+        if both_signs:
+            ax.axhline(-v * factor, color=color, ls="--", lw=0.9, alpha=0.8)
+    label = "clearance (dashed, case colour)" if vary else \
+        f"clearance {format_value(values[0][1] * 1e3)} mm (dashed)"
+    return Line2D([], [], color="k" if not vary else "0.4", ls="--", lw=0.9), label
+
+
+def clearance_circle(ax, cases, style, factor, polar):
+    """Dashed clearance circle(s) in a polar or cartesian axes; returns the legend entry."""
+    values = [(c, clearance_of(c)) for c in cases if clearance_of(c)]
+    if not values:
+        return None
+    vary = clearances_vary(cases)
+    th = np.linspace(0, 2 * np.pi, 361)
+    drawn = set()
+    for c, v in values:
+        if not vary and v in drawn:
+            continue
+        drawn.add(v)
+        color = style(c) if vary else "k"
+        if polar:
+            ax.plot(th, np.full_like(th, v * factor), color=color, ls="--", lw=1.0, alpha=0.9)
+        else:
+            ax.plot(v * factor * np.cos(th), v * factor * np.sin(th), color=color, ls="--",
+                    lw=1.0, alpha=0.9)
+    label = "clearance circle (dashed, case colour)" if vary else \
+        f"clearance circle {format_value(values[0][1] * 1e3)} mm (dashed)"
+    return Line2D([], [], color="k" if not vary else "0.4", ls="--", lw=1.0), label
+
+
+def contact_angles(case):
+    """Contact angle [rad] per sample: the signal contact_angle, else atan2 of relative_position."""
+    if case.has("contact_angle"):
+        return case.signal("contact_angle")
+    r = case.signal("relative_position")
+    return np.arctan2(r[:, 1], r[:, 0])
+
+
+def grid_panels(n, polar=False, panel=3.3):
+    ncol = min(n, 3)
+    nrow = int(math.ceil(n / ncol))
+    fig, axes = plt.subplots(nrow, ncol, figsize=(panel * ncol + 0.6, panel * nrow + 1.0),
+                             subplot_kw={"projection": "polar"} if polar else {},
+                             layout="constrained", squeeze=False)
+    axes = axes.ravel()
+    for ax in axes[n:]:
+        ax.set_visible(False)
+    return fig, axes[:n]
+
+
+# --- figures ------------------------------------------------------------------------------
+
+@figure("eccentricity_force", "eccentricity and contact force (fig. 5.2)")
+def fig_eccentricity_force(study, cases, style):
+    cases = with_signals(cases, "eccentricity", "contact_force")
+    fig, (ax1, ax2) = plt.subplots(2, 1, sharex=True, figsize=(8, 6.5), layout="constrained")
+    e_unit = None
+    for c in cases:
+        t, e, f = c.signals("time", "eccentricity", "contact_force")
+        e, e_unit = shown(e, c.unit("eccentricity"))
+        ax1.plot(t, e, color=style(c), lw=0.9)
+        ax2.plot(t, f, color=style(c), lw=0.9)
+    factor = DISPLAY.get(cases[0].unit("eccentricity"), ("", 1.0))[1]
+    extra = [x for x in [clearance_lines(ax1, cases, style, factor)] if x]
+    ax1.set_ylabel(axis_label("eccentricity |e|", e_unit))
+    ax2.set_ylabel(axis_label("contact force", cases[0].unit("contact_force")))
+    ax2.set_xlabel(axis_label("time", cases[0].unit("time")))
+    for ax in (ax1, ax2):
+        ax.grid(True, alpha=0.3)
+    fig.suptitle(title(study, "Eccentricity and contact force (thesis fig. 5.2)"))
+    case_legend(fig, cases, style, extra)
+    return fig
+
+
+@figure("polar_relative_position", "polar relative position (fig. 5.4, 5.11, 6.15)")
+def fig_polar_relative_position(study, cases, style):
+    cases = with_signals(cases, "relative_position")
+    fig = plt.figure(figsize=(7, 7.4), layout="constrained")
+    ax = fig.add_subplot(projection="polar")
+    rmax = 0.0
+    for c in cases:
+        r = c.signal("relative_position")
+        _, unit = shown(0.0, c.unit("relative_position"))
+        factor = DISPLAY.get(c.unit("relative_position"), ("", 1.0))[1]
+        radius = np.hypot(r[:, 0], r[:, 1]) * factor
+        theta = np.unwrap(np.arctan2(r[:, 1], r[:, 0]))
+        ax.plot(theta, radius, color=style(c), lw=0.8)
+        rmax = max(rmax, float(np.nanmax(radius)) if len(radius) else 0.0)
+        if clearance_of(c):
+            rmax = max(rmax, clearance_of(c) * factor)
+    extra = [x for x in [clearance_circle(ax, cases, style, factor, polar=True)] if x]
+    if rmax > 0:
+        ax.set_rlim(0, rmax * 1.08)
+    ax.set_rlabel_position(112.5)
+    ax.text(np.radians(112.5), rmax * 1.22 if rmax > 0 else 1, f"radius [{unit}]",
+            ha="center", va="center", fontsize="small")
+    ax.set_xlabel("angle of p_ball − p_socket in the xy-plane [deg] (x along the rod)")
+    ax.set_title(title(study, "Relative position of the ball in the socket, xy-plane "
+                        "(thesis fig. 5.4, 5.11, 6.15)"), pad=24)
+    case_legend(fig, cases, style, extra)
+    return fig
+
+
+@figure("polar_force_wear", "polar contact force and wear (fig. 5.5, 6.29)")
+def fig_polar_force_wear(study, cases, style):
+    cases = with_signals(cases, "contact_force")
+    cases = [c for c in cases if c.has("contact_angle") or c.has("relative_position")]
+    if not cases:
+        raise Skip("neither contact_angle nor relative_position recorded")
+    edges = np.linspace(-np.pi, np.pi, POLAR_BINS + 1)
+    centres = 0.5 * (edges[:-1] + edges[1:])
+    width = edges[1] - edges[0]
+    data = []
+    for c in cases:
+        t, f = c.signals("time", "contact_force")
+        ang = np.mod(contact_angles(c) + np.pi, 2 * np.pi) - np.pi
+        idx = np.clip(np.digitize(ang, edges) - 1, 0, POLAR_BINS - 1)
+        touching = f > 0
+        fmax = np.zeros(POLAR_BINS)
+        np.maximum.at(fmax, idx[touching], f[touching])
+        wear = None
+        if c.has("wear_indicator"):
+            w = c.signal("wear_indicator") * sample_weights(t)
+            wear = np.bincount(idx[touching], weights=w[touching], minlength=POLAR_BINS)
+        data.append((c, fmax, wear))
+    if not any(d[1].max() > 0 for d in data):
+        raise Skip("no contact in any case (contact_force is zero throughout)")
+    fig, axes = grid_panels(len(data), polar=True)
+    fig.set_size_inches(fig.get_size_inches() + np.array([0, 0.9]))
+    for ax, (c, fmax, wear) in zip(axes, data):
+        ax.set_title(c.label, fontsize="small", color=style(c), pad=14)
+        ax.set_yticklabels([])
+        ax.set_ylim(0, 1.05)
+        handles = []
+        if fmax.max() <= 0:
+            ax.text(0, 0, "no contact", ha="center", va="center")
+            continue
+        fn = fmax / fmax.max()
+        ax.bar(centres, fn, width=width, color=style(c), alpha=0.35, edgecolor="none")
+        k = int(np.argmax(fmax))
+        deg_f = np.degrees(centres[k]) % 360
+        ax.plot([centres[k]] * 2, [0, 1.05], color="tab:blue", lw=1.6, ls="--")
+        handles.append((Line2D([], [], color=style(c), lw=6, alpha=0.35),
+                        f"peak contact force, max {fmax.max():.3g} N"))
+        handles.append((Line2D([], [], color="tab:blue", lw=1.6, ls="--"),
+                        f"max force at {deg_f:.0f}°"))
+        if wear is not None and wear.max() > 0:
+            wn = wear / wear.max()
+            ax.plot(np.append(centres, centres[0]), np.append(wn, wn[0]), color="k", lw=1.2,
+                    drawstyle="default")
+            j = int(np.argmax(wear))
+            deg_w = np.degrees(centres[j]) % 360
+            ax.plot([centres[j]] * 2, [0, 1.05], color="tab:red", lw=1.6)
+            handles.append((Line2D([], [], color="k", lw=1.2),
+                            f"wear ∫F·v dt, total {wear.sum():.3g} J"))
+            handles.append((Line2D([], [], color="tab:red", lw=1.6), f"max wear at {deg_w:.0f}°"))
+        elif wear is not None:
+            handles.append((Line2D([], [], color="none"), "no wear (no slip)"))
+        else:
+            handles.append((Line2D([], [], color="none"), "wear_indicator not recorded"))
+        ax.legend([h for h, _ in handles], [l for _, l in handles], loc="upper center",
+                  bbox_to_anchor=(0.5, -0.06), fontsize="x-small", frameon=False)
+    fig.suptitle(title(study, f"Contact force and wear indicator over the contact angle, "
+                              f"{POLAR_BINS} bins, each normalised to its maximum "
+                              f"(thesis fig. 5.5, 6.29)"))
+    return fig
+
+
+@figure("surface_angle", "surface angle (fig. 5.17)")
+def fig_surface_angle(study, cases, style):
+    cases = with_signals(cases, "surface_angle")
+    fig, ax = plt.subplots(figsize=(8, 4.8), layout="constrained")
+    for c in cases:
+        t, a = c.signals("time", "surface_angle")
+        a, unit = shown(a, c.unit("surface_angle"))
+        ax.plot(t, a, color=style(c), lw=1.0)
+    ax.set_xlabel(axis_label("time", cases[0].unit("time")))
+    ax.set_ylabel(axis_label("surface angle θ", unit))
+    ax.grid(True, alpha=0.3)
+    ax.set_title(title(study, "Control-surface angle (thesis fig. 5.17)"))
+    case_legend(fig, cases, style)
+    return fig
+
+
+@figure("trajectories_xy_xz", "xy and xz trajectories (fig. 5.18-5.20)")
+def fig_trajectories(study, cases, style):
+    cases = with_signals(cases, "relative_position")
+    z_moves = any(np.nanmax(np.abs(c.signal("relative_position")[:, 2]), initial=0.0) > NONZERO_Z
+                  for c in cases)
+    grid_mis = "parameters.socket.misalignment_z" in study.varying_keys
+    if not (z_moves or grid_mis):
+        raise Skip("no case leaves the xy-plane (relative_position z = 0) and the grid does "
+                   "not vary socket.misalignment_z")
+    fig, (axy, axz) = plt.subplots(1, 2, figsize=(11, 5.6), layout="constrained")
+    for c in cases:
+        r = c.signal("relative_position")
+        r, unit = shown(r, c.unit("relative_position"))
+        axy.plot(r[:, 0], r[:, 1], color=style(c), lw=0.8)
+        axz.plot(r[:, 0], r[:, 2], color=style(c), lw=0.8)
+        axy.plot(r[0, 0], r[0, 1], "o", color=style(c), ms=4)
+        axz.plot(r[0, 0], r[0, 2], "o", color=style(c), ms=4)
+    factor = DISPLAY.get(cases[0].unit("relative_position"), ("", 1.0))[1]
+    extra = [x for x in [clearance_circle(axy, cases, style, factor, polar=False)] if x]
+    clearance_circle(axz, cases, style, factor, polar=False)
+    extra.append((Line2D([], [], color="0.3", marker="o", ls="none", ms=4), "start"))
+    for ax, v in ((axy, "y"), (axz, "z")):
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.set_xlabel(axis_label("x (ball − socket)", unit))
+        ax.set_ylabel(axis_label(f"{v} (ball − socket)", unit))
+        ax.grid(True, alpha=0.3)
+    axy.set_title("xy-plane (fig. 5.19)")
+    axz.set_title("xz-plane (fig. 5.20); the clearance sphere's outline")
+    fig.suptitle(title(study, "Trajectory of the ball relative to the socket (thesis fig. 5.18-5.20)"))
+    case_legend(fig, cases, style, extra)
+    return fig
+
+
+@figure("first_impact_force", "first-impact peak force against the grid (fig. 5.15)")
+def fig_first_impact(study, cases, style):
+    metric = "first_impact_peak_force"
+    if metric not in study.summary:
+        raise Skip(f"metric {metric} not in the summary")
+    numeric = [k for k in study.numeric_grid_keys() if k in study.varying_keys]
+    if not numeric:
+        raise Skip("no numeric grid axis that varies")
+    xkey = numeric[0]
+    others = [k for k in study.varying_keys if k != xkey]
+    x_all = study.summary[xkey].astype(float)
+    y_all = study.summary[metric].astype(float)
+    ok = np.isfinite(x_all) & np.isfinite(y_all)
+    if "status" in study.summary:
+        ok &= np.array([s == "ok" for s in study.summary["status"]])
+    if not ok.any():
+        raise Skip(f"{metric} is NaN (no contact) or the case failed in every case")
+    x_all, xunit = shown(x_all, study.summary_unit(xkey))
+    groups = {}
+    for row in study.order:
+        if not ok[row]:
+            continue
+        key = tuple(format_value(study.summary[k][row]) for k in others)
+        groups.setdefault(key, []).append(row)
+    fig, ax = plt.subplots(figsize=(7.5, 4.8), layout="constrained")
+    handles, labels = [], []
+    for i, (key, rows) in enumerate(groups.items()):
+        rows = sorted(rows, key=lambda r: x_all[r])
+        color = plt.get_cmap("tab10")(i % 10)
+        (h,) = ax.plot(x_all[rows], y_all[rows], "o-", color=color, ms=6, lw=1.2)
+        handles.append(h)
+        if others:
+            labels.append(", ".join(f"{short_key(k)} = {v}{unit_suffix(study.summary_unit(k))}"
+                                    for k, v in zip(others, key)))
+        else:
+            labels.append(f"{metric} ({len(rows)} case(s))")
+    ax.set_xlabel(axis_label(short_key(xkey), xunit if xunit not in ("1",) else ""))
+    ax.set_ylabel(axis_label("first-impact peak contact force", study.units.get(metric, "N")))
+    ax.grid(True, alpha=0.3)
+    ax.set_ylim(bottom=0)
+    ax.set_title(title(study, f"First-impact peak contact force against {short_key(xkey)} "
+                              f"(thesis fig. 5.15)"))
+    fig.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, 0.0),
+               fontsize="small", frameon=False, ncol=1 if others else 1)
+    return fig
+
+
+@figure("hydraulics", "hydraulics (fig. 6.16-6.22)")
+def fig_hydraulics(study, cases, style):
+    wanted = [("chamber pressure", ("chamber_pressures", "chamber_pressure")),
+              ("chamber flow", ("chamber_flows", "chamber_flow")),
+              ("spool position", ("spool_position",))]
+    rows = [(what, first_present(cases, *names)) for what, names in wanted]
+    rows = [(what, name) for what, name in rows if name]
+    if not rows:
+        raise Skip("signals chamber_pressures, chamber_flows and spool_position not recorded "
+                   "(no actuator in this scene)")
+    cases = [c for c in cases if c.has("time") and any(c.has(n) for _, n in rows)]
+    if not cases:
+        raise Skip("signal time not recorded")
+    fig, axes = plt.subplots(len(rows), 1, sharex=True, figsize=(8, 2.6 * len(rows) + 1.4),
+                             layout="constrained", squeeze=False)
+    styles = ["-", "--", ":", "-."]
+    width = 1
+    for ax, (what, name) in zip(axes[:, 0], rows):
+        unit = ""
+        for c in cases:
+            if not c.has(name):
+                continue
+            t, v = c.signals("time", name)
+            v, unit = shown(v, c.unit(name))
+            v = v.reshape(len(t), -1)
+            width = max(width, v.shape[1])
+            for k in range(v.shape[1]):
+                ax.plot(t, v[:, k], color=style(c), ls=styles[k % 4], lw=0.9)
+        ax.set_ylabel(axis_label(what, unit))
+        ax.grid(True, alpha=0.3)
+    axes[-1, 0].set_xlabel(axis_label("time", cases[0].unit("time")))
+    extra = [(Line2D([], [], color="0.3", ls=styles[k % 4]), f"chamber {k + 1}")
+             for k in range(width)] if width > 1 else []
+    fig.suptitle(title(study, "Actuator chamber pressures, flows and servovalve spool "
+                              "(thesis fig. 6.16-6.22)"))
+    case_legend(fig, cases, style, extra)
+    return fig
+
+
+@figure("phase_fft", "phase diagram and FFT of the surface acceleration")
+def fig_phase_fft(study, cases, style):
+    cases = with_signals(cases, "surface_acceleration", "surface_rate")
+    fig, (ap, af) = plt.subplots(1, 2, figsize=(12, 5), layout="constrained")
+    fmax = 0.0
+    for c in cases:
+        t, w, a = c.signals("time", "surface_rate", "surface_acceleration")
+        ap.plot(w, a, color=style(c), lw=0.6, alpha=0.85)
+        if len(t) < 16:
+            continue
+        dt = float(np.median(np.diff(t)))
+        if np.ptp(np.diff(t)) > 1e-6 * dt:       # not uniformly sampled: resample
+            tu = np.arange(t[0], t[-1], dt)
+            a = np.interp(tu, t, a)
+        x = a - np.mean(a)
+        win = np.hanning(len(x))
+        spec = 2.0 * np.abs(np.fft.rfft(x * win)) / np.sum(win)
+        spec[0] /= 2.0
+        freq = np.fft.rfftfreq(len(x), dt)
+        af.semilogy(freq[1:], spec[1:], color=style(c), lw=0.7)
+        fmax = max(fmax, freq[-1])
+    ap.set_xlabel(axis_label("surface angular rate θ̇", cases[0].unit("surface_rate")))
+    ap.set_ylabel(axis_label("surface angular acceleration θ̈", cases[0].unit("surface_acceleration")))
+    ap.set_title("phase diagram")
+    ap.grid(True, alpha=0.3)
+    af.set_xlabel("frequency [Hz]")
+    af.set_ylabel(axis_label("amplitude of θ̈", cases[0].unit("surface_acceleration")))
+    af.set_title("one-sided amplitude spectrum (Hann window, mean removed)")
+    af.grid(True, which="both", alpha=0.3)
+    fig.suptitle(title(study, "Surface angular acceleration: phase diagram and spectrum"))
+    case_legend(fig, cases, style)
+    return fig
+
+
+@figure("energy_audit", "energy audit")
+def fig_energy_audit(study, cases, style):
+    names = ("mechanical_energy", "input_work", "dissipated_energy", "energy_residual")
+    cases = with_signals(cases, *names)
+    fig, axes = plt.subplots(2, 2, sharex=True, figsize=(11, 6.8), layout="constrained")
+    panels = [("change of mechanical energy ΔE_mech", "mechanical_energy"),
+              ("input work W_in", "input_work"),
+              ("dissipated energy E_diss", "dissipated_energy"),
+              ("residual ΔE_mech − W_in + E_diss", "energy_residual")]
+    for ax, (what, name) in zip(axes.ravel(), panels):
+        for c in cases:
+            t, v = c.signals("time", name)
+            if name == "mechanical_energy" and len(v):
+                v = v - v[0]
+            ax.plot(t, v, color=style(c), lw=0.9)
+        ax.set_ylabel(axis_label(what, cases[0].unit(name)))
+        ax.grid(True, alpha=0.3)
+    for ax in axes[1]:
+        ax.set_xlabel(axis_label("time", cases[0].unit("time")))
+    rel = ""
+    if "energy_residual" in study.summary:
+        vals = np.asarray(study.summary["energy_residual"], dtype=float)
+        if np.isfinite(vals).any():
+            rel = f" (largest |residual| / largest energy flow: {np.nanmax(vals):.2g})"
+    fig.suptitle(title(study, "Energy audit" + rel))
+    case_legend(fig, cases, style)
+    return fig
+
+
+def moving_components(v, tol=1e-9):
+    """Indices of the columns of v that change by more than tol over the run."""
+    v = v.reshape(len(v), -1)
+    span = np.nanmax(v, axis=0) - np.nanmin(v, axis=0) if len(v) else np.zeros(v.shape[1])
+    return [k for k in range(v.shape[1]) if span[k] > tol]
+
+
+def component_rows(fig_title, study, cases, style, rows, ncols=1):
+    """Shared drawing of 'component of a vector signal against time' figures.
+
+    rows: list of (axis name, [(signal, line style, legend prefix)]).
+    """
+    n = len(rows)
+    nr = int(math.ceil(n / ncols))
+    fig, axes = plt.subplots(nr, ncols, sharex=True, figsize=(6 * ncols + 2, 2.5 * nr + 1.6),
+                             layout="constrained", squeeze=False)
+    axes = axes.ravel()
+    for ax in axes[n:]:
+        ax.set_visible(False)
+    comp_styles = {0: "-", 1: "--", 2: ":"}
+    extra = {}
+    for ax, (what, sigs) in zip(axes, rows):
+        unit = ""
+        for name, prefix in sigs:
+            for c in cases:
+                if not c.has(name):
+                    continue
+                t, v = c.signals("time", name)
+                v, unit = shown(v, c.unit(name))
+                v = v.reshape(len(t), -1)
+                comps = moving_components(v, 1e-12 * max(1.0, float(np.nanmax(np.abs(v)))))
+                for k in comps or [0]:
+                    ls = comp_styles.get(k, "-.") if v.shape[1] > 1 else "-"
+                    ax.plot(t, v[:, k], color=style(c), ls=ls, lw=0.9,
+                            alpha=1.0 if prefix == "" else 0.6)
+                    if v.shape[1] > 1:
+                        extra.setdefault(k, Line2D([], [], color="0.3", ls=ls))
+        names = " / ".join(f"{p}{n}" if p else n for n, p in sigs)
+        ax.set_ylabel(axis_label(what, unit), fontsize="small")
+        ax.set_title(names, fontsize="small")
+        ax.grid(True, alpha=0.3)
+    for ax in axes[max(0, n - ncols):n]:
+        ax.set_xlabel(axis_label("time", cases[0].unit("time")))
+        ax.xaxis.set_tick_params(labelbottom=True)
+    fig.suptitle(title(study, fig_title))
+    entries = [(extra[k], f"{'xyz'[k]} component ({comp_styles.get(k, '-.')})") for k in sorted(extra)]
+    entries.append((Line2D([], [], color="0.3"), "flat components are not drawn"))
+    case_legend(fig, cases, style, entries)
+    return fig
+
+
+@figure("ball_motion", "ball motion (fig. 3.24, 3.26)")
+def fig_ball_motion(study, cases, style):
+    if study.scene.startswith("rod-end"):
+        raise Skip(f"scene {study.scene} has a mechanism (its ball follows the crank: "
+                   "see the other figures)")
+    cases = with_signals(cases, "ball_position")
+    rows = [("ball position", [("ball_position", "")])]
+    if any(c.has("socket_position") and moving_components(c.signal("socket_position"), 1e-12)
+           for c in cases):
+        rows.append(("socket position", [("socket_position", "")]))
+    if any(c.has("ball_velocity") for c in cases):
+        rows.append(("ball velocity", [("ball_velocity", "")]))
+    if any(c.has("friction_force") for c in cases):
+        rows.append(("friction force", [("friction_force", "")]))
+    fig_no = {"gravity-drop": "thesis fig. 3.24", "spring-contact": "thesis fig. 3.26"}
+    what = f" ({fig_no[study.scene]})" if study.scene in fig_no else ""
+    return component_rows(f"Ball and socket motion{what}", study, cases, style, rows,
+                          ncols=2 if len(rows) > 2 else 1)
+
+
+@figure("body_motion", "free-body motion (fig. 3.21-3.23)")
+def fig_body_motion(study, cases, style):
+    cases = with_signals(cases, "body_position")
+    rows = [("position", [("body_position", "")])]
+    for what, name in (("velocity", "body_velocity"), ("3-2-1 Euler angles", "body_euler_321"),
+                       ("angular velocity (body frame)", "body_angular_velocity")):
+        if any(c.has(name) for c in cases):
+            rows.append((what, [(name, "")]))
+    return component_rows("Free-body motion (thesis fig. 3.21-3.23)", study, cases, style, rows,
+                          ncols=2 if len(rows) > 2 else 1)
+
+
+# --- driver -------------------------------------------------------------------------------
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description="Draw the figures of a rodend study's results.")
+    p.add_argument("results_dir", help="a study's results folder (with summary.h5 and cases/)")
+    p.add_argument("--pdf", action="store_true", help="write a PDF beside each PNG")
+    p.add_argument("--out", help="output folder (default: RESULTS_DIR/plots)")
+    p.add_argument("--dpi", type=int, default=150, help="PNG resolution (default 150)")
+    args = p.parse_args(argv)
+
+    try:
+        study = open_study(args.results_dir)
+        cases = study.cases()
+        if not cases:
+            raise NotAStudy(f"{args.results_dir}: no case files in cases/")
+    except NotAStudy as e:
+        print(f"plot_study: {e}", file=sys.stderr)
+        return 2
+
+    out = args.out or os.path.join(study.path, "plots")
+    os.makedirs(out, exist_ok=True)
+    if study.missing:
+        print(f"note: {len(study.missing)} case(s) of the summary have no readable case file: "
+              + ", ".join(study.missing))
+    failed = [c for c in cases if c.status != "ok"]
+    if failed:
+        print(f"note: {len(failed)} case(s) did not finish ok; drawn up to where they stopped: "
+              + ", ".join(f"{c.id} ({c.status})" for c in failed))
+
+    style = Style(study)
+    status = 0
+    for stem, what, fn in FIGURES:
+        try:
+            fig = fn(study, cases, style)
+        except Skip as e:
+            print(f"skip {what}: {e}")
+            continue
+        except Exception as e:      # a bug must not stop the other figures
+            print(f"error drawing {what}: {type(e).__name__}: {e}", file=sys.stderr)
+            traceback.print_exc(limit=3, file=sys.stderr)
+            plt.close("all")
+            status = 1
+            continue
+        for ext in (("png", "pdf") if args.pdf else ("png",)):
+            path = os.path.join(out, f"{stem}.{ext}")
+            fig.savefig(path, dpi=args.dpi, bbox_inches="tight")
+            print(path)
+        plt.close(fig)
+    return status
+
+
+if __name__ == "__main__":
+    t0 = time.perf_counter()
+    code = main()
+    if os.environ.get("RODEND_PLOT_TIMING"):
+        print(f"{time.perf_counter() - t0:.2f} s", file=sys.stderr)
+    sys.exit(code)

@@ -1,0 +1,150 @@
+// Study loading: grid expansion (product, zip, generators), canonical case ids, validation.
+#include <catch2/catch.hpp>
+
+#include "sweep/study.hpp"
+
+using namespace rodend;
+
+namespace {
+
+Json base_doc() {
+  return Json::parse(R"({
+    "name": "t", "scene": "gravity-drop",
+    "time": {"end": 0.1, "sample_interval": 1e-3}
+  })");
+}
+
+Study parse(const Json& doc) { return parse_study(doc, "test.json", "/tmp/rodend-results"); }
+
+}  // namespace
+
+TEST_CASE("a study without a grid is one case", "[study]") {
+  const Study s = parse(base_doc());
+  REQUIRE(s.cases.size() == 1);
+  CHECK(s.cases[0].id.size() == 16);
+  CHECK(s.output_dir == "/tmp/rodend-results/t");
+  CHECK(s.axis_keys.empty());
+}
+
+TEST_CASE("grid axes combine as a cartesian product, last axis fastest", "[study]") {
+  Json doc = base_doc();
+  doc["grid"] = Json::parse(R"([
+    {"key": "parameters.contact.clearance", "values": [1e-4, 2e-4, 3e-4]},
+    {"key": "integrator.rel_tol", "values": [1e-6, 1e-8]}
+  ])");
+  const Study s = parse(doc);
+  REQUIRE(s.cases.size() == 6);
+  CHECK(s.axis_keys == std::vector<std::string>{"parameters.contact.clearance", "integrator.rel_tol"});
+  CHECK(s.cases[1].coordinates["parameters.contact.clearance"] == 1e-4);
+  CHECK(s.cases[1].coordinates["integrator.rel_tol"] == 1e-8);
+  CHECK(s.cases[2].coordinates["parameters.contact.clearance"] == 2e-4);
+  // the values reach the resolved case
+  CHECK(s.cases[5].parameters.number("contact.clearance") == 3e-4);
+  CHECK(s.cases[5].integrator.rel_tol == 1e-8);
+  for (std::size_t i = 0; i < s.cases.size(); ++i) CHECK(s.cases[i].index == static_cast<long>(i));
+}
+
+TEST_CASE("zip groups vary together", "[study]") {
+  Json doc = base_doc();
+  doc["grid"] = Json::parse(R"([
+    {"zip": [{"key": "parameters.contact.restitution", "values": [0.5, 0.9]},
+             {"key": "parameters.contact.law", "values": ["hunt-crossley", "gonthier"]}]},
+    {"key": "parameters.ball.mass", "values": [0.1, 0.2]}
+  ])");
+  const Study s = parse(doc);
+  REQUIRE(s.cases.size() == 4);
+  CHECK(s.cases[0].parameters.text("contact.law") == "hunt-crossley");
+  CHECK(s.cases[0].parameters.number("contact.restitution") == 0.5);
+  CHECK(s.cases[3].parameters.text("contact.law") == "gonthier");
+  CHECK(s.cases[3].parameters.number("contact.restitution") == 0.9);
+  CHECK(s.cases[3].parameters.number("ball.mass") == 0.2);
+}
+
+TEST_CASE("linspace and logspace generate exact end points", "[study]") {
+  Json doc = base_doc();
+  doc["grid"] = Json::parse(R"([
+    {"key": "parameters.contact.clearance", "linspace": [1e-4, 5e-4, 5]},
+    {"key": "integrator.abs_tol", "logspace": [1e-9, 1e-5, 3]}
+  ])");
+  const Study s = parse(doc);
+  REQUIRE(s.cases.size() == 15);
+  CHECK(s.cases[0].parameters.number("contact.clearance") == 1e-4);
+  CHECK(s.cases[3].parameters.number("contact.clearance") == Approx(2e-4).epsilon(1e-14));
+  CHECK(s.cases[14].parameters.number("contact.clearance") == 5e-4);
+  CHECK(s.cases[0].integrator.abs_tol == 1e-9);
+  // geometric middle value: sqrt(1e-9 * 1e-5) = 1e-7 (rounding of exp/log: 1e-14 relative)
+  CHECK(s.cases[1].integrator.abs_tol == Approx(1e-7).epsilon(1e-12));
+  CHECK(s.cases[2].integrator.abs_tol == 1e-5);
+}
+
+TEST_CASE("case ids are canonical", "[study]") {
+  const std::string id = parse(base_doc()).cases[0].id;
+  SECTION("the same case written differently has the same id") {
+    Json doc = base_doc();
+    doc["parameters"] = Json::parse(R"({"ball": {"mass": 0.2}})");  // the default, nested, as a float
+    CHECK(parse(doc).cases[0].id == id);
+    Json doc2 = base_doc();
+    doc2["parameters"] = Json::parse(R"({"contact.restitution": 0.8})");  // the default, dotted
+    CHECK(parse(doc2).cases[0].id == id);
+  }
+  SECTION("an integer and the equal double give the same id") {
+    Json a = base_doc(), b = base_doc();
+    a["parameters"]["contact.stiffness_scale"] = 2;
+    b["parameters"]["contact.stiffness_scale"] = 2.0;
+    CHECK(parse(a).cases[0].id == parse(b).cases[0].id);
+    CHECK(parse(a).cases[0].id != id);
+  }
+  SECTION("any changed value gives a new id") {
+    for (const char* key : {"contact.clearance", "ball.mass", "contact.restitution"}) {
+      Json doc = base_doc();
+      const double v = ParameterSet::defaults_for("gravity-drop").number(key);
+      doc["parameters"][key] = v * (1.0 + 1e-15) + 1e-300;
+      CHECK(parse(doc).cases[0].id != id);
+    }
+    Json doc = base_doc();
+    doc["time"]["sample_interval"] = 2e-3;
+    CHECK(parse(doc).cases[0].id != id);
+    Json doc2 = base_doc();
+    doc2["integrator"] = {{"method", "rk4"}};
+    CHECK(parse(doc2).cases[0].id != id);
+  }
+  SECTION("the id is the FNV-1a hash of the canonical dump") {
+    const Study s = parse(base_doc());
+    CHECK(s.cases[0].id == fnv1a64_hex(s.cases[0].canonical().dump()));
+    // FNV-1a 64 reference values
+    CHECK(fnv1a64_hex("") == "cbf29ce484222325");
+    CHECK(fnv1a64_hex("a") == "af63dc4c8601ec8c");
+  }
+}
+
+TEST_CASE("validation names the key path and, for a grid, the case", "[study]") {
+  auto error_of = [](const Json& doc) -> std::string {
+    try {
+      parse(doc);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  Json doc = base_doc();
+  doc["parameters"]["contact.clearance"] = -1.0;
+  CHECK_THAT(error_of(doc), Catch::Contains("test.json: parameters.contact.clearance: "));
+
+  Json grid = base_doc();
+  grid["grid"] = Json::parse(R"([{"key": "parameters.ball.mass", "values": [0.2, 0.0, 0.3]}])");
+  const std::string e = error_of(grid);
+  CHECK_THAT(e, Catch::Contains("parameters.ball.mass") && Catch::Contains("grid case 1"));
+
+  Json dup = base_doc();
+  dup["grid"] = Json::parse(R"([{"key": "parameters.ball.mass", "values": [0.2, 0.2]}])");
+  CHECK_THAT(error_of(dup), Catch::Contains("same case"));
+
+  Json twice = base_doc();
+  twice["grid"] = Json::parse(R"([{"key": "parameters.ball.mass", "values": [0.2]},
+                                  {"key": "parameters.ball.mass", "values": [0.3]}])");
+  CHECK_THAT(error_of(twice), Catch::Contains("more than one axis"));
+
+  Json section = base_doc();
+  section["grid"] = Json::parse(R"([{"key": "solver.rel_tol", "values": [1e-6]}])");
+  CHECK_THAT(error_of(section), Catch::Contains("unknown section 'solver'"));
+}
