@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <cassert>
 #include <cstddef>
 #include <optional>
 #include <span>
@@ -42,12 +43,21 @@ int signal_frame_width();
 class SignalFrame {
  public:
   SignalFrame() : values_(static_cast<std::size_t>(signal_frame_width()), 0.0) {}
-  void set(SignalId id, double v) { values_[static_cast<std::size_t>(signal_offset(id))] = v; }
+  void set(SignalId id, double v) {
+    assert(signal_spec(id).width == 1);
+    values_[static_cast<std::size_t>(signal_offset(id))] = v; }
   void set(SignalId id, const Vec3& v) {
+    assert(signal_spec(id).width == 3);
     const auto o = static_cast<std::size_t>(signal_offset(id));
     values_[o] = v.x();
     values_[o + 1] = v.y();
     values_[o + 2] = v.z();
+  }
+  void set(SignalId id, double a, double b) {
+    assert(signal_spec(id).width == 2);
+    const auto o = static_cast<std::size_t>(signal_offset(id));
+    values_[o] = a;
+    values_[o + 1] = b;
   }
   double get(SignalId id, int component = 0) const {
     return values_[static_cast<std::size_t>(signal_offset(id) + component)];

@@ -64,8 +64,16 @@ def shown(values, unit):
     return np.asarray(values), unit
 
 
+def pretty_unit(unit):
+    """rad/s^2 -> rad/s², N*m -> N·m (only for display)."""
+    unit = unit or ""
+    for a, b in (("^-1", "⁻¹"), ("^2", "²"), ("^3", "³"), ("*", "·")):
+        unit = unit.replace(a, b)
+    return unit
+
+
 def axis_label(name, unit):
-    return f"{name} [{unit}]" if unit not in ("", None) else name
+    return f"{name} [{pretty_unit(unit)}]" if unit not in ("", "1", None) else name
 
 
 def with_signals(cases, *names):
@@ -181,14 +189,16 @@ def clearance_circle(ax, cases, style, factor, polar):
             continue
         drawn.add(v)
         color = style(c) if vary else "k"
+        lw, alpha = (1.0, 0.7) if vary else (1.3, 0.9)
         if polar:
-            ax.plot(th, np.full_like(th, v * factor), color=color, ls="--", lw=1.0, alpha=0.9)
+            ax.plot(th, np.full_like(th, v * factor), color=color, ls="--", lw=lw, alpha=alpha,
+                    zorder=2)
         else:
             ax.plot(v * factor * np.cos(th), v * factor * np.sin(th), color=color, ls="--",
-                    lw=1.0, alpha=0.9)
+                    lw=lw, alpha=alpha, zorder=2)
     label = "clearance circle (dashed, case colour)" if vary else \
         f"clearance circle {format_value(values[0][1] * 1e3)} mm (dashed)"
-    return Line2D([], [], color="k" if not vary else "0.4", ls="--", lw=1.0), label
+    return Line2D([], [], color="k" if not vary else "0.4", ls="--", lw=1.3), label
 
 
 def contact_angles(case):
@@ -247,7 +257,7 @@ def fig_polar_relative_position(study, cases, style):
         factor = DISPLAY.get(c.unit("relative_position"), ("", 1.0))[1]
         radius = np.hypot(r[:, 0], r[:, 1]) * factor
         theta = np.unwrap(np.arctan2(r[:, 1], r[:, 0]))
-        ax.plot(theta, radius, color=style(c), lw=0.8)
+        ax.plot(theta, radius, color=style(c), lw=1.3, zorder=3)
         rmax = max(rmax, float(np.nanmax(radius)) if len(radius) else 0.0)
         if clearance_of(c):
             rmax = max(rmax, clearance_of(c) * factor)
@@ -288,59 +298,95 @@ def fig_polar_force_wear(study, cases, style):
         data.append((c, fmax, wear))
     if not any(d[1].max() > 0 for d in data):
         raise Skip("no contact in any case (contact_force is zero throughout)")
-    fig, axes = grid_panels(len(data), polar=True)
-    fig.set_size_inches(fig.get_size_inches() + np.array([0, 0.9]))
-    for ax, (c, fmax, wear) in zip(axes, data):
-        ax.set_title(c.label, fontsize="small", color=style(c), pad=14)
+    fig, axes, legend_axes = polar_panels(len(data))
+    for ax, lax, (c, fmax, wear) in zip(axes, legend_axes, data):
+        ax.set_title(c.describe("\n"), fontsize="small", color=style(c), pad=12)
         ax.set_yticklabels([])
         ax.set_ylim(0, 1.05)
         handles = []
         if fmax.max() <= 0:
             ax.text(0, 0, "no contact", ha="center", va="center")
             continue
-        fn = fmax / fmax.max()
-        ax.bar(centres, fn, width=width, color=style(c), alpha=0.35, edgecolor="none")
+        th, r = step_polygon(edges, fmax / fmax.max())
+        ax.fill(th, r, color=style(c), alpha=0.35, lw=0)
         k = int(np.argmax(fmax))
         deg_f = np.degrees(centres[k]) % 360
         ax.plot([centres[k]] * 2, [0, 1.05], color="tab:blue", lw=1.6, ls="--")
         handles.append((Line2D([], [], color=style(c), lw=6, alpha=0.35),
-                        f"peak contact force, max {fmax.max():.3g} N"))
+                        f"peak contact force (largest {fmax.max():.3g} N)"))
         handles.append((Line2D([], [], color="tab:blue", lw=1.6, ls="--"),
                         f"max force at {deg_f:.0f}°"))
         if wear is not None and wear.max() > 0:
-            wn = wear / wear.max()
-            ax.plot(np.append(centres, centres[0]), np.append(wn, wn[0]), color="k", lw=1.2,
-                    drawstyle="default")
+            th, r = step_polygon(edges, wear / wear.max())
+            ax.plot(th, r, color="k", lw=1.1)
             j = int(np.argmax(wear))
             deg_w = np.degrees(centres[j]) % 360
             ax.plot([centres[j]] * 2, [0, 1.05], color="tab:red", lw=1.6)
-            handles.append((Line2D([], [], color="k", lw=1.2),
-                            f"wear ∫F·v dt, total {wear.sum():.3g} J"))
+            handles.append((Line2D([], [], color="k", lw=1.1),
+                            f"wear ∫ F·v_slip dt (total {wear.sum():.3g} J)"))
             handles.append((Line2D([], [], color="tab:red", lw=1.6), f"max wear at {deg_w:.0f}°"))
         elif wear is not None:
             handles.append((Line2D([], [], color="none"), "no wear (no slip)"))
         else:
             handles.append((Line2D([], [], color="none"), "wear_indicator not recorded"))
-        ax.legend([h for h, _ in handles], [l for _, l in handles], loc="upper center",
-                  bbox_to_anchor=(0.5, -0.06), fontsize="x-small", frameon=False)
-    fig.suptitle(title(study, f"Contact force and wear indicator over the contact angle, "
-                              f"{POLAR_BINS} bins, each normalised to its maximum "
+        lax.legend([h for h, _ in handles], [l for _, l in handles], loc="upper center",
+                   fontsize="x-small", frameon=False)
+    fig.suptitle(title(study, f"Contact force and wear over the contact angle in the xy-plane, "
+                              f"{POLAR_BINS} bins,\neach normalised to its maximum "
                               f"(thesis fig. 5.5, 6.29)"))
     return fig
+
+
+def step_polygon(edges, values, per_bin=6):
+    """Closed polar outline of a histogram over the full circle: an arc at each bin's value,
+    radial steps between bins (arcs sampled with per_bin points so they stay round)."""
+    frac = np.linspace(0.0, 1.0, per_bin)
+    th = (edges[:-1, None] + frac[None, :] * np.diff(edges)[:, None]).ravel()
+    r = np.repeat(np.asarray(values, dtype=float), per_bin)
+    return np.append(th, th[0] + 2 * np.pi), np.append(r, r[0])
+
+
+def polar_panels(n, panel=3.4):
+    """Small multiples of polar axes, each with a legend slot beneath it."""
+    ncol = min(n, 3)
+    nrow = int(math.ceil(n / ncol))
+    fig = plt.figure(figsize=(panel * ncol + 0.4, (panel + 1.0) * nrow + 0.9), layout="constrained")
+    gs = fig.add_gridspec(2 * nrow, ncol, height_ratios=[panel, 0.95] * nrow)
+    axes, legend_axes = [], []
+    for i in range(n):
+        row, col = divmod(i, ncol)
+        axes.append(fig.add_subplot(gs[2 * row, col], projection="polar"))
+        lax = fig.add_subplot(gs[2 * row + 1, col])
+        lax.axis("off")
+        legend_axes.append(lax)
+    return fig, axes, legend_axes
 
 
 @figure("surface_angle", "surface angle (fig. 5.17)")
 def fig_surface_angle(study, cases, style):
     cases = with_signals(cases, "surface_angle")
-    fig, ax = plt.subplots(figsize=(8, 4.8), layout="constrained")
+    diff = len(cases) > 1
+    fig, axes = plt.subplots(2 if diff else 1, 1, sharex=True, figsize=(8, 7 if diff else 4.8),
+                             layout="constrained", squeeze=False,
+                             gridspec_kw={"height_ratios": [3, 2] if diff else [1]})
+    ax = axes[0, 0]
+    ref = cases[0]
+    t0, a0 = ref.signals("time", "surface_angle")
     for c in cases:
         t, a = c.signals("time", "surface_angle")
         a, unit = shown(a, c.unit("surface_angle"))
         ax.plot(t, a, color=style(c), lw=1.0)
-    ax.set_xlabel(axis_label("time", cases[0].unit("time")))
+        if diff:
+            r, _ = shown(np.interp(t, t0, a0, left=np.nan, right=np.nan), ref.unit("surface_angle"))
+            axes[1, 0].plot(t, a - r, color=style(c), lw=1.0)
     ax.set_ylabel(axis_label("surface angle θ", unit))
-    ax.grid(True, alpha=0.3)
-    ax.set_title(title(study, "Control-surface angle (thesis fig. 5.17)"))
+    if diff:
+        axes[1, 0].set_ylabel(axis_label("θ − θ of the first case", unit))
+        axes[1, 0].set_title(f"difference to the first case ({ref.label})", fontsize="small")
+    axes[-1, 0].set_xlabel(axis_label("time", cases[0].unit("time")))
+    for a_ in axes[:, 0]:
+        a_.grid(True, alpha=0.3)
+    fig.suptitle(title(study, "Control-surface angle (thesis fig. 5.17)"))
     case_legend(fig, cases, style)
     return fig
 
@@ -387,41 +433,72 @@ def fig_first_impact(study, cases, style):
     if not numeric:
         raise Skip("no numeric grid axis that varies")
     xkey = numeric[0]
-    others = [k for k in study.varying_keys if k != xkey]
-    x_all = study.summary[xkey].astype(float)
+    x_raw = study.summary[xkey].astype(float)
     y_all = study.summary[metric].astype(float)
-    ok = np.isfinite(x_all) & np.isfinite(y_all)
+    ok = np.isfinite(x_raw) & np.isfinite(y_all)
+    if not ok.any():
+        raise Skip(f"{metric} is NaN in every case (no contact)")
     if "status" in study.summary:
         ok &= np.array([s == "ok" for s in study.summary["status"]])
-    if not ok.any():
-        raise Skip(f"{metric} is NaN (no contact) or the case failed in every case")
-    x_all, xunit = shown(x_all, study.summary_unit(xkey))
-    groups = {}
-    for row in study.order:
-        if not ok[row]:
+        if not ok.any():
+            raise Skip("no case finished ok")
+    rows_ok = [int(r) for r in study.order if ok[r]]
+    x_all, xunit = shown(x_raw, study.summary_unit(xkey))
+    xname = axis_label(short_key(xkey), xunit)
+    # the other varying grid keys: those zipped with x (one value per x) go along with it,
+    # the rest split the points into lines
+    along, others = [], []
+    for k in study.varying_keys:
+        if k == xkey:
             continue
-        key = tuple(format_value(study.summary[k][row]) for k in others)
-        groups.setdefault(key, []).append(row)
+        per_x = {}
+        for r in rows_ok:
+            per_x.setdefault(x_raw[r], set()).add(format_value(study.summary[k][r]))
+        (along if all(len(v) == 1 for v in per_x.values()) else others).append(k)
+    groups = {}
+    for r in rows_ok:
+        groups.setdefault(tuple(format_value(study.summary[k][r]) for k in others), []).append(r)
     fig, ax = plt.subplots(figsize=(7.5, 4.8), layout="constrained")
+    ylabel = axis_label("first-impact peak contact force", study.units.get(metric, "N"))
+    if len(groups) > 1 and min(len(g) for g in groups.values()) == 1:
+        # the grid does not give a line against x (zipped axes): one bar per case
+        plt.close(fig)
+        fig, ax = plt.subplots(figsize=(11, 1.6 + 0.45 * len(rows_ok)), layout="constrained")
+        by_id = {c.row: c for c in cases}
+        pos = np.arange(len(rows_ok))[::-1]
+        ax.barh(pos, y_all[rows_ok], height=0.6,
+                color=[style(by_id[r]) if r in by_id else "0.5" for r in rows_ok])
+        for p, r in zip(pos, rows_ok):
+            ax.text(y_all[r], p, f" {y_all[r]:.4g}", va="center", fontsize="small")
+        ax.set_yticks(pos)
+        ax.set_yticklabels([by_id[r].label if r in by_id else str(r) for r in rows_ok],
+                           fontsize="small")
+        ax.set_xlabel(ylabel)
+        ax.set_xlim(0, np.nanmax(y_all[rows_ok]) * 1.15)
+        ax.grid(True, axis="x", alpha=0.3)
+        ax.set_title(title(study, f"First-impact peak contact force per case (thesis fig. 5.15); "
+                                  f"\n{short_key(xkey)} is zipped with other keys, so one bar "
+                                  f"per case"), fontsize="medium")
+        return fig
     handles, labels = [], []
     for i, (key, rows) in enumerate(groups.items()):
         rows = sorted(rows, key=lambda r: x_all[r])
-        color = plt.get_cmap("tab10")(i % 10)
-        (h,) = ax.plot(x_all[rows], y_all[rows], "o-", color=color, ms=6, lw=1.2)
+        (h,) = ax.plot(x_all[rows], y_all[rows], "o-", color=plt.get_cmap("tab10")(i % 10),
+                       ms=6, lw=1.2)
         handles.append(h)
-        if others:
-            labels.append(", ".join(f"{short_key(k)} = {v}{unit_suffix(study.summary_unit(k))}"
-                                    for k, v in zip(others, key)))
-        else:
-            labels.append(f"{metric} ({len(rows)} case(s))")
-    ax.set_xlabel(axis_label(short_key(xkey), xunit if xunit not in ("1",) else ""))
-    ax.set_ylabel(axis_label("first-impact peak contact force", study.units.get(metric, "N")))
+        parts = [f"{short_key(k)} = {v}{unit_suffix(study.summary_unit(k))}"
+                 for k, v in zip(others, key)]
+        parts += [f"{short_key(k)} zipped with {short_key(xkey)}" for k in along]
+        labels.append(", ".join(parts) if parts else
+                      f"{len(rows)} case(s) with status ok of {len(study)}")
+    ax.set_xlabel(xname)
+    ax.set_ylabel(ylabel)
     ax.grid(True, alpha=0.3)
     ax.set_ylim(bottom=0)
     ax.set_title(title(study, f"First-impact peak contact force against {short_key(xkey)} "
                               f"(thesis fig. 5.15)"))
     fig.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, 0.0),
-               fontsize="small", frameon=False, ncol=1 if others else 1)
+               fontsize="small", frameon=False)
     return fig
 
 
@@ -483,14 +560,14 @@ def fig_phase_fft(study, cases, style):
         spec = 2.0 * np.abs(np.fft.rfft(x * win)) / np.sum(win)
         spec[0] /= 2.0
         freq = np.fft.rfftfreq(len(x), dt)
-        af.semilogy(freq[1:], spec[1:], color=style(c), lw=0.7)
+        af.loglog(freq[1:], spec[1:], color=style(c), lw=0.7)
         fmax = max(fmax, freq[-1])
-    ap.set_xlabel(axis_label("surface angular rate θ̇", cases[0].unit("surface_rate")))
-    ap.set_ylabel(axis_label("surface angular acceleration θ̈", cases[0].unit("surface_acceleration")))
+    ap.set_xlabel(axis_label("surface angular rate $\\dot\\theta$", cases[0].unit("surface_rate")))
+    ap.set_ylabel(axis_label("surface angular acceleration $\\ddot\\theta$", cases[0].unit("surface_acceleration")))
     ap.set_title("phase diagram")
     ap.grid(True, alpha=0.3)
     af.set_xlabel("frequency [Hz]")
-    af.set_ylabel(axis_label("amplitude of θ̈", cases[0].unit("surface_acceleration")))
+    af.set_ylabel(axis_label("amplitude of $\\ddot\\theta$", cases[0].unit("surface_acceleration")))
     af.set_title("one-sided amplitude spectrum (Hann window, mean removed)")
     af.grid(True, which="both", alpha=0.3)
     fig.suptitle(title(study, "Surface angular acceleration: phase diagram and spectrum"))
@@ -527,54 +604,73 @@ def fig_energy_audit(study, cases, style):
     return fig
 
 
-def moving_components(v, tol=1e-9):
-    """Indices of the columns of v that change by more than tol over the run."""
-    v = v.reshape(len(v), -1)
-    span = np.nanmax(v, axis=0) - np.nanmin(v, axis=0) if len(v) else np.zeros(v.shape[1])
-    return [k for k in range(v.shape[1]) if span[k] > tol]
+def moving_components(v):
+    """Indices of the columns of v (samples, width) that change over the run."""
+    v = np.asarray(v, dtype=float).reshape(len(v), -1)
+    if not len(v):
+        return []
+    span = np.nanmax(v, axis=0) - np.nanmin(v, axis=0)
+    scale = max(float(np.nanmax(np.abs(v))), 1e-300)
+    return [k for k in range(v.shape[1]) if span[k] > 1e-9 * scale]
 
 
-def component_rows(fig_title, study, cases, style, rows, ncols=1):
-    """Shared drawing of 'component of a vector signal against time' figures.
+COMPONENT_STYLE = {0: "-", 1: "--", 2: ":"}
+AXES_NAMES = "xyz"
 
-    rows: list of (axis name, [(signal, line style, legend prefix)]).
+
+def time_rows(fig_title, study, cases, style, rows):
+    """Stacked panels of signals against time, one line per case (colour).
+
+    rows: list of (quantity, [(signal, line style, name in the legend)]). A vector signal is
+    drawn by its components that move in some case: alone, it is drawn solid and the panel
+    names the component; otherwise components get line styles x -, y --, z :. Components that
+    stay constant in every case are left out (the legend says so).
     """
-    n = len(rows)
-    nr = int(math.ceil(n / ncols))
-    fig, axes = plt.subplots(nr, ncols, sharex=True, figsize=(6 * ncols + 2, 2.5 * nr + 1.6),
+    fig, axes = plt.subplots(len(rows), 1, sharex=True, figsize=(8.5, 2.3 * len(rows) + 1.6),
                              layout="constrained", squeeze=False)
-    axes = axes.ravel()
-    for ax in axes[n:]:
-        ax.set_visible(False)
-    comp_styles = {0: "-", 1: "--", 2: ":"}
-    extra = {}
-    for ax, (what, sigs) in zip(axes, rows):
+    legend = {}
+    flat = False
+    for ax, (quantity, sigs) in zip(axes[:, 0], rows):
         unit = ""
-        for name, prefix in sigs:
-            for c in cases:
-                if not c.has(name):
-                    continue
+        names = []
+        for name, ls, legend_name in sigs:
+            have = [c for c in cases if c.has(name)]
+            if not have:
+                continue
+            width = max(c.signal(name).reshape(len(c.signal(name)), -1).shape[1] for c in have)
+            moving = sorted({k for c in have for k in moving_components(c.signal(name))})
+            if width > 1 and len(moving) < width:
+                flat = True
+            comps = moving or [0]
+            single = width == 1 or (len(comps) == 1 and len(sigs) == 1)
+            for c in have:
                 t, v = c.signals("time", name)
                 v, unit = shown(v, c.unit(name))
                 v = v.reshape(len(t), -1)
-                comps = moving_components(v, 1e-12 * max(1.0, float(np.nanmax(np.abs(v)))))
-                for k in comps or [0]:
-                    ls = comp_styles.get(k, "-.") if v.shape[1] > 1 else "-"
-                    ax.plot(t, v[:, k], color=style(c), ls=ls, lw=0.9,
-                            alpha=1.0 if prefix == "" else 0.6)
-                    if v.shape[1] > 1:
-                        extra.setdefault(k, Line2D([], [], color="0.3", ls=ls))
-        names = " / ".join(f"{p}{n}" if p else n for n, p in sigs)
-        ax.set_ylabel(axis_label(what, unit), fontsize="small")
-        ax.set_title(names, fontsize="small")
+                for k in comps:
+                    line = ls if (single and ls) else ("-" if single else COMPONENT_STYLE[k % 3])
+                    ax.plot(t, v[:, k], color=style(c), ls=line, lw=0.9)
+            if width == 1:
+                names.append(legend_name)
+                if len(sigs) > 1:
+                    legend.setdefault(legend_name, (Line2D([], [], color="0.3", ls=ls or "-"),
+                                                    f"{legend_name} ({ls or '-'})"))
+            elif single:
+                names.append(f"{legend_name}, {AXES_NAMES[comps[0]]} component")
+            else:
+                names.append(legend_name)
+                for k in comps:
+                    legend.setdefault(f"~{k}", (Line2D([], [], color="0.3", ls=COMPONENT_STYLE[k % 3]),
+                                                f"{AXES_NAMES[k]} component ({COMPONENT_STYLE[k % 3]})"))
+        ax.set_ylabel(axis_label(quantity, unit), fontsize="small")
+        ax.set_title(", ".join(names), fontsize="small", loc="left")
         ax.grid(True, alpha=0.3)
-    for ax in axes[max(0, n - ncols):n]:
-        ax.set_xlabel(axis_label("time", cases[0].unit("time")))
-        ax.xaxis.set_tick_params(labelbottom=True)
+    axes[-1, 0].set_xlabel(axis_label("time", cases[0].unit("time")))
     fig.suptitle(title(study, fig_title))
-    entries = [(extra[k], f"{'xyz'[k]} component ({comp_styles.get(k, '-.')})") for k in sorted(extra)]
-    entries.append((Line2D([], [], color="0.3"), "flat components are not drawn"))
-    case_legend(fig, cases, style, entries)
+    extra = [legend[k] for k in sorted(legend)]
+    if flat:
+        extra.append((Line2D([], [], color="none"), "constant components not drawn"))
+    case_legend(fig, cases, style, extra)
     return fig
 
 
@@ -584,30 +680,39 @@ def fig_ball_motion(study, cases, style):
         raise Skip(f"scene {study.scene} has a mechanism (its ball follows the crank: "
                    "see the other figures)")
     cases = with_signals(cases, "ball_position")
-    rows = [("ball position", [("ball_position", "")])]
-    if any(c.has("socket_position") and moving_components(c.signal("socket_position"), 1e-12)
-           for c in cases):
-        rows.append(("socket position", [("socket_position", "")]))
-    if any(c.has("ball_velocity") for c in cases):
-        rows.append(("ball velocity", [("ball_velocity", "")]))
-    if any(c.has("friction_force") for c in cases):
-        rows.append(("friction force", [("friction_force", "")]))
-    fig_no = {"gravity-drop": "thesis fig. 3.24", "spring-contact": "thesis fig. 3.26"}
+
+    def recorded(name):
+        return any(c.has(name) for c in cases)
+
+    rows = [("position", [("ball_position", None, "ball position")])]
+    if recorded("socket_position") and any(moving_components(c.signal("socket_position"))
+                                           for c in cases if c.has("socket_position")):
+        rows.append(("position", [("socket_position", None, "socket position")]))
+    if recorded("drive_anchor_position"):
+        rows.append(("position", [("drive_anchor_position", None, "driven end of the ball spring")]))
+    if recorded("ball_velocity"):
+        rows.append(("velocity", [("ball_velocity", None, "ball velocity")]))
+    forces = [(n, ls, what) for n, ls, what in (("contact_force", "-", "contact force"),
+                                                 ("friction_force", ":", "friction force"))
+              if recorded(n)]
+    if forces:
+        rows.append(("force", forces))
+    fig_no = {"gravity-drop": "thesis fig. 3.24", "spring-contact": "thesis fig. 3.25-3.26"}
     what = f" ({fig_no[study.scene]})" if study.scene in fig_no else ""
-    return component_rows(f"Ball and socket motion{what}", study, cases, style, rows,
-                          ncols=2 if len(rows) > 2 else 1)
+    return time_rows(f"Ball and socket motion{what}", study, cases, style, rows)
 
 
 @figure("body_motion", "free-body motion (fig. 3.21-3.23)")
 def fig_body_motion(study, cases, style):
     cases = with_signals(cases, "body_position")
-    rows = [("position", [("body_position", "")])]
-    for what, name in (("velocity", "body_velocity"), ("3-2-1 Euler angles", "body_euler_321"),
-                       ("angular velocity (body frame)", "body_angular_velocity")):
+    rows = [("position", [("body_position", None, "mass-centre position")])]
+    for quantity, name, what in (("velocity", "body_velocity", "mass-centre velocity"),
+                                 ("angle", "body_euler_321", "3-2-1 Euler angles"),
+                                 ("angular velocity", "body_angular_velocity",
+                                  "angular velocity, body frame")):
         if any(c.has(name) for c in cases):
-            rows.append((what, [(name, "")]))
-    return component_rows("Free-body motion (thesis fig. 3.21-3.23)", study, cases, style, rows,
-                          ncols=2 if len(rows) > 2 else 1)
+            rows.append((quantity, [(name, None, what)]))
+    return time_rows("Free-body motion (thesis fig. 3.21-3.23)", study, cases, style, rows)
 
 
 # --- driver -------------------------------------------------------------------------------

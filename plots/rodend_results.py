@@ -193,19 +193,25 @@ class Case:
             return self.parameter_units[k]
         return self.study.units.get(key, "")
 
-    @property
-    def label(self):
-        """Legend label naming the grid coordinates that vary across the study."""
+    def describe(self, sep=", "):
+        """Label naming the grid coordinates that vary across the study (all grid coordinates
+        if none varies; the case index and id when there is no grid), parts joined by sep;
+        a case that did not finish ok gets its status appended."""
         keys = self.study.varying_keys or self.study.grid_keys
         parts = []
         for key in keys:
             value = self.coordinates.get(key, self.study.summary[key][self.row]
                                          if key in self.study.summary else None)
             parts.append(coordinate_label(key, value, self.coordinate_unit(key)))
-        label = ", ".join(parts) if parts else f"case {self.index} ({self.id})"
+        label = sep.join(parts) if parts else f"case {self.index} ({self.id})"
         if self.status != "ok":
             label += f" [{self.status}]"
         return label
+
+    @property
+    def label(self):
+        """Legend label: "contact.clearance = 0.0001 m" (see describe)."""
+        return self.describe()
 
     def __repr__(self):
         return f"Case({self.index}, {self.id}, {self.label})"

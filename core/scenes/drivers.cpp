@@ -12,7 +12,10 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 /// Normalised stroke S(u), u in [0, 1], and its first two derivatives.
 void stroke_shape(ActuatorMotion::Shape s, double u, double& S, double& dS, double& ddS) {
-  if (s == ActuatorMotion::Shape::raised_cosine) {
+  if (s == ActuatorMotion::Shape::step) {
+    S = u > 0.0 ? 1.0 : 0.0;
+    dS = ddS = 0.0;
+  } else if (s == ActuatorMotion::Shape::raised_cosine) {
     S = u - std::sin(kTwoPi * u) / kTwoPi;
     dS = 1.0 - std::cos(kTwoPi * u);
     ddS = kTwoPi * std::sin(kTwoPi * u);
@@ -65,8 +68,11 @@ ActuatorMotion read_motion(const ParameterSet& p, const std::string& prefix) {
     m.shape = ActuatorMotion::Shape::raised_cosine;
   else if (s == "minimum-jerk")
     m.shape = ActuatorMotion::Shape::minimum_jerk;
+  else if (s == "step")
+    m.shape = ActuatorMotion::Shape::step;
   else
-    throw InputError(prefix + ".shape", "expected \"raised-cosine\" or \"minimum-jerk\"");
+    throw InputError(prefix + ".shape",
+                     "expected \"raised-cosine\", \"minimum-jerk\" or \"step\"");
   m.extension = read_positive(p, prefix + ".extension", true);
   m.retraction = read_positive(p, prefix + ".retraction", true);
   m.extension_time = read_positive(p, prefix + ".extension_time");

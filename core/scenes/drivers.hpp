@@ -15,7 +15,9 @@ namespace rodend {
 ///   shape raised-cosine: S(u) = u - sin(2 pi u)/(2 pi)  (velocity 1 - cos 2 pi u)
 ///   shape minimum-jerk:  S(u) = 10u^3 - 15u^4 + 6u^5
 struct ActuatorMotion {
-  enum class Shape { raised_cosine, minimum_jerk } shape = Shape::raised_cosine;
+  /// step: the position jumps at the start of each stroke (a command only: the actuator scenes
+  /// accept it, the kinematic scene, which needs a velocity, rejects it)
+  enum class Shape { raised_cosine, minimum_jerk, step } shape = Shape::raised_cosine;
   double extension = 0.05;        ///< extended position [m]
   double retraction = 0.0;        ///< retracted position is -retraction [m]
   double extension_time = 1.0;    ///< [s]

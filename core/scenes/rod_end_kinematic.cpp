@@ -45,6 +45,10 @@ class RodEndKinematicScene final : public Scene {
  public:
   explicit RodEndKinematicScene(const ParameterSet& p)
       : mech_(p), motion_(read_motion(p, "motion")) {
+    if (motion_.shape == ActuatorMotion::Shape::step)
+      throw InputError("motion.shape",
+                       "a step has no velocity: the prescribed rod motion needs \"raised-cosine\" "
+                       "or \"minimum-jerk\" (steps are for the actuator scenes' command)");
     mech_.check_closure(motion_, "motion.extension");
     double x[kStates];
     initial_state(x);

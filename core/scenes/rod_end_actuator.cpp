@@ -1,0 +1,143 @@
+// Scene rod-end-actuator: the mechanism of rod-end-kinematic with the prescribed rod motion
+// replaced by the electro-hydraulic actuator following the same profile as a position command
+// (thesis §6.3, fig. 6.11). The external force on the rod is the reaction of the slider spring.
+//
+// State: mechanism (28) | actuator (10) | input work [J] | dissipated [J].
+#include <array>
+
+#include "core/scene.hpp"
+#include "core/scenes/drivers.hpp"
+#include "core/scenes/parts.hpp"
+#include "core/scenes/rod_end_mechanism.hpp"
+#include "core/scenes/servo_actuator.hpp"
+
+namespace rodend {
+namespace {
+
+using Mech = RodEndMechanism;
+constexpr int kMech = 0;
+constexpr int kAct = Mech::size;
+constexpr int kWork = kAct + ServoActuator::size;
+constexpr int kDissipated = kWork + 1;
+constexpr int kStates = kDissipated + 1;
+
+constexpr std::array kSignals{
+    SignalId::time,
+    SignalId::ball_position, SignalId::ball_velocity, SignalId::ball_angular_velocity,
+    SignalId::ball_euler_321, SignalId::socket_position, SignalId::socket_velocity,
+    SignalId::socket_angular_velocity, SignalId::socket_euler_321,
+    SignalId::eccentricity_vector, SignalId::eccentricity, SignalId::relative_position,
+    SignalId::penetration, SignalId::penetration_rate, SignalId::impact_speed,
+    SignalId::contact_force_vector, SignalId::contact_force, SignalId::friction_force_vector,
+    SignalId::friction_force, SignalId::slip_speed, SignalId::wear_indicator,
+    SignalId::contact_angle,
+    SignalId::actuator_position, SignalId::actuator_velocity, SignalId::rod_inclination,
+    SignalId::slider_end_position, SignalId::crank_end_position, SignalId::surface_angle,
+    SignalId::surface_rate, SignalId::surface_acceleration, SignalId::hinge_moment,
+    SignalId::slider_spring_force, SignalId::slider_spring_axial_force,
+    SignalId::slider_spring_moment, SignalId::crank_spring_force,
+    SignalId::crank_spring_axial_force, SignalId::crank_spring_moment,
+    SignalId::actuator_command, SignalId::lvdt_position, SignalId::controller_current,
+    SignalId::jet_pipe_position, SignalId::spool_position, SignalId::chamber_pressures,
+    SignalId::chamber_flows, SignalId::actuator_external_force, SignalId::hydraulic_power,
+    SignalId::mechanical_energy, SignalId::input_work, SignalId::dissipated_energy,
+    SignalId::energy_residual, SignalId::quaternion_norm_error};
+constexpr std::array kQuaternions{kMech + Mech::kBall + BodyStateLayout::q,
+                                  kMech + Mech::kSocket + BodyStateLayout::q};
+constexpr std::array kAudit{kWork, kDissipated};
+
+class RodEndActuatorScene final : public Scene {
+ public:
+  explicit RodEndActuatorScene(const ParameterSet& p)
+      : mech_(p), act_(read_servo_actuator(p, "actuator")), command_(read_motion(p, "motion")) {
+    check_command_within_stroke(command_, act_.params(), "motion.extension", "motion.retraction");
+    // the piston cannot take the mechanism beyond its stroke: check closure over the stroke
+    ActuatorMotion full = command_;
+    full.shape = ActuatorMotion::Shape::raised_cosine;
+    full.extension = full.retraction = act_.params().half_stroke;
+    mech_.check_closure(full, "actuator.half_stroke");
+    double x[kStates];
+    initial_state(x);
+    initial_energy_ = energy(0.0, x, DiscreteState{{ContactLatch{}}}).mechanical;
+  }
+
+  std::string_view name() const override { return "rod-end-actuator"; }
+  int state_size() const override { return kStates; }
+  void initial_state(double* x) const override {
+    mech_.initial_state(x + kMech);
+    act_.initial_state(x + kAct);
+    x[kWork] = x[kDissipated] = 0.0;
+  }
+  void state_scale(double* s) const override {
+    mech_.state_scale(s + kMech);
+    act_.state_scale(s + kAct);
+    s[kWork] = s[kDissipated] = 1.0;
+  }
+  std::span<const int> quaternion_offsets() const override { return kQuaternions; }
+  std::span<const int> audit_offsets() const override { return kAudit; }
+  int contact_count() const override { return 1; }
+  double contact_clearance(int) const override { return mech_.contact().clearance; }
+  ContactGap contact_gap(int, const double* x) const override { return mech_.gap(x + kMech); }
+
+  struct Eval {
+    Mech::Eval mech;
+    ServoActuator::Eval act;
+    double external_force;  ///< on the piston along the rod [N]
+  };
+  Eval evaluate(double t, const double* x, const ContactLatch& l) const {
+    const double u = x[kAct + ServoActuator::kPos], u_dot = x[kAct + ServoActuator::kVel];
+    Eval e{mech_.evaluate(t, u, u_dot, x + kMech, l), act_.evaluate(command_.at(t).position, x + kAct),
+           0.0};
+    // the slider spring pulls the rod end with the opposite of its force on the socket
+    e.external_force = -mech_.rod_axial_force(e.mech);
+    return e;
+  }
+
+  void derivatives(double t, const double* x, const DiscreteState& d,
+                   double* dxdt) const override {
+    const Eval e = evaluate(t, x, d.contacts[0]);
+    mech_.derivatives(e.mech, x + kMech, dxdt + kMech);
+    act_.derivatives(e.act, x + kAct, e.external_force, 0.0, dxdt + kAct);
+    const double* xa = x + kAct;
+    const double u_dot = xa[ServoActuator::kVel];
+    // inputs: the hydraulics (long route, see ServoActuator), the hinge moment, and the power
+    // of the ideal rod pivot that turns the rod end about O (the slider spring's anchor power
+    // less what the piston itself delivers along the rod)
+    const double hydraulic = act_.hydraulic_net_power(e.act) - act_.orifice_loss(e.act, xa) -
+                             act_.leak_loss(e.act, xa) -
+                             act_.compression_power(e.act, xa, dxdt + kAct);
+    const double constraint =
+        e.mech.slider_spring.anchor_power - mech_.rod_axial_force(e.mech) * u_dot;
+    dxdt[kWork] = hydraulic + constraint + e.mech.hinge_moment * e.mech.theta_dot;
+    dxdt[kDissipated] = mech_.dissipated_power(e.mech) + act_.dissipated_power(e.act, xa);
+  }
+
+  std::span<const SignalId> signals() const override { return kSignals; }
+  EnergyTerms energy(double t, const double* x, const DiscreteState& d) const override {
+    const Eval e = evaluate(t, x, d.contacts[0]);
+    return {mech_.mechanical_energy(e.mech) + act_.mechanical_energy(x + kAct, 0.0), x[kWork],
+            x[kDissipated]};
+  }
+  void outputs(double t, const double* x, const DiscreteState& d,
+               SignalFrame& f) const override {
+    const Eval e = evaluate(t, x, d.contacts[0]);
+    mech_.outputs(e.mech, x + kMech, f);
+    write_contact_signals(f, e.mech.contact, e.mech.ball, e.mech.socket, d.contacts[0]);
+    act_.outputs(e.act, x + kAct, e.external_force, f);
+    write_energy_signals(f, energy(t, x, d), initial_energy_);
+  }
+
+ private:
+  Mech mech_;
+  ServoActuator act_;
+  ActuatorMotion command_;
+  double initial_energy_ = 0.0;
+};
+
+}  // namespace
+
+std::unique_ptr<Scene> make_rod_end_actuator_scene(const ParameterSet& p) {
+  return std::make_unique<RodEndActuatorScene>(p);
+}
+
+}  // namespace rodend
