@@ -9,6 +9,7 @@
 
 #include "core/integrator.hpp"
 #include "core/scene.hpp"
+#include "sweep/compare.hpp"
 #include "sweep/runner.hpp"
 #include "sweep/study.hpp"
 
@@ -130,6 +131,20 @@ int main(int argc, char** argv) {
   auto* metrics = app.add_subcommand("metrics", "Print the summary metrics.");
   metrics->add_flag("--markdown", markdown, "as a Markdown table");
 
+  auto* compare = app.add_subcommand(
+      "compare", "Compare study results B against reference A: summary metrics with per-metric "
+                 "tolerances, histories pointwise up to the first impact and as envelopes after "
+                 "it. Missing or extra cases and signals are differences. Exit 0: equal within "
+                 "tolerance; 1: different; 2: error.");
+  std::string cmp_a, cmp_b, tolerance_file;
+  bool summary_only = false;
+  compare->add_option("A", cmp_a, "reference results folder (results/<study>)")->required();
+  compare->add_option("B", cmp_b, "results folder to check")->required();
+  compare->add_option("--tolerances", tolerance_file,
+                      "tolerance file (JSON; see README \"Comparing results\")");
+  compare->add_flag("--summary-only", summary_only,
+                    "compare summaries only (a reference kept without its case files)");
+
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -140,6 +155,12 @@ int main(int argc, char** argv) {
     if (*params) return list_params(scene_name, as_json);
     if (*signals) return list_signals(markdown, as_json);
     if (*metrics) return list_metrics(markdown);
+    if (*compare) {
+      CompareSettings cs;
+      if (!tolerance_file.empty()) cs = load_tolerances(tolerance_file);
+      cs.summary_only = summary_only;
+      return compare_studies(cmp_a, cmp_b, cs, std::cout);
+    }
     if (*rdir) {
       std::cout << load_study(study_file, results_root).output_dir.string() << "\n";
       return 0;

@@ -17,6 +17,7 @@ import os
 import sys
 import time
 import traceback
+import warnings
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
@@ -83,6 +84,9 @@ def with_signals(cases, *names):
     if not have:
         missing = next(n for n in names if not any(c.has(n) for c in cases))
         raise Skip(f"signal {missing} not recorded")
+    have = [c for c in have if len(c.signal("time")) >= 2]
+    if not have:
+        raise Skip("no case has two samples or more")
     return have
 
 
@@ -92,6 +96,26 @@ def first_present(cases, *names):
         if any(c.has(n) for c in cases):
             return n
     return None
+
+
+def sig(case, name):
+    """A signal with every non-finite value (a run that blew up) as NaN, so it plots as a gap."""
+    v = case.signal(name)
+    if v.dtype.kind == "f" and not np.isfinite(v).all():
+        v = np.where(np.isfinite(v), v, np.nan)
+    return v
+
+
+def sigs(case, *names):
+    case.signals(*names)            # one opening of the file for all of them
+    return [sig(case, n) for n in names]
+
+
+def finite_max(values, default=0.0):
+    """Largest finite value (default when there is none)."""
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v)]
+    return float(v.max()) if v.size else default
 
 
 def sample_weights(t):
@@ -140,20 +164,37 @@ def title(study, text):
     return f"{text}\nstudy {study.name} ({study.scene}, {len(study.cases())} case(s))"
 
 
-def case_legend(fig, cases, style, extra=(), where="bottom"):
-    """A figure legend naming each case's grid coordinates, below (or right of) the axes."""
+def case_legend(fig, cases, style, extra=()):
+    """A figure legend below the axes naming each case's grid coordinates (plus extra
+    (handle, label) entries)."""
     handles = [Line2D([], [], color=style(c), lw=2) for c in cases]
     labels = [c.label for c in cases]
     for h, l in extra:
         handles.append(h)
         labels.append(l)
+    return bottom_legend(fig, handles, labels)
+
+
+def bottom_legend(fig, handles, labels):
+    """A legend in a band reserved at the bottom of a constrained-layout figure.
+
+    The figure grows by the legend's height (and width if the legend is wider), and the
+    layout keeps the axes out of the band, so the figure is saved as it is laid out (no
+    bbox_inches="tight", which would draw everything twice).
+    """
     longest = max((len(l) for l in labels), default=10)
-    if where == "right":
-        return fig.legend(handles, labels, loc="center left", bbox_to_anchor=(1.0, 0.5),
-                          fontsize="small", frameon=False)
     ncol = max(1, min(len(labels), int(90 // max(longest, 1))))
-    return fig.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, 0.0),
-                      ncol=ncol, fontsize="small", frameon=False)
+    leg = fig.legend(handles, labels, loc="lower center", bbox_to_anchor=(0.5, 0.0),
+                     ncol=ncol, fontsize="small", frameon=False)
+    bb = leg.get_window_extent(fig.canvas.get_renderer())
+    w_in, h_in = bb.width / fig.dpi + 0.2, bb.height / fig.dpi + 0.05
+    width, height = fig.get_size_inches()
+    width, height = max(width, w_in), height + h_in
+    fig.set_size_inches(width, height)
+    engine = fig.get_layout_engine()
+    if engine is not None and hasattr(engine, "set"):
+        engine.set(rect=(0, h_in / height, 1, 1 - h_in / height))
+    return leg
 
 
 def clearance_lines(ax, cases, style, factor, both_signs=False):
@@ -204,21 +245,9 @@ def clearance_circle(ax, cases, style, factor, polar):
 def contact_angles(case):
     """Contact angle [rad] per sample: the signal contact_angle, else atan2 of relative_position."""
     if case.has("contact_angle"):
-        return case.signal("contact_angle")
-    r = case.signal("relative_position")
+        return sig(case, "contact_angle")
+    r = sig(case, "relative_position")
     return np.arctan2(r[:, 1], r[:, 0])
-
-
-def grid_panels(n, polar=False, panel=3.3):
-    ncol = min(n, 3)
-    nrow = int(math.ceil(n / ncol))
-    fig, axes = plt.subplots(nrow, ncol, figsize=(panel * ncol + 0.6, panel * nrow + 1.0),
-                             subplot_kw={"projection": "polar"} if polar else {},
-                             layout="constrained", squeeze=False)
-    axes = axes.ravel()
-    for ax in axes[n:]:
-        ax.set_visible(False)
-    return fig, axes[:n]
 
 
 # --- figures ------------------------------------------------------------------------------
@@ -229,7 +258,7 @@ def fig_eccentricity_force(study, cases, style):
     fig, (ax1, ax2) = plt.subplots(2, 1, sharex=True, figsize=(8, 6.5), layout="constrained")
     e_unit = None
     for c in cases:
-        t, e, f = c.signals("time", "eccentricity", "contact_force")
+        t, e, f = sigs(c, "time", "eccentricity", "contact_force")
         e, e_unit = shown(e, c.unit("eccentricity"))
         ax1.plot(t, e, color=style(c), lw=0.9)
         ax2.plot(t, f, color=style(c), lw=0.9)
@@ -240,7 +269,8 @@ def fig_eccentricity_force(study, cases, style):
     ax2.set_xlabel(axis_label("time", cases[0].unit("time")))
     for ax in (ax1, ax2):
         ax.grid(True, alpha=0.3)
-    fig.suptitle(title(study, "Eccentricity and contact force (thesis fig. 5.2)"))
+    ref = {"gravity-drop": "3.24", "spring-contact": "3.26"}.get(study.scene, "5.2")
+    fig.suptitle(title(study, f"Eccentricity and contact force (thesis fig. {ref})"))
     case_legend(fig, cases, style, extra)
     return fig
 
@@ -248,17 +278,19 @@ def fig_eccentricity_force(study, cases, style):
 @figure("polar_relative_position", "polar relative position (fig. 5.4, 5.11, 6.15)")
 def fig_polar_relative_position(study, cases, style):
     cases = with_signals(cases, "relative_position")
-    fig = plt.figure(figsize=(7, 7.4), layout="constrained")
+    fig = plt.figure(figsize=(7.8, 7.6), layout="constrained")
     ax = fig.add_subplot(projection="polar")
     rmax = 0.0
     for c in cases:
-        r = c.signal("relative_position")
+        r = sig(c, "relative_position")
         _, unit = shown(0.0, c.unit("relative_position"))
         factor = DISPLAY.get(c.unit("relative_position"), ("", 1.0))[1]
         radius = np.hypot(r[:, 0], r[:, 1]) * factor
-        theta = np.unwrap(np.arctan2(r[:, 1], r[:, 0]))
+        theta = np.full(len(r), np.nan)
+        ok = np.isfinite(radius)
+        theta[ok] = np.unwrap(np.arctan2(r[ok, 1], r[ok, 0]))   # no jumps across ±180°
         ax.plot(theta, radius, color=style(c), lw=1.3, zorder=3)
-        rmax = max(rmax, float(np.nanmax(radius)) if len(radius) else 0.0)
+        rmax = max(rmax, finite_max(radius))
         if clearance_of(c):
             rmax = max(rmax, clearance_of(c) * factor)
     extra = [x for x in [clearance_circle(ax, cases, style, factor, polar=True)] if x]
@@ -268,8 +300,8 @@ def fig_polar_relative_position(study, cases, style):
     ax.text(np.radians(112.5), rmax * 1.22 if rmax > 0 else 1, f"radius [{unit}]",
             ha="center", va="center", fontsize="small")
     ax.set_xlabel("angle of p_ball − p_socket in the xy-plane [deg] (x along the rod)")
-    ax.set_title(title(study, "Relative position of the ball in the socket, xy-plane "
-                        "(thesis fig. 5.4, 5.11, 6.15)"), pad=24)
+    fig.suptitle(title(study, "Ball centre relative to the socket centre, xy-plane "
+                              "(thesis fig. 5.4, 5.11, 6.15)"))
     case_legend(fig, cases, style, extra)
     return fig
 
@@ -280,20 +312,21 @@ def fig_polar_force_wear(study, cases, style):
     cases = [c for c in cases if c.has("contact_angle") or c.has("relative_position")]
     if not cases:
         raise Skip("neither contact_angle nor relative_position recorded")
-    edges = np.linspace(-np.pi, np.pi, POLAR_BINS + 1)
+    # bins centred on multiples of 360/POLAR_BINS degrees (0°, 90°, 270° are bin centres)
+    half = np.pi / POLAR_BINS
+    edges = np.linspace(-np.pi - half, np.pi - half, POLAR_BINS + 1)
     centres = 0.5 * (edges[:-1] + edges[1:])
-    width = edges[1] - edges[0]
     data = []
     for c in cases:
-        t, f = c.signals("time", "contact_force")
-        ang = np.mod(contact_angles(c) + np.pi, 2 * np.pi) - np.pi
+        t, f = sigs(c, "time", "contact_force")
+        ang = np.mod(contact_angles(c) - edges[0], 2 * np.pi) + edges[0]
         idx = np.clip(np.digitize(ang, edges) - 1, 0, POLAR_BINS - 1)
-        touching = f > 0
+        touching = (f > 0) & np.isfinite(ang)
         fmax = np.zeros(POLAR_BINS)
         np.maximum.at(fmax, idx[touching], f[touching])
         wear = None
         if c.has("wear_indicator"):
-            w = c.signal("wear_indicator") * sample_weights(t)
+            w = np.nan_to_num(sig(c, "wear_indicator") * sample_weights(t))
             wear = np.bincount(idx[touching], weights=w[touching], minlength=POLAR_BINS)
         data.append((c, fmax, wear))
     if not any(d[1].max() > 0 for d in data):
@@ -311,9 +344,9 @@ def fig_polar_force_wear(study, cases, style):
         ax.fill(th, r, color=style(c), alpha=0.35, lw=0)
         k = int(np.argmax(fmax))
         deg_f = np.degrees(centres[k]) % 360
-        ax.plot([centres[k]] * 2, [0, 1.05], color="tab:blue", lw=1.6, ls="--")
+        ax.plot([centres[k]] * 2, [0, 1.05], color="tab:blue", lw=1.6, ls="--", zorder=4)
         handles.append((Line2D([], [], color=style(c), lw=6, alpha=0.35),
-                        f"peak contact force (largest {fmax.max():.3g} N)"))
+                        f"peak contact force (largest sample {fmax.max():.3g} N)"))
         handles.append((Line2D([], [], color="tab:blue", lw=1.6, ls="--"),
                         f"max force at {deg_f:.0f}°"))
         if wear is not None and wear.max() > 0:
@@ -321,10 +354,10 @@ def fig_polar_force_wear(study, cases, style):
             ax.plot(th, r, color="k", lw=1.1)
             j = int(np.argmax(wear))
             deg_w = np.degrees(centres[j]) % 360
-            ax.plot([centres[j]] * 2, [0, 1.05], color="tab:red", lw=1.6)
+            ax.plot([centres[j]] * 2, [0, 1.05], color="tab:red", lw=2.4, zorder=3)
             handles.append((Line2D([], [], color="k", lw=1.1),
                             f"wear ∫ F·v_slip dt (total {wear.sum():.3g} J)"))
-            handles.append((Line2D([], [], color="tab:red", lw=1.6), f"max wear at {deg_w:.0f}°"))
+            handles.append((Line2D([], [], color="tab:red", lw=2.4), f"max wear at {deg_w:.0f}°"))
         elif wear is not None:
             handles.append((Line2D([], [], color="none"), "no wear (no slip)"))
         else:
@@ -371,9 +404,9 @@ def fig_surface_angle(study, cases, style):
                              gridspec_kw={"height_ratios": [3, 2] if diff else [1]})
     ax = axes[0, 0]
     ref = cases[0]
-    t0, a0 = ref.signals("time", "surface_angle")
+    t0, a0 = sigs(ref, "time", "surface_angle")
     for c in cases:
-        t, a = c.signals("time", "surface_angle")
+        t, a = sigs(c, "time", "surface_angle")
         a, unit = shown(a, c.unit("surface_angle"))
         ax.plot(t, a, color=style(c), lw=1.0)
         if diff:
@@ -394,7 +427,7 @@ def fig_surface_angle(study, cases, style):
 @figure("trajectories_xy_xz", "xy and xz trajectories (fig. 5.18-5.20)")
 def fig_trajectories(study, cases, style):
     cases = with_signals(cases, "relative_position")
-    z_moves = any(np.nanmax(np.abs(c.signal("relative_position")[:, 2]), initial=0.0) > NONZERO_Z
+    z_moves = any(np.nanmax(np.abs(sig(c, "relative_position")[:, 2]), initial=0.0) > NONZERO_Z
                   for c in cases)
     grid_mis = "parameters.socket.misalignment_z" in study.varying_keys
     if not (z_moves or grid_mis):
@@ -402,7 +435,7 @@ def fig_trajectories(study, cases, style):
                    "not vary socket.misalignment_z")
     fig, (axy, axz) = plt.subplots(1, 2, figsize=(11, 5.6), layout="constrained")
     for c in cases:
-        r = c.signal("relative_position")
+        r = sig(c, "relative_position")
         r, unit = shown(r, c.unit("relative_position"))
         axy.plot(r[:, 0], r[:, 1], color=style(c), lw=0.8)
         axz.plot(r[:, 0], r[:, 2], color=style(c), lw=0.8)
@@ -494,61 +527,97 @@ def fig_first_impact(study, cases, style):
     ax.set_xlabel(xname)
     ax.set_ylabel(ylabel)
     ax.grid(True, alpha=0.3)
-    ax.set_ylim(bottom=0)
+    ax.set_ylim(0, 1.1 * float(np.nanmax(y_all[rows_ok])))
     ax.set_title(title(study, f"First-impact peak contact force against {short_key(xkey)} "
                               f"(thesis fig. 5.15)"))
-    fig.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, 0.0),
-               fontsize="small", frameon=False)
+    bottom_legend(fig, handles, labels)
     return fig
 
 
 @figure("hydraulics", "hydraulics (fig. 6.16-6.22)")
 def fig_hydraulics(study, cases, style):
-    wanted = [("chamber pressure", ("chamber_pressures", "chamber_pressure")),
-              ("chamber flow", ("chamber_flows", "chamber_flow")),
-              ("spool position", ("spool_position",))]
-    rows = [(what, first_present(cases, *names)) for what, names in wanted]
-    rows = [(what, name) for what, name in rows if name]
-    if not rows:
+    # (panel title, alternative signal names, component or None for a scalar)
+    panels = [("chamber 1 (rear) pressure (fig. 6.16)", ("chamber_pressures", "chamber_pressure"), 0),
+              ("chamber 2 (front) pressure (fig. 6.18)", ("chamber_pressures", "chamber_pressure"), 1),
+              ("flow into chamber 1 (fig. 6.20)", ("chamber_flows", "chamber_flow"), 0),
+              ("flow out of chamber 2 (fig. 6.21)", ("chamber_flows", "chamber_flow"), 1),
+              ("servovalve spool position (fig. 6.22)", ("spool_position",), None),
+              ("actuator external force (fig. 6.17)", ("actuator_external_force",), None)]
+    core = [first_present(cases, *names) for _, names, _ in panels[:5]]
+    if not any(core):
         raise Skip("signals chamber_pressures, chamber_flows and spool_position not recorded "
                    "(no actuator in this scene)")
-    cases = [c for c in cases if c.has("time") and any(c.has(n) for _, n in rows)]
-    if not cases:
-        raise Skip("signal time not recorded")
-    fig, axes = plt.subplots(len(rows), 1, sharex=True, figsize=(8, 2.6 * len(rows) + 1.4),
+    drawn = []
+    for what, names, k in panels:
+        name = first_present(cases, *names)
+        if not name:
+            continue
+        have = [c for c in cases if c.has("time", name) and len(c.signal("time")) >= 2]
+        width = max(sig(c, name).reshape(len(c.signal("time")), -1).shape[1] for c in have) \
+            if have else 0
+        if not have or (k is not None and width <= k):
+            continue
+        drawn.append((what, name, k, have))
+    if not drawn:
+        raise Skip("no case has two samples or more")
+    ncol = 2 if len(drawn) > 2 else 1
+    nrow = int(math.ceil(len(drawn) / ncol))
+    fig, axes = plt.subplots(nrow, ncol, sharex=True, figsize=(6.2 * ncol, 2.5 * nrow + 1.4),
                              layout="constrained", squeeze=False)
-    styles = ["-", "--", ":", "-."]
-    width = 1
-    for ax, (what, name) in zip(axes[:, 0], rows):
+    axes = axes.ravel()
+    for ax in axes[len(drawn):]:
+        ax.set_visible(False)
+    for ax, (what, name, k, have) in zip(axes, drawn):
         unit = ""
-        for c in cases:
-            if not c.has(name):
-                continue
-            t, v = c.signals("time", name)
+        for c in have:
+            t, v = sigs(c, "time", name)
             v, unit = shown(v, c.unit(name))
             v = v.reshape(len(t), -1)
-            width = max(width, v.shape[1])
-            for k in range(v.shape[1]):
-                ax.plot(t, v[:, k], color=style(c), ls=styles[k % 4], lw=0.9)
-        ax.set_ylabel(axis_label(what, unit))
+            ax.plot(t, v[:, 0 if k is None else k], color=style(c), lw=0.9)
+        quantity = {"chamber_pressures": "pressure", "chamber_pressure": "pressure",
+                    "chamber_flows": "flow", "chamber_flow": "flow",
+                    "spool_position": "position", "actuator_external_force": "force"}[name]
+        ax.set_ylabel(axis_label(quantity, unit))
+        ax.set_title(what, fontsize="small", loc="left")
         ax.grid(True, alpha=0.3)
-    axes[-1, 0].set_xlabel(axis_label("time", cases[0].unit("time")))
-    extra = [(Line2D([], [], color="0.3", ls=styles[k % 4]), f"chamber {k + 1}")
-             for k in range(width)] if width > 1 else []
-    fig.suptitle(title(study, "Actuator chamber pressures, flows and servovalve spool "
-                              "(thesis fig. 6.16-6.22)"))
-    case_legend(fig, cases, style, extra)
+    time_unit = drawn[0][3][0].unit("time")
+    for i, ax in enumerate(axes[:len(drawn)]):
+        if i + ncol >= len(drawn):                 # lowest visible axes of its column
+            ax.set_xlabel(axis_label("time", time_unit))
+            ax.xaxis.set_tick_params(labelbottom=True)
+    fig.suptitle(title(study, "Actuator chambers, flows, spool and load (thesis fig. 6.16-6.22)"))
+    case_legend(fig, sorted({c for d in drawn for c in d[3]}, key=lambda c: c.row), style)
     return fig
+
+
+@figure("actuator_response", "actuator response (fig. 6.10-6.11)")
+def fig_actuator_response(study, cases, style):
+    cases = with_signals(cases, "actuator_command", "actuator_position")
+
+    def recorded(name):
+        return any(c.has(name) for c in cases)
+
+    rows = [("position", [("actuator_position", "-", "piston position"),
+                          ("actuator_command", "--", "command")]
+             + ([("lvdt_position", ":", "LVDT reading")] if recorded("lvdt_position") else []))]
+    for quantity, name, what in (("velocity", "actuator_velocity", "piston velocity"),
+                                 ("current", "controller_current", "torque-motor current"),
+                                 ("deflection", "jet_pipe_position", "jet-pipe deflection")):
+        if recorded(name):
+            rows.append((quantity, [(name, "-", what)]))
+    return time_rows("Actuator response to its command (thesis fig. 6.10-6.11)",
+                     study, cases, style, rows)
 
 
 @figure("phase_fft", "phase diagram and FFT of the surface acceleration")
 def fig_phase_fft(study, cases, style):
     cases = with_signals(cases, "surface_acceleration", "surface_rate")
     fig, (ap, af) = plt.subplots(1, 2, figsize=(12, 5), layout="constrained")
-    fmax = 0.0
     for c in cases:
-        t, w, a = c.signals("time", "surface_rate", "surface_acceleration")
+        t, w, a = sigs(c, "time", "surface_rate", "surface_acceleration")
         ap.plot(w, a, color=style(c), lw=0.6, alpha=0.85)
+        ok = np.isfinite(t) & np.isfinite(a)
+        t, a = t[ok], a[ok]
         if len(t) < 16:
             continue
         dt = float(np.median(np.diff(t)))
@@ -561,7 +630,6 @@ def fig_phase_fft(study, cases, style):
         spec[0] /= 2.0
         freq = np.fft.rfftfreq(len(x), dt)
         af.loglog(freq[1:], spec[1:], color=style(c), lw=0.7)
-        fmax = max(fmax, freq[-1])
     ap.set_xlabel(axis_label("surface angular rate $\\dot\\theta$", cases[0].unit("surface_rate")))
     ap.set_ylabel(axis_label("surface angular acceleration $\\ddot\\theta$", cases[0].unit("surface_acceleration")))
     ap.set_title("phase diagram")
@@ -569,7 +637,7 @@ def fig_phase_fft(study, cases, style):
     af.set_xlabel("frequency [Hz]")
     af.set_ylabel(axis_label("amplitude of $\\ddot\\theta$", cases[0].unit("surface_acceleration")))
     af.set_title("one-sided amplitude spectrum (Hann window, mean removed)")
-    af.grid(True, which="both", alpha=0.3)
+    af.grid(True, which="major", alpha=0.3)
     fig.suptitle(title(study, "Surface angular acceleration: phase diagram and spectrum"))
     case_legend(fig, cases, style)
     return fig
@@ -586,7 +654,7 @@ def fig_energy_audit(study, cases, style):
               ("residual ΔE_mech − W_in + E_diss", "energy_residual")]
     for ax, (what, name) in zip(axes.ravel(), panels):
         for c in cases:
-            t, v = c.signals("time", name)
+            t, v = sigs(c, "time", name)
             if name == "mechanical_energy" and len(v):
                 v = v - v[0]
             ax.plot(t, v, color=style(c), lw=0.9)
@@ -630,29 +698,33 @@ def time_rows(fig_title, study, cases, style, rows):
                              layout="constrained", squeeze=False)
     legend = {}
     flat = False
-    for ax, (quantity, sigs) in zip(axes[:, 0], rows):
+    for ax, (quantity, entries) in zip(axes[:, 0], rows):
         unit = ""
         names = []
-        for name, ls, legend_name in sigs:
+        for name, ls, legend_name in entries:
             have = [c for c in cases if c.has(name)]
             if not have:
                 continue
-            width = max(c.signal(name).reshape(len(c.signal(name)), -1).shape[1] for c in have)
-            moving = sorted({k for c in have for k in moving_components(c.signal(name))})
+            width = max(sig(c, name).reshape(len(sig(c, name)), -1).shape[1] for c in have)
+            moving = sorted({k for c in have for k in moving_components(sig(c, name))})
             if width > 1 and len(moving) < width:
                 flat = True
             comps = moving or [0]
-            single = width == 1 or (len(comps) == 1 and len(sigs) == 1)
+            single = width == 1 or (len(comps) == 1 and len(entries) == 1)
+            big = max(float(np.nanmax(np.abs(sig(c, name)), initial=0.0)) for c in have)
             for c in have:
-                t, v = c.signals("time", name)
-                v, unit = shown(v, c.unit(name))
+                t, v = sigs(c, "time", name)
+                if c.unit(name) == "m" and big >= 1.0:     # metres stay metres
+                    unit = "m"
+                else:
+                    v, unit = shown(v, c.unit(name))
                 v = v.reshape(len(t), -1)
                 for k in comps:
                     line = ls if (single and ls) else ("-" if single else COMPONENT_STYLE[k % 3])
                     ax.plot(t, v[:, k], color=style(c), ls=line, lw=0.9)
             if width == 1:
                 names.append(legend_name)
-                if len(sigs) > 1:
+                if len(entries) > 1:
                     legend.setdefault(legend_name, (Line2D([], [], color="0.3", ls=ls or "-"),
                                                     f"{legend_name} ({ls or '-'})"))
             elif single:
@@ -685,7 +757,7 @@ def fig_ball_motion(study, cases, style):
         return any(c.has(name) for c in cases)
 
     rows = [("position", [("ball_position", None, "ball position")])]
-    if recorded("socket_position") and any(moving_components(c.signal("socket_position"))
+    if recorded("socket_position") and any(moving_components(sig(c, "socket_position"))
                                            for c in cases if c.has("socket_position")):
         rows.append(("position", [("socket_position", None, "socket position")]))
     if recorded("drive_anchor_position"):
@@ -731,7 +803,7 @@ def main(argv=None):
         if not cases:
             raise NotAStudy(f"{args.results_dir}: no case files in cases/")
     except NotAStudy as e:
-        print(f"plot_study: {e}", file=sys.stderr)
+        print("plot_study: " + " ".join(str(e).split()), file=sys.stderr)
         return 2
 
     out = args.out or os.path.join(study.path, "plots")
@@ -760,13 +832,14 @@ def main(argv=None):
             continue
         for ext in (("png", "pdf") if args.pdf else ("png",)):
             path = os.path.join(out, f"{stem}.{ext}")
-            fig.savefig(path, dpi=args.dpi, bbox_inches="tight")
+            fig.savefig(path, dpi=args.dpi)
             print(path)
         plt.close(fig)
     return status
 
 
 if __name__ == "__main__":
+    warnings.filterwarnings("ignore", category=RuntimeWarning)   # all-NaN slices of a failed run
     t0 = time.perf_counter()
     code = main()
     if os.environ.get("RODEND_PLOT_TIMING"):

@@ -46,6 +46,12 @@ def _column(ds):
 
 
 def load_summary(results_dir):
+    """The summary table as {column: 1-D numpy array}, columns in order, one row per case in
+    grid order; string columns hold str. Raises NotAStudy (see read_summary)."""
+    return read_summary(results_dir)[0]
+
+
+def read_summary(results_dir):
     """(columns dict {name: 1-D array} in column order, units {name: unit str}, root attrs dict).
 
     Raises NotAStudy when there is no readable summary.h5 with a /summary group.
@@ -222,7 +228,7 @@ class Study:
         self.path = os.path.abspath(results_dir)
         if not os.path.isdir(self.path):
             raise NotAStudy(f"{results_dir}: no such directory")
-        self.summary, self.units, self.attrs = load_summary(self.path)
+        self.summary, self.units, self.attrs = read_summary(self.path)
         self.cases_dir = os.path.join(self.path, "cases")
         if not os.path.isdir(self.cases_dir):
             raise NotAStudy(f"{results_dir}: not a rodend study results folder (no cases/ folder)")
@@ -296,9 +302,17 @@ def _hashable(v):
     return v
 
 
+def iter_cases(results_dir):
+    """The cases of a study's results folder in grid order (Case objects: .coordinates,
+    .parameters, .label, .signal(name), .unit(name))."""
+    return iter(open_study(results_dir).cases())
+
+
 def open_study(results_dir):
     """Study at results_dir; raises NotAStudy with a one-line reason otherwise."""
     study = Study(results_dir)
-    if len(study) and not study.cases() and not os.listdir(study.cases_dir):
-        raise NotAStudy(f"{results_dir}: the cases/ folder is empty")
+    if not study.cases():
+        if not os.listdir(study.cases_dir):
+            raise NotAStudy(f"{results_dir}: the cases/ folder is empty")
+        raise NotAStudy(f"{results_dir}: none of the summary's cases has a readable case file")
     return study

@@ -763,4 +763,110 @@ void write_summary(const fs::path& dir, const Study& study, const std::vector<Ca
                    [&](const fs::path& temp) { write_summary_csv(csv, temp, cols, rows.size()); });
 }
 
+namespace {
+
+herr_t collect_name(hid_t, const char* name, const H5L_info_t*, void* data) {
+  static_cast<std::vector<std::string>*>(data)->push_back(name);
+  return 0;
+}
+
+std::vector<std::string> group_members(const Context& cx, hid_t group) {
+  std::vector<std::string> names;
+  cx.ok(H5Literate(group, H5_INDEX_NAME, H5_ITER_INC, nullptr, collect_name, &names),
+        "cannot list a group");
+  return names;
+}
+
+std::string read_dataset_unit(const Context& cx, hid_t d) {
+  if (!cx.yes(H5Aexists(d, "unit"), "cannot look up a unit")) return {};
+  return read_attr_string(cx, d, "unit");
+}
+
+}  // namespace
+
+SummaryTable read_summary(const fs::path& dir) {
+  const fs::path path = dir / "summary.h5";
+  if (!fs::exists(path)) throw std::runtime_error(dir.string() + " is not a rodend study: no summary.h5");
+  Hdf5Lock lock;
+  const Context cx(path, "cannot read summary");
+  Handle file =
+      cx.own(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, "cannot open the file");
+  SummaryTable t;
+  {
+    const Handle g = cx.own(H5Gopen2(file.get(), "/summary", H5P_DEFAULT), H5Gclose,
+                            "no /summary group");
+    const Json cols = Json::parse(read_attr_string(cx, g.get(), "columns"));
+    for (const Json& c : cols) t.columns.push_back(c.get<std::string>());
+    for (const std::string& name : t.columns) {
+      const std::string what = "cannot read summary column " + name;
+      const Handle d = cx.own(H5Dopen2(g.get(), name.c_str(), H5P_DEFAULT), H5Dclose, what);
+      const Handle space = cx.own(H5Dget_space(d.get()), H5Sclose, what);
+      const auto n = static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get()));
+      t.rows = n;
+      t.units[name] = read_dataset_unit(cx, d.get());
+      const Handle ft = cx.own(H5Dget_type(d.get()), H5Tclose, what);
+      if (H5Tget_class(ft.get()) == H5T_STRING) {
+        const Handle mt = utf8_string_type(cx);
+        std::vector<char*> raw(n, nullptr);
+        if (n > 0) cx.ok(H5Dread(d.get(), mt.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, raw.data()), what);
+        auto& out = t.texts[name];
+        for (char* s : raw) {
+          out.emplace_back(s ? s : "");
+          H5free_memory(s);
+        }
+      } else {
+        auto& out = t.numbers[name];
+        out.resize(n);
+        if (n > 0)
+          cx.ok(H5Dread(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()), what);
+      }
+    }
+  }
+  cx.ok(file.close(), "cannot close the file");
+  return t;
+}
+
+std::vector<std::string> list_signals(const fs::path& case_file) {
+  Hdf5Lock lock;
+  const Context cx(case_file, "cannot read case file");
+  Handle file = cx.own(H5Fopen(case_file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose,
+                       "cannot open the file");
+  std::vector<std::string> names;
+  {
+    const Handle g =
+        cx.own(H5Gopen2(file.get(), "/signals", H5P_DEFAULT), H5Gclose, "no /signals group");
+    names = group_members(cx, g.get());
+  }
+  cx.ok(file.close(), "cannot close the file");
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+SignalData read_signal(const fs::path& case_file, const std::string& name) {
+  Hdf5Lock lock;
+  const Context cx(case_file, "cannot read case file");
+  Handle file = cx.own(H5Fopen(case_file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose,
+                       "cannot open the file");
+  SignalData s;
+  {
+    const std::string what = "cannot read signal " + name;
+    const Handle d = cx.own(H5Dopen2(file.get(), ("/signals/" + name).c_str(), H5P_DEFAULT),
+                            H5Dclose, what);
+    const Handle space = cx.own(H5Dget_space(d.get()), H5Sclose, what);
+    const int rank = H5Sget_simple_extent_ndims(space.get());
+    hsize_t dims[2] = {0, 1};
+    if (rank < 1 || rank > 2 || H5Sget_simple_extent_dims(space.get(), dims, nullptr) < 0)
+      cx.fail(what + ": not a 1-D or 2-D dataset");
+    s.samples = static_cast<std::size_t>(dims[0]);
+    s.width = rank == 2 ? static_cast<int>(dims[1]) : 1;
+    s.values.resize(s.samples * static_cast<std::size_t>(s.width));
+    if (!s.values.empty())
+      cx.ok(H5Dread(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, s.values.data()),
+            what);
+    s.unit = read_dataset_unit(cx, d.get());
+  }
+  cx.ok(file.close(), "cannot close the file");
+  return s;
+}
+
 }  // namespace rodend

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -42,6 +43,32 @@ struct CaseRecord {
   std::string started_utc, finished_utc;  ///< ISO 8601
   MetricValues metrics{};
 };
+
+/// A summary table read back from summary.h5.
+struct SummaryTable {
+  std::vector<std::string> columns;                            ///< in table order
+  std::map<std::string, std::vector<double>> numbers;          ///< numeric columns
+  std::map<std::string, std::vector<std::string>> texts;       ///< text columns
+  std::map<std::string, std::string> units;                    ///< unit of each column
+  std::size_t rows = 0;
+  bool is_text(const std::string& c) const { return texts.count(c) > 0; }
+};
+/// Reads `dir/summary.h5`; throws std::runtime_error naming the file when it is missing or not
+/// a rodend summary.
+SummaryTable read_summary(const std::filesystem::path& dir);
+
+/// One recorded signal of a case file: samples x width values, row-major.
+struct SignalData {
+  std::vector<double> values;
+  std::size_t samples = 0;
+  int width = 1;
+  std::string unit;
+  double at(std::size_t i, int c = 0) const { return values[i * static_cast<std::size_t>(width) + static_cast<std::size_t>(c)]; }
+};
+/// Names of the signals in a case file (sorted); throws std::runtime_error.
+std::vector<std::string> list_signals(const std::filesystem::path& case_file);
+/// One signal of a case file; throws std::runtime_error.
+SignalData read_signal(const std::filesystem::path& case_file, const std::string& name);
 
 /// Process-wide provenance: rodend version and git revision, host, study file.
 Json provenance(const Study& study);

@@ -46,7 +46,7 @@ TEST_CASE("every scene's embedded defaults parse and build", "[params]") {
   }
 }
 
-TEST_CASE("every leaf has a unit and a provenance; non-thesis leaves say why", "[params]") {
+TEST_CASE("every leaf has a unit and a provenance, and non-thesis leaves a note", "[params]") {
   for (const std::string& scene : scene_names()) {
     const ParameterSet p = ParameterSet::defaults_for(scene);
     const Json leaves = p.leaves();

@@ -49,7 +49,7 @@ class RodEndKinematicScene final : public Scene {
       throw InputError("motion.shape",
                        "a step has no velocity: the prescribed rod motion needs \"raised-cosine\" "
                        "or \"minimum-jerk\" (steps are for the actuator scenes' command)");
-    mech_.check_closure(motion_, "motion.extension");
+    mech_.check_closure(motion_, "motion.extension", "motion.retraction");
     double x[kStates];
     initial_state(x);
     initial_energy_ = mech_.mechanical_energy(evaluate(0.0, x, ContactLatch{}));

@@ -42,7 +42,8 @@ RodEndMechanism::RodEndMechanism(const ParameterSet& p)
   surface_damping_ = read_positive(p, "surface.damping", true);
 }
 
-void RodEndMechanism::check_closure(const ActuatorMotion& motion, const std::string& key) const {
+void RodEndMechanism::check_closure(const ActuatorMotion& motion, const std::string& key,
+                                    const std::string& short_key) const {
   // scan the whole profile finely: the extremes are at the ends of the strokes, but a scan
   // also reports the first offending time
   const double T = motion.duration();
@@ -57,7 +58,8 @@ void RodEndMechanism::check_closure(const ActuatorMotion& motion, const std::str
       m << "the mechanism cannot close: rod length " << l << " m at t = " << t
         << " s is outside (" << geometry_.min_rod() << ", " << geometry_.max_rod()
         << ") m = (|frame - crank|, frame + crank)";
-      throw InputError(key, m.str());
+      const bool too_short = l <= geometry_.min_rod() + margin;
+      throw InputError(too_short && !short_key.empty() ? short_key : key, m.str());
     }
   }
 }

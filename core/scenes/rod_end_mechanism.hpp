@@ -65,8 +65,10 @@ class RodEndMechanism {
   double surface_inertia() const { return surface_inertia_; }
 
   /// Checks that the mechanism closes over a rod-extension history; throws InputError naming
-  /// `key` with the offending time and rod length.
-  void check_closure(const ActuatorMotion& motion, const std::string& key) const;
+  /// `key` with the offending time and rod length (or `short_key`, if given, when the rod is too
+  /// short: the retraction, not the extension, is then the value to change).
+  void check_closure(const ActuatorMotion& motion, const std::string& key,
+                     const std::string& short_key = {}) const;
 
  private:
   SliderCrank geometry_;

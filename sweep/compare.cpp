@@ -1,0 +1,242 @@
+#include "sweep/compare.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <ostream>
+#include <set>
+#include <sstream>
+
+#include "core/errors.hpp"
+#include "core/params.hpp"
+#include "sweep/metrics.hpp"
+#include "sweep/results.hpp"
+
+namespace rodend {
+namespace fs = std::filesystem;
+
+namespace {
+
+Tolerance read_tolerance(const Json& j, const Tolerance& base, const std::string& key,
+                         const std::string& file) {
+  if (!j.is_object()) throw InputError(key, "expected {\"rel\": r, \"abs\": a}", file);
+  Tolerance t = base;
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    if (it.key() != "rel" && it.key() != "abs")
+      throw InputError(key + "." + it.key(), "unknown key; expected rel or abs", file);
+    if (!it->is_number() || !(it->get<double>() >= 0.0))
+      throw InputError(key + "." + it.key(), "expected a number >= 0", file);
+    (it.key() == "rel" ? t.rel : t.abs) = it->get<double>();
+  }
+  return t;
+}
+
+bool close_enough(double a, double b, const Tolerance& t, double scale) {
+  if (std::isnan(a) || std::isnan(b)) return std::isnan(a) && std::isnan(b);
+  if (std::isinf(a) || std::isinf(b)) return a == b;
+  return std::abs(a - b) <= t.abs + t.rel * scale;
+}
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s.precision(10);
+  s << v;
+  return s.str();
+}
+
+/// Collects the differences of one comparison, with a cap on lines per case.
+class Report {
+ public:
+  Report(std::ostream& out, int cap) : out_(out), cap_(cap) {}
+  void diff(const std::string& where, const std::string& what) {
+    ++count_;
+    int& n = per_case_[where];
+    if (++n <= cap_) out_ << "  DIFF " << where << ": " << what << "\n";
+    else if (n == cap_ + 1) out_ << "  DIFF " << where << ": ... (more differences not shown)\n";
+  }
+  int count() const { return count_; }
+
+ private:
+  std::ostream& out_;
+  int cap_;
+  int count_ = 0;
+  std::map<std::string, int> per_case_;
+};
+
+/// Compares one signal of one case: pointwise up to `t_event`, envelope after it.
+void compare_signal(const std::string& where, const std::string& name, const SignalData& a,
+                    const SignalData& b, const SignalData& ta, double t_event,
+                    const CompareSettings& s, Report& rep) {
+  if (a.width != b.width || a.samples != b.samples) {
+    rep.diff(where, "signal " + name + " has shape " + std::to_string(b.samples) + "x" +
+                        std::to_string(b.width) + ", reference " + std::to_string(a.samples) +
+                        "x" + std::to_string(a.width));
+    return;
+  }
+  for (int c = 0; c < a.width; ++c) {
+    double lo = INFINITY, hi = -INFINITY;
+    for (std::size_t i = 0; i < a.samples; ++i) {
+      lo = std::min(lo, a.at(i, c));
+      hi = std::max(hi, a.at(i, c));
+    }
+    const double range = std::isfinite(hi - lo) ? hi - lo : 0.0;
+    const double band = s.history.abs + s.history.rel * range;
+    const std::string label = name + (a.width > 1 ? "[" + std::to_string(c) + "]" : "");
+    std::size_t j0 = 0;  // envelope window start
+    for (std::size_t i = 0; i < a.samples; ++i) {
+      const double t = ta.at(i), va = a.at(i, c), vb = b.at(i, c);
+      if (!(t > t_event)) {
+        if (!close_enough(va, vb, s.history, range)) {
+          rep.diff(where, label + " at t = " + fmt(t) + " s: " + fmt(vb) + ", reference " +
+                              fmt(va) + " (pointwise before the first impact; band " +
+                              fmt(band) + ")");
+          break;
+        }
+        continue;
+      }
+      // after the first impact: within the reference's envelope over [t - shift, t + shift]
+      while (j0 < a.samples && ta.at(j0) < t - s.time_shift) ++j0;
+      double wlo = INFINITY, whi = -INFINITY;
+      for (std::size_t j = j0; j < a.samples && ta.at(j) <= t + s.time_shift; ++j) {
+        wlo = std::min(wlo, a.at(j, c));
+        whi = std::max(whi, a.at(j, c));
+      }
+      if (!(vb >= wlo - band && vb <= whi + band)) {
+        rep.diff(where, label + " at t = " + fmt(t) + " s: " + fmt(vb) +
+                            " outside the reference envelope [" + fmt(wlo) + ", " + fmt(whi) +
+                            "] +- " + fmt(band) + " (time shift " + fmt(s.time_shift) + " s)");
+        break;
+      }
+    }
+  }
+}
+
+std::map<std::string, std::size_t> rows_by_id(const SummaryTable& t) {
+  std::map<std::string, std::size_t> m;
+  const auto it = t.texts.find("case_id");
+  if (it == t.texts.end()) throw std::runtime_error("summary has no case_id column");
+  for (std::size_t i = 0; i < it->second.size(); ++i) m[it->second[i]] = i;
+  return m;
+}
+
+}  // namespace
+
+CompareSettings load_tolerances(const fs::path& file) {
+  std::ifstream in(file);
+  if (!in) throw InputError("", "cannot open the tolerance file", file.string());
+  Json doc;
+  try {
+    doc = Json::parse(in);
+  } catch (const Json::parse_error& e) {
+    throw InputError("", std::string("JSON syntax error: ") + e.what(), file.string());
+  }
+  const std::string f = file.string();
+  if (!doc.is_object()) throw InputError("", "expected a JSON object", f);
+  CompareSettings s;
+  for (auto it = doc.begin(); it != doc.end(); ++it) {
+    if (it.key() == "metrics") {
+      if (!it->is_object()) throw InputError("metrics", "expected an object", f);
+      if (it->contains("default"))
+        s.metric_default = read_tolerance((*it)["default"], s.metric_default, "metrics.default", f);
+      for (auto m = it->begin(); m != it->end(); ++m) {
+        if (m.key() == "default") continue;
+        const auto cat = metric_catalogue();
+        if (std::none_of(cat.begin(), cat.end(), [&](const MetricSpec& sp) { return sp.name == m.key(); }))
+          throw InputError("metrics." + m.key(), "unknown metric name (see `rodend metrics`)", f);
+        s.metric[m.key()] = read_tolerance(*m, s.metric_default, "metrics." + m.key(), f);
+      }
+    } else if (it.key() == "histories") {
+      if (!it->is_object()) throw InputError("histories", "expected an object", f);
+      Json tol = Json::object();
+      for (auto h = it->begin(); h != it->end(); ++h) {
+        if (h.key() == "time_shift") {
+          if (!h->is_number() || !(h->get<double>() >= 0.0))
+            throw InputError("histories.time_shift", "expected a time >= 0 [s]", f);
+          s.time_shift = h->get<double>();
+        } else {
+          tol[h.key()] = *h;
+        }
+      }
+      s.history = read_tolerance(tol, s.history, "histories", f);
+    } else {
+      throw InputError(it.key(), "unknown key; expected metrics or histories", f);
+    }
+  }
+  return s;
+}
+
+int compare_studies(const fs::path& a, const fs::path& b, const CompareSettings& s,
+                    std::ostream& out) {
+  const SummaryTable ra = read_summary(a), rb = read_summary(b);
+  Report rep(out, s.max_lines_per_case);
+  out << "compare " << b.string() << " against reference " << a.string() << "\n";
+  if (s.summary_only) out << "  (summaries only: histories are not compared)\n";
+  const auto ia = rows_by_id(ra), ib = rows_by_id(rb);
+
+  for (const auto& [id, row] : ia)
+    if (!ib.count(id)) rep.diff("case " + id, "missing (present in the reference)");
+  for (const auto& [id, row] : ib)
+    if (!ia.count(id)) rep.diff("case " + id, "extra (absent from the reference)");
+
+  // metric columns: every catalogue metric in either table
+  const auto cat = metric_catalogue();
+  for (const auto& [id, i] : ia) {
+    if (!ib.count(id)) continue;
+    const std::size_t j = ib.at(id);
+    const std::string where = "case " + id;
+    const std::string sa = ra.texts.at("status")[i], sb = rb.texts.at("status")[j];
+    if (sa != sb) rep.diff(where, "status " + sb + ", reference " + sa);
+    for (const MetricSpec& m : cat) {
+      const std::string name(m.name);
+      const bool in_a = ra.numbers.count(name), in_b = rb.numbers.count(name);
+      if (!in_a || !in_b) {
+        rep.diff(where, "metric " + name + (in_a ? " missing" : " extra"));
+        continue;
+      }
+      const double va = ra.numbers.at(name)[i], vb = rb.numbers.at(name)[j];
+      const auto t = s.metric.count(name) ? s.metric.at(name) : s.metric_default;
+      if (!close_enough(va, vb, t, std::max(std::abs(va), std::abs(vb))))
+        rep.diff(where, "metric " + name + " = " + fmt(vb) + " [" + std::string(m.unit) +
+                            "], reference " + fmt(va) + " (rel " + fmt(t.rel) + ", abs " +
+                            fmt(t.abs) + ")");
+    }
+    if (s.summary_only) continue;
+
+    // histories
+    const fs::path fa = a / "cases" / (id + ".h5"), fb = b / "cases" / (id + ".h5");
+    if (!fs::exists(fa) || !fs::exists(fb)) {
+      rep.diff(where, std::string("case file missing in ") + (fs::exists(fa) ? "B" : "the reference"));
+      continue;
+    }
+    const auto sig_a = list_signals(fa), sig_b = list_signals(fb);
+    const std::set<std::string> set_a(sig_a.begin(), sig_a.end()), set_b(sig_b.begin(), sig_b.end());
+    for (const auto& n : set_a)
+      if (!set_b.count(n)) rep.diff(where, "signal " + n + " missing");
+    for (const auto& n : set_b)
+      if (!set_a.count(n)) rep.diff(where, "signal " + n + " extra");
+    if (!set_a.count("time") || !set_b.count("time")) {
+      rep.diff(where, "no time signal");
+      continue;
+    }
+    const SignalData ta = read_signal(fa, "time"), tb = read_signal(fb, "time");
+    if (ta.values != tb.values) {
+      rep.diff(where, "different sample times");
+      continue;
+    }
+    double t_event = INFINITY;
+    if (ra.numbers.count("first_contact_time") && std::isfinite(ra.numbers.at("first_contact_time")[i]))
+      t_event = ra.numbers.at("first_contact_time")[i];
+    for (const auto& n : sig_a) {
+      if (n == "time" || !set_b.count(n)) continue;
+      compare_signal(where, n, read_signal(fa, n), read_signal(fb, n), ta, t_event, s, rep);
+    }
+  }
+  if (rep.count() == 0) {
+    out << "equal within tolerance: " << ia.size() << " case(s)\n";
+    return 0;
+  }
+  out << rep.count() << " difference(s)\n";
+  return 1;
+}
+
+}  // namespace rodend

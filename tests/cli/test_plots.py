@@ -1,0 +1,159 @@
+"""Post-processing: plots/plot_study.py draws the figures that fit a study and says why it skips
+the others; it refuses a folder that is not a study (exit 2, one line, no traceback) and
+survives studies that record only some signals.
+
+Usage (CTest): test_plots.py PLOTS_DIR, with RODEND set to the rodend executable."""
+import glob
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+from common import check, finish, run, write_study
+
+PLOTS = os.path.abspath(sys.argv[1])
+SCRIPT = os.path.join(PLOTS, "plot_study.py")
+PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+
+# the figures, by file stem, and the start of the line that says one is skipped
+SKIP_LINE = {
+    "eccentricity_force": "skip eccentricity and contact force",
+    "polar_relative_position": "skip polar relative position",
+    "polar_force_wear": "skip polar contact force and wear",
+    "surface_angle": "skip surface angle",
+    "trajectories_xy_xz": "skip xy and xz trajectories",
+    "first_impact_force": "skip first-impact peak force",
+    "hydraulics": "skip hydraulics",
+    "actuator_response": "skip actuator response",
+    "phase_fft": "skip phase diagram",
+    "energy_audit": "skip energy audit",
+    "ball_motion": "skip ball motion",
+    "body_motion": "skip free-body motion",
+}
+
+
+def plot(args):
+    return subprocess.run([sys.executable, SCRIPT] + args, capture_output=True, text=True)
+
+
+def simulate(tmp, doc):
+    path = write_study(os.path.join(tmp, doc["name"] + ".json"), doc)
+    r = run(["run", path, "--results-root", tmp, "-q"])
+    check(r.returncode == 0, f"{doc['name']}: rodend run failed: {r.returncode} {r.stderr}")
+    return os.path.join(tmp, doc["name"])
+
+
+def expect_figures(what, r, out, drawn, formats=("png",)):
+    """plot_study succeeded, wrote exactly the drawn figures and printed a skip line for each
+    of the others."""
+    check(r.returncode == 0, f"{what}: exit {r.returncode}\n{r.stdout}\n{r.stderr}")
+    check("Traceback" not in r.stderr and "error drawing" not in r.stderr,
+          f"{what}: errors on stderr:\n{r.stderr}")
+    lines = r.stdout.splitlines()
+    for stem in SKIP_LINE:
+        for ext in formats:
+            path = os.path.join(out, f"{stem}.{ext}")
+            if stem in drawn:
+                check(os.path.isfile(path) and os.path.getsize(path) > 1000,
+                      f"{what}: {stem}.{ext} missing or empty")
+                check(any(l.strip() == path for l in lines),
+                      f"{what}: {path} not printed:\n{r.stdout}")
+                if os.path.isfile(path):
+                    with open(path, "rb") as f:
+                        head = f.read(8)
+                    magic = PNG_MAGIC if ext == "png" else b"%PDF"
+                    check(head.startswith(magic), f"{what}: {stem}.{ext} is not a {ext}: {head!r}")
+            else:
+                check(not os.path.exists(path), f"{what}: {stem}.{ext} written but should be skipped")
+        if stem not in drawn:
+            check(any(l.startswith(SKIP_LINE[stem]) and ": " in l for l in lines),
+                  f"{what}: no skip line for {stem}:\n{r.stdout}")
+    extra = sorted(os.path.basename(p) for p in glob.glob(os.path.join(out, "*"))
+                   if os.path.splitext(os.path.basename(p))[0] not in drawn)
+    check(not extra, f"{what}: unexpected files {extra}")
+
+
+with tempfile.TemporaryDirectory() as tmp:
+    # a 2-case clearance sweep on the mechanism, short: extension starts, first impacts
+    kin = simulate(tmp, {
+        "name": "kin",
+        "scene": "rod-end-kinematic",
+        "integrator": {"method": "dopri5", "abs_tol": 1e-6, "rel_tol": 1e-6, "max_step": 1e-3},
+        "time": {"end": 0.6, "sample_interval": 2e-4},
+        "grid": [{"key": "parameters.contact.clearance", "values": [2e-4, 5e-4]}],
+    })
+    r = plot([kin])
+    expect_figures("kinematic", r, os.path.join(kin, "plots"),
+                   {"eccentricity_force", "polar_relative_position", "polar_force_wear",
+                    "surface_angle", "first_impact_force", "phase_fft", "energy_audit"})
+    check("skip phase diagram" not in r.stdout, "kinematic: phase diagram skipped")
+    check("not recorded" in next((l for l in r.stdout.splitlines()
+                                  if l.startswith("skip hydraulics")), ""),
+          f"kinematic: the hydraulics skip line does not say the signals are missing:\n{r.stdout}")
+
+    # a scene without a mechanism, one case, no grid
+    drop = simulate(tmp, {
+        "name": "drop",
+        "scene": "gravity-drop",
+        "integrator": {"method": "dopri5", "abs_tol": 1e-8, "rel_tol": 1e-8, "max_step": 1e-3},
+        "time": {"end": 0.05, "sample_interval": 1e-4},
+    })
+    r = plot([drop])
+    expect_figures("gravity-drop", r, os.path.join(drop, "plots"),
+                   {"eccentricity_force", "polar_relative_position", "polar_force_wear",
+                    "energy_audit", "ball_motion"})
+    check(any(l.startswith("skip phase diagram") and "surface_acceleration not recorded" in l
+              for l in r.stdout.splitlines()), f"gravity-drop: phase-diagram skip reason:\n{r.stdout}")
+    check(any(l.startswith("skip first-impact") and "grid" in l for l in r.stdout.splitlines()),
+          f"gravity-drop: first-impact skip reason:\n{r.stdout}")
+
+    # only two signals recorded: no crash, only the figure that fits
+    few = simulate(tmp, {
+        "name": "few",
+        "scene": "gravity-drop",
+        "integrator": {"method": "dopri5", "abs_tol": 1e-8, "rel_tol": 1e-8, "max_step": 1e-3},
+        "time": {"end": 0.03, "sample_interval": 1e-4},
+        "signals": ["eccentricity", "contact_force"],
+        "grid": [{"key": "parameters.contact.restitution", "values": [0.5, 0.9]}],
+    })
+    r = plot([few])
+    expect_figures("two signals", r, os.path.join(few, "plots"),
+                   {"eccentricity_force", "first_impact_force"})
+    check(any("relative_position not recorded" in l for l in r.stdout.splitlines()),
+          f"two signals: no reason naming relative_position:\n{r.stdout}")
+
+    # the actuator alone: its figures, PDF as well, into another folder
+    act = simulate(tmp, {
+        "name": "act",
+        "scene": "servo-actuator",
+        "integrator": {"method": "dopri5", "abs_tol": 1e-6, "rel_tol": 1e-6, "max_step": 1e-3},
+        "time": {"end": 0.1, "sample_interval": 1e-4},
+        "grid": [{"key": "parameters.actuator.proportional_gain", "values": [1.0, 2.0]}],
+    })
+    out = os.path.join(tmp, "act-figures")
+    r = plot([act, "--pdf", "--out", out])
+    expect_figures("servo-actuator, --pdf --out", r, out,
+                   {"hydraulics", "actuator_response", "energy_audit"}, formats=("png", "pdf"))
+    check(not os.path.exists(os.path.join(act, "plots")), "--out: wrote into the study folder too")
+
+    # not a study: exit 2, one line naming the folder, no traceback, nothing written
+    empty = os.path.join(tmp, "empty")
+    os.mkdir(empty)
+    no_cases = os.path.join(tmp, "no-cases")
+    os.mkdir(no_cases)
+    shutil.copy(os.path.join(kin, "summary.h5"), no_cases)
+    junk = os.path.join(tmp, "junk")
+    os.makedirs(os.path.join(junk, "cases"))
+    with open(os.path.join(junk, "summary.h5"), "w") as f:
+        f.write("not hdf5\n")
+    for what, folder in (("empty folder", empty), ("missing folder", os.path.join(tmp, "nope")),
+                         ("summary without cases", no_cases), ("corrupt summary", junk),
+                         ("a cases folder", os.path.join(kin, "cases"))):
+        r = plot([folder])
+        message = (r.stdout + r.stderr).strip()
+        check(r.returncode == 2, f"{what}: exit {r.returncode}, expected 2\n{message}")
+        check("Traceback" not in message and len(message.splitlines()) == 1 and folder in message,
+              f"{what}: expected one line naming the folder, got:\n{message}")
+        check(not os.path.exists(os.path.join(folder, "plots")), f"{what}: wrote a plots folder")
+finish("plots")
