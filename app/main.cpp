@@ -10,6 +10,7 @@
 #include "core/integrator.hpp"
 #include "core/scene.hpp"
 #include "sweep/compare.hpp"
+#include "sweep/mpi_runner.hpp"
 #include "sweep/runner.hpp"
 #include "sweep/study.hpp"
 
@@ -114,6 +115,15 @@ int main(int argc, char** argv) {
                   "where studies without an \"output\" key write (default: results)");
   run->add_option("--shard", shard, "K/N: run only the K-th of N deterministic slices of the cases");
 
+  auto* merge = app.add_subcommand(
+      "merge", "Assemble results/<study>/summary.{h5,csv} from the case files of a study run in "
+               "shards (--shard K/N) or by several jobs. STUDY is the study file or its results "
+               "directory (with the study.json a run leaves there). Exit 0: every case has its "
+               "file (failed cases included); 1: cases missing (listed on stderr, no summary "
+               "written); 2: error.");
+  merge->add_option("STUDY", study_file, "study file (JSON) or results directory")->required();
+  merge->add_option("--results-root", results_root, "as for run");
+
   auto* rdir = app.add_subcommand("results-dir", "Print the results directory of a study.");
   rdir->add_option("STUDY", study_file, "study file (JSON)")->required();
   rdir->add_option("--results-root", results_root, "as for run");
@@ -147,6 +157,10 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(app, argc, argv);
 
+  // MPI only for `rodend run` started by an MPI launcher (mpirun, srun): a plain run never
+  // initialises MPI (Open MPI's singleton start costs about 0.6 s and refuses root).
+  const mpi::Session mpi_session(*run && !dry_run && mpi::launched());
+
   try {
     if (*scenes) {
       for (const auto& s : scene_catalogue()) std::cout << s.name << "\t" << s.summary << "\n";
@@ -161,6 +175,19 @@ int main(int argc, char** argv) {
       cs.summary_only = summary_only;
       return compare_studies(cmp_a, cmp_b, cs, std::cout);
     }
+    if (*merge) {
+      Study study;
+      std::filesystem::path arg = study_file;
+      if (std::filesystem::is_directory(arg)) {  // a results directory: the study as run
+        if (arg.filename().empty()) arg = arg.parent_path();  // a trailing slash
+        study = load_study(arg / "study.json", results_root);
+        if (!study.source.contains("name")) study.name = arg.filename().string();
+        study.output_dir = arg;
+      } else {
+        study = load_study(arg, results_root);
+      }
+      return merge_study(study, std::cerr);
+    }
     if (*rdir) {
       std::cout << load_study(study_file, results_root).output_dir.string() << "\n";
       return 0;
@@ -174,6 +201,10 @@ int main(int argc, char** argv) {
           throw InputError("--shard", "expected K/N with 1 <= K <= N, got '" + shard + "'");
         opt.shard_index = k;
         opt.shard_count = n;
+      }
+      if (mpi_session.size() > 1) {
+        opt.progress = !quiet && mpi_session.rank() == 0;
+        return mpi::run_study_mpi(mpi_session, study_file, results_root, opt);
       }
       const Study study = load_study(study_file, results_root);
       if (dry_run) {

@@ -2,14 +2,77 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace rodend {
 
+std::string_view to_string(ContactGeometry g) {
+  switch (g) {
+    case ContactGeometry::sphere: return "sphere";
+    case ContactGeometry::cylinder: return "cylinder";
+  }
+  return "unknown";
+}
+
+double effective_modulus(double Eb, double nub, double Es, double nus) {
+  return 1.0 / ((1.0 - nub * nub) / Eb + (1.0 - nus * nus) / Es);
+}
+
 double sphere_in_sphere_stiffness(double Rb, double Rs, double Eb, double nub, double Es,
                                   double nus) {
+  // written out (not through effective_modulus) so the defaults stay bit-identical
   const double inv_E = (1.0 - nub * nub) / Eb + (1.0 - nus * nus) / Es;
   const double R_eff = Rb * Rs / (Rs - Rb);
   return 4.0 / 3.0 / inv_E * std::sqrt(R_eff);
+}
+
+double cylinder_in_cylinder_coefficient(double L, double Eb, double nub, double Es, double nus) {
+  return 0.5 * std::numbers::pi * L * effective_modulus(Eb, nub, Es, nus);
+}
+
+double elastic_force(const ClearanceContactModel& m, double delta) {
+  switch (m.geometry) {
+    case ContactGeometry::sphere: return m.stiffness * std::pow(delta, m.exponent);
+    case ContactGeometry::cylinder:
+      return m.stiffness * std::pow(delta, m.exponent) / std::sqrt(2.0 * (m.clearance + delta));
+  }
+  return 0.0;
+}
+
+namespace {
+
+/// The integral from 0 to delta of u^n (c + u)^(-1/2) du, c > 0.
+///  delta < c/2: the binomial series c^(-1/2) delta^(n+1) sum_k binom(-1/2, k) r^k / (n+1+k),
+///    r = delta/c (each term at most half the previous: 55 terms reach round-off);
+///  beyond (n = 1.5 only, the flap-actuation study's exponent): u = c sinh^2 t turns it into
+///    2 c^2 int_0^T sinh^4 t dt = 2 c^2 (3T/8 - sinh(2T)/4 + sinh(4T)/32), T = asinh(sqrt(r)),
+///    whose terms cancel only mildly for T >= asinh(sqrt(1/2)).
+double cylinder_energy_integral(double delta, double c, double n) {
+  const double r = delta / c;
+  if (r < 0.5 || n != 1.5) {
+    double term = 1.0, sum = 0.0;
+    for (int k = 0; k < 200; ++k) {
+      const double add = term / (n + 1.0 + k);
+      sum += add;
+      if (std::abs(add) <= 1e-17 * std::abs(sum)) break;
+      term *= -r * (2.0 * k + 1.0) / (2.0 * k + 2.0);
+    }
+    return std::pow(delta, n + 1.0) / std::sqrt(c) * sum;
+  }
+  const double T = std::asinh(std::sqrt(r));
+  return 2.0 * c * c * (0.375 * T - 0.25 * std::sinh(2.0 * T) + std::sinh(4.0 * T) / 32.0);
+}
+
+}  // namespace
+
+double elastic_energy(const ClearanceContactModel& m, double delta, double force) {
+  switch (m.geometry) {
+    case ContactGeometry::sphere: return force * delta / (m.exponent + 1.0);
+    case ContactGeometry::cylinder:
+      return m.stiffness / std::numbers::sqrt2 *
+             cylinder_energy_integral(delta, m.clearance, m.exponent);
+  }
+  return 0.0;
 }
 
 double smooth_step(double x, double x0, double f0, double x1, double f1) {
@@ -19,7 +82,7 @@ double smooth_step(double x, double x0, double f0, double x1, double f1) {
   return f0 + (f1 - f0) * u * u * (3.0 - 2.0 * u);
 }
 
-ContactGap contact_gap(const SphericalContactModel& m, const BodyKinematics& ball,
+ContactGap contact_gap(const ClearanceContactModel& m, const BodyKinematics& ball,
                        const BodyKinematics& socket) {
   const Vec3 d = ball.p_W - socket.p_W;  // socket centre -> ball centre
   const double e = d.norm();
@@ -28,7 +91,7 @@ ContactGap contact_gap(const SphericalContactModel& m, const BodyKinematics& bal
   return {e - m.clearance, n.dot(ball.v_W - socket.v_W)};
 }
 
-ContactEval evaluate_contact(const SphericalContactModel& m, const BodyKinematics& ball,
+ContactEval evaluate_contact(const ClearanceContactModel& m, const BodyKinematics& ball,
                              const BodyKinematics& socket, const ContactLatch& latch) {
   ContactEval c;
   // eccentricity and penetration (thesis 3.1, 3.15)
@@ -40,8 +103,9 @@ ContactEval evaluate_contact(const SphericalContactModel& m, const BodyKinematic
   c.penetration_rate = c.normal.dot(ball.v_W - socket.v_W);
   if (c.penetration <= 0.0) return c;
 
-  // elastic part (thesis 3.3) and hysteresis damping (3.6-3.8), clamped so it never pulls
-  c.elastic_force = m.stiffness * std::pow(c.penetration, m.exponent);
+  // elastic part from the geometry (thesis 3.3; model-notes §3) and hysteresis damping of the
+  // law (3.6-3.8), clamped so it never pulls
+  c.elastic_force = elastic_force(m, c.penetration);
   const double approach =
       latch.in_contact ? latch.impact_speed : std::abs(c.penetration_rate);
   const double impact_speed = std::max(approach, m.min_impact_speed);
@@ -49,7 +113,7 @@ ContactEval evaluate_contact(const SphericalContactModel& m, const BodyKinematic
       c.elastic_force * (1.0 + m.hysteresis * c.penetration_rate / impact_speed);
   c.normal_force = std::max(raw, 0.0);
   c.normal_force_on_ball = -c.normal_force * c.normal;
-  c.potential = c.elastic_force * c.penetration / (m.exponent + 1.0);
+  c.potential = elastic_energy(m, c.penetration, c.elastic_force);
   c.damping_power = (c.normal_force - c.elastic_force) * c.penetration_rate;
 
   // slip velocity of the ball's contact point relative to the socket's (thesis 3.12-3.13)

@@ -1,10 +1,19 @@
-// Clearance contact between two spheres (thesis §3.1; model-notes §1-§3).
+// Clearance contact between an inner and an outer body (thesis §3.1; model-notes §1-§3).
 //
-// The force pipeline, written once for every law:
+// The force pipeline, written once for every law and every geometry:
 //   penetration delta = |p_ball - p_socket| - c           (thesis 3.1, 3.15)
-//   elastic force     F_el = K delta^n                     (geometry: Hertz, thesis 3.3)
+//   elastic force     F_el(delta), from the geometry of the contact:
+//     sphere in sphere      F_el = K delta^n, K = 4/3 E* sqrt(R*)        (Hertz, thesis 3.3)
+//     cylinder in cylinder  F_el = (pi/2) L E* delta^n (2 (dR + delta))^(-1/2)
+//                           (revolute joint of bearing length L, radial clearance dR = c;
+//                            the flap-actuation study's form, model-notes §3)
 //   normal force      F_n = max(0, F_el (1 + chi(c_r) * delta' / delta'^-))
 //                                                          (law: chi; thesis 3.6-3.8)
+// The laws know nothing of the geometry: they supply chi(c_r) only.
+// The kinematics are the same for both geometries: delta is read from the distance between the
+// two centres, which is the radial penetration of a revolute joint whose pin axis is normal to
+// the plane of the relative motion (a planar mechanism; an offset along the pin axis would be
+// read as radial).
 // delta'^- is the approach speed latched at the onset of a contact episode by the integration
 // driver, on an accepted step, never inside the right-hand side. It is guarded from below by
 // `min_impact_speed` so chi/delta'^- stays bounded for resting contact.
@@ -38,6 +47,11 @@ class NormalLaw {
   virtual bool defined_at_zero_restitution() const { return true; }
 };
 
+/// Restitution achieved by a free impact under F = K delta^n (1 + chi delta'/delta'^-), from the
+/// dimensionless impact x'' = -x^n (1 + chi x'), x(0) = 0, x'(0) = 1, which holds for any mass,
+/// speed and stiffness (core/laws/restitution_matched.cpp, which inverts it).
+double dimensionless_impact_restitution(double chi, double n);
+
 /// The catalogue of normal laws (core/laws/*.cpp, listed in core/laws/normal_laws.def).
 const NormalLaw* find_normal_law(std::string_view name);
 std::span<const NormalLaw* const> normal_laws();
@@ -66,11 +80,21 @@ std::span<const std::string_view> friction_law_names();
 /// Cubic blend of thesis eq. 3.10.
 double smooth_step(double x, double x0, double f0, double x1, double f1);
 
-/// Immutable model of one sphere-in-sphere clearance contact.
-struct SphericalContactModel {
-  double ball_radius = 0.0;       ///< R_b [m]
-  double clearance = 0.0;         ///< radial clearance c = R_s - R_b [m]
-  double stiffness = 0.0;         ///< K [N/m^n]
+/// Shape of the contacting surfaces: it alone decides the elastic force F_el(delta).
+enum class ContactGeometry {
+  sphere,    ///< ball in a conformal socket: F_el = K delta^n (Hertz)
+  cylinder,  ///< pin in a bearing (revolute joint): F_el = K delta^n (2 (c + delta))^(-1/2)
+};
+std::string_view to_string(ContactGeometry g);
+
+/// Immutable model of one clearance contact (sphere in sphere, or cylinder in cylinder).
+struct ClearanceContactModel {
+  ContactGeometry geometry = ContactGeometry::sphere;
+  double ball_radius = 0.0;       ///< R_b, or the pin radius of a cylinder [m]
+  double clearance = 0.0;         ///< radial clearance c = R_s - R_b [m] (dR of a cylinder)
+  /// Elastic coefficient K: sphere, the Hertz stiffness 4/3 E* sqrt(R*) [N/m^n]; cylinder,
+  /// (pi/2) L E* [N/m] (F_el = K delta^n (2 (c + delta))^(-1/2)). Includes stiffness_scale.
+  double stiffness = 0.0;
   double exponent = 1.5;          ///< n [-]
   double hysteresis = 0.0;        ///< chi [-]
   double min_impact_speed = 1e-3; ///< guard on delta'^- [m/s]
@@ -79,10 +103,24 @@ struct SphericalContactModel {
   double socket_radius() const { return ball_radius + clearance; }
 };
 
+/// Effective modulus E*: 1/E* = (1-nu_b^2)/E_b + (1-nu_s^2)/E_s [Pa].
+double effective_modulus(double E_ball, double nu_ball, double E_socket, double nu_socket);
+
 /// Hertz stiffness of a ball inside a conformal socket (model-notes §1; thesis 3.4-3.5 fixed):
 /// K = 4/3 E* sqrt(R*), R* = R_b R_s / (R_s - R_b), 1/E* = (1-nu_b^2)/E_b + (1-nu_s^2)/E_s.
 double sphere_in_sphere_stiffness(double ball_radius, double socket_radius, double E_ball,
                                   double nu_ball, double E_socket, double nu_socket);
+
+/// Coefficient K = (pi/2) L E* of the cylinder-in-cylinder law (model-notes §3) [N/m], for a
+/// bearing of length L.
+double cylinder_in_cylinder_coefficient(double bearing_length, double E_ball, double nu_ball,
+                                        double E_socket, double nu_socket);
+
+/// Elastic force F_el(delta) of the contact's geometry, delta > 0 [N].
+double elastic_force(const ClearanceContactModel& m, double penetration);
+/// Elastic energy stored at penetration delta > 0: the integral of F_el from 0 to delta [J].
+/// `force` is elastic_force(m, delta) (the sphere's energy is F_el delta / (n + 1)).
+double elastic_energy(const ClearanceContactModel& m, double penetration, double force);
 
 /// Everything the contact computes at one instant.
 struct ContactEval {
@@ -97,7 +135,7 @@ struct ContactEval {
   Vec3 moment_on_ball = Vec3::Zero();         ///< friction moment about ball centre [N m]
   Vec3 moment_on_socket = Vec3::Zero();       ///< friction moment about socket centre [N m]
   double slip_speed = 0.0;      ///< |v_t| [m/s]
-  double potential = 0.0;       ///< elastic energy K delta^(n+1)/(n+1) [J]
+  double potential = 0.0;       ///< elastic energy, the integral of F_el over delta [J]
   double damping_power = 0.0;   ///< power dissipated by hysteresis damping [W], >= 0
   double friction_power = 0.0;  ///< power dissipated by friction [W], >= 0
 
@@ -109,12 +147,12 @@ struct ContactGap {
   double penetration;
   double penetration_rate;
 };
-ContactGap contact_gap(const SphericalContactModel& m, const BodyKinematics& ball,
+ContactGap contact_gap(const ClearanceContactModel& m, const BodyKinematics& ball,
                        const BodyKinematics& socket);
 
 /// Full contact evaluation. The latch supplies delta'^-; before the driver has latched an
 /// episode (trial stages past an onset), the current approach speed stands in for it.
-ContactEval evaluate_contact(const SphericalContactModel& m, const BodyKinematics& ball,
+ContactEval evaluate_contact(const ClearanceContactModel& m, const BodyKinematics& ball,
                              const BodyKinematics& socket, const ContactLatch& latch);
 
 }  // namespace rodend

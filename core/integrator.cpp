@@ -1,5 +1,7 @@
 #include "core/integrator.hpp"
 
+#include "core/stepper.hpp"
+
 #include <algorithm>
 #include <boost/numeric/odeint.hpp>
 #include <cmath>
@@ -9,9 +11,15 @@
 
 namespace rodend {
 namespace odeint = boost::numeric::odeint;
-using state_t = std::vector<double>;
+using detail::RunFailure;
+using detail::ScaledSystem;
+using detail::state_t;
+using detail::Stepper;
 
-std::vector<std::string_view> integrator_methods() { return {"rk4", "dopri5"}; }
+std::vector<std::string_view> integrator_methods() {
+  return {"rk4",         "dopri5",      "cash_karp54", "fehlberg78",
+          "bulirsch_stoer", "rosenbrock4", "cvode_bdf", "cvode_adams"};
+}
 
 std::string_view to_string(RunStatus s) {
   switch (s) {
@@ -58,152 +66,6 @@ void validate(const TimeSettings& s) {
 
 namespace {
 
-/// Thrown inside the step loop; turned into a RunResult.
-struct RunFailure {
-  RunStatus status;
-  std::string message;
-};
-
-/// The right-hand side in scaled variables z = x / scale, as odeint wants it.
-/// Holds references to the model and the discrete state, plus scratch of its own.
-struct ScaledSystem {
-  const Scene& scene;
-  const DiscreteState& discrete;
-  const state_t& scale;
-  state_t x, dx;
-  long long calls = 0;
-  long long max_calls = 0;
-
-  ScaledSystem(const Scene& s, const DiscreteState& d, const state_t& sc, long long budget)
-      : scene(s), discrete(d), scale(sc), x(sc.size()), dx(sc.size()), max_calls(budget) {}
-
-  void operator()(const state_t& z, state_t& dz, double t) {
-    if (++calls > max_calls) {
-      std::ostringstream m;
-      m << "right-hand-side budget of " << max_calls << " calls exhausted at t = " << t << " s";
-      throw RunFailure{RunStatus::rhs_budget_exhausted, m.str()};
-    }
-    for (std::size_t i = 0; i < z.size(); ++i) x[i] = z[i] * scale[i];
-    scene.derivatives(t, x.data(), discrete, dx.data());
-    for (std::size_t i = 0; i < z.size(); ++i) dz[i] = dx[i] / scale[i];
-  }
-};
-
-/// One accepted step at a time, with an interpolant over the last step.
-class Stepper {
- public:
-  virtual ~Stepper() = default;
-  /// (Re)starts at (t, z) with a first trial step dt.
-  virtual void reset(const state_t& z, double t, double dt) = 0;
-  /// Advances one accepted step, not past t_limit.
-  virtual void step(double t_limit) = 0;
-  /// State at t in [t_prev, t_now] on the method's interpolant.
-  virtual void interpolate(double t, state_t& out) = 0;
-  /// Whether the interpolant is cheap and accurate everywhere in the step (dense output):
-  /// then steps need not land on sample times.
-  virtual bool dense() const = 0;
-  virtual double suggested_dt() const = 0;
-
-  double t_prev = 0.0, t_now = 0.0;
-  state_t z_prev, z_now;
-  long long accepted = 0, rejected = 0;
-};
-
-/// Classical fourth-order Runge-Kutta, fixed step. Its "interpolant" re-takes the step from the
-/// previous state with the shorter step, which is exactly what the method would have done.
-class Rk4Stepper final : public Stepper {
- public:
-  Rk4Stepper(ScaledSystem& sys, double dt) : sys_(sys), dt_(dt) {}
-  void reset(const state_t& z, double t, double) override {
-    z_now = z;
-    t_now = t;
-  }
-  void step(double t_limit) override {
-    z_prev = z_now;
-    t_prev = t_now;
-    double h = std::min(dt_, t_limit - t_now);
-    stepper_.do_step(std::ref(sys_), z_now, t_now, h);
-    // land exactly on t_limit when the step was shortened to reach it
-    t_now = (h < dt_) ? t_limit : t_now + h;
-    ++accepted;
-  }
-  void interpolate(double t, state_t& out) override {
-    out = z_prev;
-    if (t > t_prev) stepper_.do_step(std::ref(sys_), out, t_prev, t - t_prev);
-  }
-  bool dense() const override { return false; }
-  double suggested_dt() const override { return dt_; }
-
- private:
-  ScaledSystem& sys_;
-  double dt_;
-  odeint::runge_kutta4<state_t> stepper_;
-};
-
-/// Dormand-Prince 5(4) with step-size control and its free fourth-order dense output.
-class Dopri5Stepper final : public Stepper {
- public:
-  Dopri5Stepper(ScaledSystem& sys, const IntegratorSettings& s)
-      : sys_(sys),
-        min_dt_(s.min_step),
-        ctrl_(odeint::make_controlled(s.abs_tol, s.rel_tol, s.max_step,
-                                      odeint::runge_kutta_dopri5<state_t>())) {}
-  void reset(const state_t& z, double t, double dt) override {
-    z_now = z;
-    t_now = t;
-    dz_now.resize(z.size());
-    sys_(z_now, dz_now, t_now);
-    dt_ = dt;
-  }
-  void step(double t_limit) override {
-    std::swap(z_prev, z_now);
-    std::swap(dz_prev, dz_now);
-    t_prev = t_now;
-    z_now.resize(z_prev.size());
-    dz_now.resize(z_prev.size());
-    double t = t_prev;
-    while (true) {
-      double dt = std::min(dt_, t_limit - t_prev);
-      const bool clipped = dt < dt_;
-      const auto res = ctrl_.try_step(std::ref(sys_), z_prev, dz_prev, t, z_now, dz_now, dt);
-      if (res == odeint::success) {
-        ++accepted;
-        // keep the controller's suggestion unless this step was only clipped to the limit
-        if (!clipped) dt_ = dt;
-        break;
-      }
-      ++rejected;
-      dt_ = dt;
-      if (dt_ < min_dt_) {
-        std::ostringstream m;
-        m << "step size underflow: step " << dt_ << " s < min_step " << min_dt_ << " s at t = "
-          << t_prev << " s";
-        throw RunFailure{RunStatus::step_size_underflow, m.str()};
-      }
-    }
-    t_now = t;
-  }
-  void interpolate(double t, state_t& out) override {
-    out.resize(z_now.size());
-    ctrl_.stepper().calc_state(t, out, z_prev, dz_prev, t_prev, z_now, dz_now, t_now);
-  }
-  bool dense() const override { return true; }
-  double suggested_dt() const override { return dt_; }
-
- private:
-  ScaledSystem& sys_;
-  double min_dt_;
-  double dt_ = 0.0;
-  state_t dz_prev, dz_now;
-  odeint::controlled_runge_kutta<odeint::runge_kutta_dopri5<state_t>> ctrl_;
-};
-
-std::unique_ptr<Stepper> make_stepper(ScaledSystem& sys, const IntegratorSettings& s) {
-  if (s.method == "rk4") return std::make_unique<Rk4Stepper>(sys, s.step);
-  if (s.method == "dopri5") return std::make_unique<Dopri5Stepper>(sys, s);
-  throw InputError("integrator.method", "unknown method '" + s.method + "'");
-}
-
 bool all_finite(const state_t& z) {
   return std::all_of(z.begin(), z.end(), [](double v) { return std::isfinite(v); });
 }
@@ -227,6 +89,8 @@ class Driver {
     // bookkeeping integrals: scaled so that they never limit the step size
     for (int o : scene.audit_offsets()) scale_[static_cast<std::size_t>(o)] *= 1e12;
     discrete_.contacts.assign(static_cast<std::size_t>(scene.contact_count()), ContactLatch{});
+    const auto sig = scene.signals();
+    provides_force_ = std::find(sig.begin(), sig.end(), SignalId::contact_force) != sig.end();
     n_samples_ = static_cast<long long>(std::floor(time.end / time.sample_interval + 1e-9)) + 1;
   }
 
@@ -237,8 +101,9 @@ class Driver {
       scene_.initial_state(x_.data());
       for (std::size_t i = 0; i < n_; ++i) z0[i] = x_[i] / scale_[i];
       // an initial penetration starts latched, with its current approach speed
+      latch_time_ = 0.0;
       for (int c = 0; c < scene_.contact_count(); ++c) latch_if_touching(c, x_.data());
-      stepper_ = make_stepper(sys_, settings_);
+      stepper_ = detail::make_stepper(sys_, scene_, settings_);
       stepper_->reset(z0, 0.0, settings_.step);
       emit_sample(0, z0);
       next_sample_ = 1;
@@ -300,6 +165,7 @@ class Driver {
       l.in_contact = true;
       l.impact_speed = std::max(g.penetration_rate, 0.0);
       ++stats_.contact_onsets;
+      obs_.on_contact_onset(latch_time_, c, l.impact_speed);
     }
   }
 
@@ -315,7 +181,7 @@ class Driver {
       // 60 halvings reach the resolution of double time for any step length
       for (int it = 0; it < 60 && hi - lo > 4e-16 * std::max(1.0, std::abs(hi)); ++it) {
         const double mid = 0.5 * (lo + hi);
-        stepper_->interpolate(mid, z_tmp_);
+        stepper_->interpolate_cheap(mid, z_tmp_);
         if (penetration_at(c, z_tmp_) > 0.0)
           hi = mid;
         else
@@ -375,6 +241,73 @@ class Driver {
     return changed;
   }
 
+  /// Frame at time t inside the last step, from the interpolant.
+  void frame_at(double t) {
+    stepper_->interpolate(t, z_tmp_);
+    unscale(z_tmp_, x_);
+    frame_.set(SignalId::time, t);
+    scene_.outputs(t, x_.data(), discrete_, frame_);
+  }
+
+  /// Peaks of an impact fall between step ends: when a contact's approach speed turns from
+  /// positive to negative within the step, the observer also gets the frames at the maximum
+  /// penetration (root of the penetration rate, by bisection) and at the maximum contact force
+  /// (golden-section search), both on the step's interpolant, in time order.
+  void refine_impact_peaks() {
+    const double t0 = stepper_->t_prev, t1 = stepper_->t_now;
+    if (!(t1 > t0)) return;
+    std::vector<double> times;
+    for (int c = 0; c < scene_.contact_count(); ++c) {
+      unscale(stepper_->z_prev, x_);
+      const ContactGap g0 = scene_.contact_gap(c, x_.data());
+      unscale(stepper_->z_now, x_);
+      const ContactGap g1 = scene_.contact_gap(c, x_.data());
+      if (!(g0.penetration_rate > 0.0 && g1.penetration_rate <= 0.0)) continue;
+      if (!(std::max(g0.penetration, g1.penetration) > 0.0)) continue;
+      double lo = t0, hi = t1;
+      for (int it = 0; it < 40; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        stepper_->interpolate(mid, z_tmp_);
+        unscale(z_tmp_, x_);
+        (scene_.contact_gap(c, x_.data()).penetration_rate > 0.0 ? lo : hi) = mid;
+      }
+      times.push_back(0.5 * (lo + hi));
+      if (provides_force_) {
+        // golden section for the force maximum (unimodal within one impact step)
+        const double r = 0.5 * (std::sqrt(5.0) - 1.0);
+        double a = t0, b = t1, x1 = b - r * (b - a), x2 = a + r * (b - a);
+        frame_at(x1);
+        double f1 = frame_.get(SignalId::contact_force);
+        frame_at(x2);
+        double f2 = frame_.get(SignalId::contact_force);
+        for (int it = 0; it < 40 && b - a > 1e-12 * (t1 - t0); ++it) {
+          if (f1 < f2) {
+            a = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = a + r * (b - a);
+            frame_at(x2);
+            f2 = frame_.get(SignalId::contact_force);
+          } else {
+            b = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = b - r * (b - a);
+            frame_at(x1);
+            f1 = frame_.get(SignalId::contact_force);
+          }
+        }
+        times.push_back(0.5 * (a + b));
+      }
+    }
+    std::sort(times.begin(), times.end());
+    for (double t : times) {
+      if (!(t > t0 && t < t1)) continue;
+      frame_at(t);
+      obs_.on_step(frame_);
+    }
+  }
+
   void loop() {
     const double t_end = time_.end;
     while (stepper_->t_now < t_end) {
@@ -383,8 +316,24 @@ class Driver {
       stepper_->step(t_limit);
       check_health_after_step();
 
+      // contact onset found by the method itself (CVODE's root finding): latch it there
+      if (stepper_->finds_roots() && !stepper_->roots.empty()) {
+        emit_samples_until(stepper_->t_now);
+        unscale(stepper_->z_now, x_);
+        for (int c : stepper_->roots) {
+          ContactLatch& l = discrete_.contacts[static_cast<std::size_t>(c)];
+          if (l.in_contact) continue;
+          l.in_contact = true;
+          l.impact_speed = std::max(scene_.contact_gap(c, x_.data()).penetration_rate, 0.0);
+          ++stats_.contact_onsets;
+          obs_.on_contact_onset(stepper_->t_now, c, l.impact_speed);
+        }
+        stepper_->reset(stepper_->z_now, stepper_->t_now, stepper_->suggested_dt());
+        stats_.t_reached = stepper_->t_now;
+        continue;
+      }
       // contact onset: locate it and restart there, so the step that crossed it is discarded
-      if (settings_.contact_onset == "locate") {
+      if (settings_.contact_onset == "locate" && !stepper_->finds_roots()) {
         const double t_event = locate_onset();
         if (t_event < stepper_->t_now) {
           // re-take the step from its start up to the onset: the crossing step's later stages
@@ -399,6 +348,7 @@ class Driver {
           }
           const state_t z_event = stepper_->z_now;
           unscale(z_event, x_);
+          latch_time_ = stepper_->t_now;
           for (int c = 0; c < scene_.contact_count(); ++c) latch_if_touching(c, x_.data());
           stepper_->reset(z_event, stepper_->t_now, stepper_->suggested_dt());
           stats_.t_reached = stepper_->t_now;
@@ -417,11 +367,13 @@ class Driver {
         if (l.in_contact && g.penetration <= 0.0) {
           l = ContactLatch{};  // episode over
         } else if (!l.in_contact && g.penetration > 0.0) {
+          latch_time_ = stepper_->t_now;
           latch_if_touching(c, x_.data());  // step-end latching (or onset at a restart point)
           discrete_changed = true;
         }
       }
       if (obs_.wants_steps()) {
+        refine_impact_peaks();
         frame_.set(SignalId::time, stepper_->t_now);
         scene_.outputs(stepper_->t_now, x_.data(), discrete_, frame_);
         obs_.on_step(frame_);
@@ -447,6 +399,8 @@ class Driver {
   state_t x_, z_tmp_;
   long long n_samples_ = 0, next_sample_ = 0;
   RunStats stats_;
+  bool provides_force_ = false;
+  double latch_time_ = 0.0;  ///< time at which latch_if_touching is evaluated
 };
 
 }  // namespace

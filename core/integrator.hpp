@@ -74,6 +74,8 @@ class RunObserver {
   /// At the end of every accepted step, when wants_steps() is true (metrics that need peaks).
   virtual void on_step(const SignalFrame& /*frame*/) {}
   virtual bool wants_steps() const { return false; }
+  /// When a contact episode is latched: its onset time [s] and approach speed [m/s].
+  virtual void on_contact_onset(double /*t*/, int /*contact*/, double /*impact_speed*/) {}
 };
 
 /// Checks settings; throws InputError with a key path under "integrator." or "time.".

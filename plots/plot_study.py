@@ -9,11 +9,26 @@ figure it does not draw, one line saying why ("skip ...: ..."). Exit status: 0 w
 figure that applies was drawn, 1 when drawing one failed (the others are still drawn),
 2 when RESULTS_DIR is not a study's results folder.
 
+Figures (file stem: what, thesis figure):
+  eccentricity_force       eccentricity with the clearance, contact force (5.2; 3.24, 3.26)
+  polar_relative_position  ball centre relative to the socket, xy-plane, clearance circle (5.4, 5.11, 6.15)
+  polar_force_wear         peak contact force and time-integrated wear per contact-angle bin (5.5, 6.29)
+  surface_angle            surface angle and its difference to the first case (5.17)
+  trajectories_xy_xz       xy and xz trajectories when the ball leaves the xy-plane (5.18-5.20)
+  first_impact_force       summary metric first_impact_peak_force against the first numeric grid axis (5.15)
+  hydraulics               chamber pressures and flows, spool, actuator load (6.16-6.22)
+  actuator_response        piston position against command and LVDT, velocity, current, jet pipe (6.10-6.11)
+  phase_fft                surface angular acceleration against rate, and its amplitude spectrum
+  energy_audit             mechanical-energy change, input work, dissipation, residual
+  ball_motion              ball (and socket) motion and forces, scenes without a mechanism (3.24, 3.26)
+  body_motion              free-body position, velocity, attitude, rates (3.21-3.23)
+
 Needs only Debian's numpy, h5py and matplotlib (Agg backend).
 """
 import argparse
 import math
 import os
+import signal
 import sys
 import time
 import traceback
@@ -280,6 +295,7 @@ def fig_polar_relative_position(study, cases, style):
     cases = with_signals(cases, "relative_position")
     fig = plt.figure(figsize=(7.8, 7.6), layout="constrained")
     ax = fig.add_subplot(projection="polar")
+    ax.set_title("", y=1.0)                     # no automatic title placement (costly on polar)
     rmax = 0.0
     for c in cases:
         r = sig(c, "relative_position")
@@ -333,7 +349,8 @@ def fig_polar_force_wear(study, cases, style):
         raise Skip("no contact in any case (contact_force is zero throughout)")
     fig, axes, legend_axes = polar_panels(len(data))
     for ax, lax, (c, fmax, wear) in zip(axes, legend_axes, data):
-        ax.set_title(c.describe("\n"), fontsize="small", color=style(c), pad=12)
+        # a fixed title height: the automatic one measures the theta labels 3 times per draw
+        ax.set_title(c.describe("\n"), fontsize="small", color=style(c), y=1.12)
         ax.set_yticklabels([])
         ax.set_ylim(0, 1.05)
         handles = []
@@ -638,6 +655,7 @@ def fig_phase_fft(study, cases, style):
     af.set_ylabel(axis_label("amplitude of $\\ddot\\theta$", cases[0].unit("surface_acceleration")))
     af.set_title("one-sided amplitude spectrum (Hann window, mean removed)")
     af.grid(True, which="major", alpha=0.3)
+    af.minorticks_off()                         # minor log ticks cost more than they show
     fig.suptitle(title(study, "Surface angular acceleration: phase diagram and spectrum"))
     case_legend(fig, cases, style)
     return fig
@@ -789,6 +807,18 @@ def fig_body_motion(study, cases, style):
 
 # --- driver -------------------------------------------------------------------------------
 
+def save(fig, path, dpi):
+    """Save a figure. The constrained layout is computed once and then frozen: savefig would
+    otherwise draw the whole figure once more just to lay it out."""
+    engine = fig.get_layout_engine()
+    if engine is not None:
+        engine.execute(fig)
+        with matplotlib.rc_context({"figure.autolayout": False,
+                                    "figure.constrained_layout.use": False}):
+            fig.set_layout_engine(None)         # None, not "none": no placeholder engine
+    fig.savefig(path, dpi=dpi)
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(description="Draw the figures of a rodend study's results.")
     p.add_argument("results_dir", help="a study's results folder (with summary.h5 and cases/)")
@@ -832,13 +862,14 @@ def main(argv=None):
             continue
         for ext in (("png", "pdf") if args.pdf else ("png",)):
             path = os.path.join(out, f"{stem}.{ext}")
-            fig.savefig(path, dpi=args.dpi)
+            save(fig, path, args.dpi)
             print(path)
         plt.close(fig)
     return status
 
 
 if __name__ == "__main__":
+    signal.signal(signal.SIGPIPE, signal.SIG_DFL)   # `plot_study.py ... | head` ends quietly
     warnings.filterwarnings("ignore", category=RuntimeWarning)   # all-NaN slices of a failed run
     t0 = time.perf_counter()
     code = main()

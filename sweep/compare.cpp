@@ -119,6 +119,30 @@ std::map<std::string, std::size_t> rows_by_id(const SummaryTable& t) {
   return m;
 }
 
+/// The grid-coordinate columns of a summary: those between case_index and status.
+std::vector<std::string> grid_columns(const SummaryTable& t) {
+  const auto first = std::find(t.columns.begin(), t.columns.end(), "case_index");
+  const auto last = std::find(t.columns.begin(), t.columns.end(), "status");
+  if (first == t.columns.end() || last == t.columns.end() || last < first) return {};
+  return {first + 1, last};
+}
+
+/// Row i of `a` and row j of `b` are the same grid point of the same grid: equal case_index,
+/// the same coordinate columns and equal coordinates.
+bool same_grid_point(const SummaryTable& a, std::size_t i, const SummaryTable& b, std::size_t j) {
+  if (!a.numbers.count("case_index") || !b.numbers.count("case_index")) return false;
+  if (a.numbers.at("case_index")[i] != b.numbers.at("case_index")[j]) return false;
+  const auto cols = grid_columns(a);
+  if (cols != grid_columns(b)) return false;
+  for (const std::string& c : cols) {
+    if (a.is_text(c) != b.is_text(c)) return false;
+    if (a.is_text(c) ? a.texts.at(c)[i] != b.texts.at(c)[j]
+                     : a.numbers.at(c)[i] != b.numbers.at(c)[j])
+      return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 CompareSettings load_tolerances(const fs::path& file) {
@@ -173,22 +197,56 @@ int compare_studies(const fs::path& a, const fs::path& b, const CompareSettings&
   if (s.summary_only) out << "  (summaries only: histories are not compared)\n";
   const auto ia = rows_by_id(ra), ib = rows_by_id(rb);
 
-  for (const auto& [id, row] : ia)
-    if (!ib.count(id)) rep.diff("case " + id, "missing (present in the reference)");
-  for (const auto& [id, row] : ib)
-    if (!ia.count(id)) rep.diff("case " + id, "extra (absent from the reference)");
-
-  // metric columns: every catalogue metric in either table
-  const auto cat = metric_catalogue();
+  // Cases are paired by id. A case whose id changed but that sits at the same grid point
+  // (same case_index and coordinates) is paired with its counterpart and compared, with a note:
+  // the id hashes every resolved parameter, so a parameter added to a scene since the
+  // reference (whose default keeps the old behaviour) changes every id and nothing else.
+  // Whether the results moved is then for the metrics to say.
+  struct Pair {
+    std::string id_a, id_b;
+    std::size_t i, j;
+  };
+  std::vector<Pair> pairs;
+  std::set<std::string> paired_b;
+  for (const auto& [id, i] : ia)
+    if (ib.count(id)) {
+      pairs.push_back({id, id, i, ib.at(id)});
+      paired_b.insert(id);
+    }
   for (const auto& [id, i] : ia) {
-    if (!ib.count(id)) continue;
-    const std::size_t j = ib.at(id);
-    const std::string where = "case " + id;
+    if (ib.count(id)) continue;
+    bool found = false;
+    for (const auto& [id_b, j] : ib) {
+      if (ia.count(id_b) || paired_b.count(id_b) || !same_grid_point(ra, i, rb, j)) continue;
+      out << "  NOTE case " << id << " paired with case " << id_b
+          << " (same grid point; the resolved description differs, e.g. a parameter was added)\n";
+      pairs.push_back({id, id_b, i, j});
+      paired_b.insert(id_b);
+      found = true;
+      break;
+    }
+    if (!found) rep.diff("case " + id, "missing (present in the reference)");
+  }
+  for (const auto& [id, row] : ib)
+    if (!paired_b.count(id)) rep.diff("case " + id, "extra (absent from the reference)");
+
+  // metric columns: every catalogue metric of the reference; one the reference lacks is newer
+  // than it and has nothing to be compared with (noted once)
+  const auto cat = metric_catalogue();
+  for (const MetricSpec& m : cat) {
+    const std::string name(m.name);
+    if (!ra.numbers.count(name) && rb.numbers.count(name))
+      out << "  NOTE metric " << name << " is not in the reference (newer than it): not compared\n";
+  }
+  for (const Pair& p : pairs) {
+    const std::size_t i = p.i, j = p.j;
+    const std::string where = "case " + p.id_a;
     const std::string sa = ra.texts.at("status")[i], sb = rb.texts.at("status")[j];
     if (sa != sb) rep.diff(where, "status " + sb + ", reference " + sa);
     for (const MetricSpec& m : cat) {
       const std::string name(m.name);
       const bool in_a = ra.numbers.count(name), in_b = rb.numbers.count(name);
+      if (!in_a && in_b) continue;  // newer than the reference (noted above)
       if (!in_a || !in_b) {
         rep.diff(where, "metric " + name + (in_a ? " missing" : " extra"));
         continue;
@@ -203,7 +261,7 @@ int compare_studies(const fs::path& a, const fs::path& b, const CompareSettings&
     if (s.summary_only) continue;
 
     // histories
-    const fs::path fa = a / "cases" / (id + ".h5"), fb = b / "cases" / (id + ".h5");
+    const fs::path fa = a / "cases" / (p.id_a + ".h5"), fb = b / "cases" / (p.id_b + ".h5");
     if (!fs::exists(fa) || !fs::exists(fb)) {
       rep.diff(where, std::string("case file missing in ") + (fs::exists(fa) ? "B" : "the reference"));
       continue;

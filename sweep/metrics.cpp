@@ -31,7 +31,9 @@ MetricsAccumulator::MetricsAccumulator(const Scene& scene, const MetricsSettings
     : settings_(settings),
       has_contact_(provides(scene, SignalId::contact_force)),
       has_surface_(provides(scene, SignalId::surface_angle)),
-      has_energy_(provides(scene, SignalId::energy_residual)) {
+      has_energy_(provides(scene, SignalId::energy_residual)),
+      has_rates_(provides(scene, SignalId::penetration_rate) &&
+                 provides(scene, SignalId::impact_speed)) {
   v_.fill(kNaN);
   if (has_contact_) {
     for (MetricId id : {MetricId::first_impact_peak_force, MetricId::max_contact_force,
@@ -58,14 +60,41 @@ void MetricsAccumulator::on_step(const SignalFrame& f) {
     if (F > 0.0 || force_prev_ > 0.0)
       at(v_, MetricId::contact_time) += (F > 0.0 && force_prev_ > 0.0) ? dt : 0.5 * dt;
     // contact episodes, from the latched impact speed / force
-    const bool touching = f.get(SignalId::penetration) > 0.0;
+    const double pen = f.get(SignalId::penetration);
+    const bool touching = pen > 0.0;
     if (touching && !in_contact_) {
       ++episode_;
       if (episode_ == 1) {
-        at(v_, MetricId::first_contact_time) = t;
-        at(v_, MetricId::first_impact_speed) = f.get(SignalId::impact_speed);
+        if (onsets_ == 0) {  // no onset reported (an observer fed frames only)
+          at(v_, MetricId::first_contact_time) = t;
+          at(v_, MetricId::first_impact_speed) = f.get(SignalId::impact_speed);
+        }
         ecc_min_ = ecc_max_ = ecc;
+        // onset of the first episode for its duration: the driver's, else extrapolated back
+        // along the approach from this first step end inside it (not before the previous one)
+        if (onsets_ > 0) {
+          first_onset_ = at(v_, MetricId::first_contact_time);
+        } else if (has_rates_) {
+          const double rate = f.get(SignalId::penetration_rate);
+          first_onset_ = rate > 0.0 ? t - pen / rate : t;
+          if (!first_step_) first_onset_ = std::max(first_onset_, t_prev_);
+        }
+        // dissipated energy at the last step end before the onset (0 at t = 0 by definition)
+        dissipated_before_ = first_step_ ? 0.0 : dissipated_prev_;
       }
+    }
+    if (!touching && in_contact_ && episode_ == 1 && has_rates_) {
+      // the first episode ended during this step: this step end is the first after it. The
+      // rate here is the exit speed delta'+ once the bodies fly freely (no force after the
+      // end); the end is extrapolated back along it, not before the previous step end.
+      const double rate = f.get(SignalId::penetration_rate);
+      const double approach = at(v_, MetricId::first_impact_speed);
+      if (approach > 0.0) at(v_, MetricId::first_impact_restitution) = -rate / approach;
+      const double end = rate < 0.0 ? std::max(t - pen / rate, t_prev_) : t;
+      at(v_, MetricId::first_impact_duration) = end - first_onset_;
+      if (has_energy_)
+        at(v_, MetricId::first_impact_dissipated_energy) =
+            f.get(SignalId::dissipated_energy) - dissipated_before_;
     }
     in_contact_ = touching;
     if (episode_ == 1 && touching)
@@ -99,9 +128,17 @@ void MetricsAccumulator::on_step(const SignalFrame& f) {
     max_residual_ = std::max(max_residual_, std::abs(r));
     at(v_, MetricId::input_work) = w;
     at(v_, MetricId::dissipated_energy) = d;
+    dissipated_prev_ = d;
   }
   t_prev_ = t;
   first_step_ = false;
+}
+
+void MetricsAccumulator::on_contact_onset(double t, double impact_speed) {
+  if (has_contact_ && onsets_++ == 0) {
+    at(v_, MetricId::first_contact_time) = t;
+    at(v_, MetricId::first_impact_speed) = impact_speed;
+  }
 }
 
 MetricValues MetricsAccumulator::finish(const RunStats& stats) const {

@@ -38,18 +38,25 @@ class MetricsAccumulator {
  public:
   MetricsAccumulator(const Scene& scene, const MetricsSettings& settings);
   void on_step(const SignalFrame& f);
+  /// A contact episode latched by the driver (first contact time and impact speed come from
+  /// here: exact onset, not the first frame in contact).
+  void on_contact_onset(double t, double impact_speed);
   /// Final values; the driver's stats supply the health metrics.
   MetricValues finish(const RunStats& stats) const;
 
  private:
   MetricsSettings settings_;
-  bool has_contact_ = false, has_surface_ = false, has_energy_ = false;
+  bool has_contact_ = false, has_surface_ = false, has_energy_ = false, has_rates_ = false;
   double t_prev_ = 0.0, force_prev_ = 0.0, wear_prev_ = 0.0;
   bool first_step_ = true;
   MetricValues v_{};
   int episode_ = 0;          // contact episodes seen
+  int onsets_ = 0;           // onsets latched by the driver
   bool in_contact_ = false;
   double ecc_min_ = 0.0, ecc_max_ = 0.0;
+  double first_onset_ = 0.0;        // [s] onset of the first episode (its duration)
+  double dissipated_prev_ = 0.0;    // [J] dissipated energy at the previous step end
+  double dissipated_before_ = 0.0;  // [J] ... at the last step end before the first onset
   double max_flow_ = 0.0, max_residual_ = 0.0;
 };
 

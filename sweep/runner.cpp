@@ -3,6 +3,7 @@
 #include <omp.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -11,6 +12,7 @@
 #include <fstream>
 #include <iostream>
 #include <mutex>
+#include <ostream>
 
 #include "core/scene.hpp"
 
@@ -51,6 +53,7 @@ class CaseObserver final : public RunObserver {
   }
   void on_step(const SignalFrame& f) override { metrics_.on_step(f); }
   bool wants_steps() const override { return true; }
+  void on_contact_onset(double t, int, double v) override { metrics_.on_contact_onset(t, v); }
   MetricValues finish(const RunStats& s) const { return metrics_.finish(s); }
 
  private:
@@ -70,52 +73,18 @@ std::string format_duration(double s) {
   return buf;
 }
 
-/// Progress on stderr: one updating line on a terminal, periodic plain lines otherwise.
-class Progress {
- public:
-  Progress(bool enabled, long total, long already)
-      : enabled_(enabled), tty_(isatty(fileno(stderr)) != 0), total_(total), done_(already),
-        start_(std::chrono::steady_clock::now()), already_(already) {
-    if (enabled_ && already > 0)
-      std::fprintf(stderr, "rodend: %ld of %ld cases already complete, %ld to run\n", already,
-                   total, total - already);
-  }
-  void case_done(bool failed) {
-    if (!enabled_) return;
-    std::lock_guard lock(mutex_);
-    ++done_;
-    if (failed) ++failed_;
-    const double elapsed =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    const long ran = done_ - already_;
-    const double eta = ran > 0 ? elapsed / static_cast<double>(ran) * static_cast<double>(total_ - done_) : 0.0;
-    if (tty_) {
-      std::fprintf(stderr, "\r[%ld/%ld] %ld failed, elapsed %s, ETA %s   ", done_, total_, failed_,
-                   format_duration(elapsed).c_str(), format_duration(eta).c_str());
-      if (done_ == total_) std::fprintf(stderr, "\n");
-    } else if (done_ == total_ || elapsed - last_print_ >= 10.0) {
-      last_print_ = elapsed;
-      std::fprintf(stderr, "rodend: %ld/%ld cases done, %ld failed, elapsed %s, ETA %s\n", done_,
-                   total_, failed_, format_duration(elapsed).c_str(), format_duration(eta).c_str());
-    }
-    std::fflush(stderr);
-  }
-
- private:
-  bool enabled_, tty_;
-  long total_, done_, failed_ = 0;
-  std::chrono::steady_clock::time_point start_;
-  long already_;
-  double last_print_ = 0.0;
-  std::mutex mutex_;
-};
-
 /// Writes `text` to `path` via a temporary file and a rename.
 void write_text_atomically(const fs::path& path, const std::string& text) {
   // built with += : GCC 12 warns falsely (-Wrestrict) on "." + std::string temporaries
   std::string name = ".";
   name += path.filename().string();
   name += ".tmp.";
+  // host and pid: shards on different nodes may write the same study.json at once
+  char host[256] = {};
+  if (::gethostname(host, sizeof host - 1) == 0) {
+    name += host;
+    name += ".";
+  }
   name += std::to_string(::getpid());
   const fs::path tmp = path.parent_path() / name;
   {
@@ -128,6 +97,35 @@ void write_text_atomically(const fs::path& path, const std::string& text) {
 }
 
 }  // namespace
+
+Progress::Progress(bool enabled, long total, long already)
+    : enabled_(enabled), tty_(isatty(fileno(stderr)) != 0), total_(total), done_(already),
+      start_(std::chrono::steady_clock::now()), already_(already) {
+  if (enabled_ && already > 0)
+    std::fprintf(stderr, "rodend: %ld of %ld cases already complete, %ld to run\n", already,
+                 total, total - already);
+}
+
+void Progress::case_done(bool failed) {
+  if (!enabled_) return;
+  std::lock_guard lock(mutex_);
+  ++done_;
+  if (failed) ++failed_;
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const long ran = done_ - already_;
+  const double eta = ran > 0 ? elapsed / static_cast<double>(ran) * static_cast<double>(total_ - done_) : 0.0;
+  if (tty_) {
+    std::fprintf(stderr, "\r[%ld/%ld] %ld failed, elapsed %s, ETA %s   ", done_, total_, failed_,
+                 format_duration(elapsed).c_str(), format_duration(eta).c_str());
+    if (done_ == total_) std::fprintf(stderr, "\n");
+  } else if (done_ == total_ || elapsed - last_print_ >= 10.0) {
+    last_print_ = elapsed;
+    std::fprintf(stderr, "rodend: %ld/%ld cases done, %ld failed, elapsed %s, ETA %s\n", done_,
+                 total_, failed_, format_duration(elapsed).c_str(), format_duration(eta).c_str());
+  }
+  std::fflush(stderr);
+}
 
 bool in_shard(const CaseSpec& c, const RunOptions& o) {
   return o.shard_count <= 1 || (c.index % o.shard_count) + 1 == o.shard_index;
@@ -162,58 +160,82 @@ CaseRecord run_case(const CaseSpec& spec, History& history) {
   return rec;
 }
 
-int run_study(const Study& study, const RunOptions& opt) {
-  const fs::path dir = study.output_dir;
-  const fs::path cases_dir = dir / "cases";
+RunPlan plan_run(const Study& study, const RunOptions& opt) {
+  RunPlan plan;
+  plan.dir = study.output_dir;
+  plan.cases_dir = plan.dir / "cases";
   std::error_code ec;
-  fs::create_directories(cases_dir, ec);
+  fs::create_directories(plan.cases_dir, ec);
   if (ec)
-    throw InputError("output", "cannot create the results directory " + cases_dir.string() +
-                                   ": " + ec.message(),
+    throw InputError("output", "cannot create the results directory " +
+                                   plan.cases_dir.string() + ": " + ec.message(),
                      study.file.string());
-  if (::access(cases_dir.c_str(), W_OK) != 0)
-    throw InputError("output", "the results directory " + cases_dir.string() + " is not writable",
+  if (::access(plan.cases_dir.c_str(), W_OK) != 0)
+    throw InputError("output",
+                     "the results directory " + plan.cases_dir.string() + " is not writable",
                      study.file.string());
-  const Json prov = provenance(study);
-  write_text_atomically(dir / "study.json", study.source.dump(2) + "\n");
+  plan.provenance = provenance(study);
+  write_text_atomically(plan.dir / "study.json", study.source.dump(2) + "\n");
+  // a shard writes its own summary; `rodend merge` assembles the study's
+  plan.summary_dir = opt.shard_count > 1
+                         ? plan.dir / ("shard-" + std::to_string(opt.shard_index) + "-of-" +
+                                       std::to_string(opt.shard_count))
+                         : plan.dir;
 
   // what is complete already (resume): a case file under its final name is complete
-  std::vector<CaseRecord> records(study.cases.size());
-  std::vector<char> have(study.cases.size(), 0);  // not vector<bool>: written from threads
-  std::vector<std::size_t> todo;
+  plan.records.assign(study.cases.size(), CaseRecord{});
+  plan.have.assign(study.cases.size(), 0);
   for (std::size_t i = 0; i < study.cases.size(); ++i) {
     const CaseSpec& c = study.cases[i];
     if (!in_shard(c, opt)) continue;
-    if (auto rec = read_case_record(cases_dir / (c.id + ".h5"))) {
+    ++plan.in_scope;
+    if (auto rec = read_case_record(plan.cases_dir / (c.id + ".h5"))) {
       if (rec->status == "ok" || !opt.rerun_failed) {
-        records[i] = *rec;
-        have[i] = 1;
+        plan.records[i] = *rec;
+        plan.have[i] = 1;
         continue;
       }
     }
-    todo.push_back(i);
+    plan.todo.push_back(i);
   }
-  const long in_scope = static_cast<long>(
-      std::count_if(study.cases.begin(), study.cases.end(), [&](const CaseSpec& c) { return in_shard(c, opt); }));
-  Progress progress(opt.progress, in_scope, in_scope - static_cast<long>(todo.size()));
+  return plan;
+}
+
+CaseRecord run_and_write_case(const Study& study, const RunPlan& plan, std::size_t i) {
+  const CaseSpec& spec = study.cases[i];
+  History history;
+  CaseRecord rec = run_case(spec, history);
+  write_case_file(plan.cases_dir / (spec.id + ".h5"), spec, rec, history, plan.provenance);
+  return rec;
+}
+
+int write_run_summary(const Study& study, const RunPlan& plan,
+                      const std::vector<CaseRecord>& rows) {
+  fs::create_directories(plan.summary_dir);
+  write_summary(plan.summary_dir, study, rows, plan.provenance);
+  const bool any_failed =
+      std::any_of(rows.begin(), rows.end(), [](const CaseRecord& r) { return r.status != "ok"; });
+  return any_failed ? 1 : 0;
+}
+
+int run_study(const Study& study, const RunOptions& opt) {
+  RunPlan plan = plan_run(study, opt);
+  Progress progress(opt.progress, plan.in_scope,
+                    plan.in_scope - static_cast<long>(plan.todo.size()));
 
   std::mutex error_mutex;
   std::string first_error;
-  const long n_todo = static_cast<long>(todo.size());
+  const long n_todo = static_cast<long>(plan.todo.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(std::max(opt.threads, 1))
   for (long k = 0; k < n_todo; ++k) {
-    const std::size_t i = todo[static_cast<std::size_t>(k)];
-    const CaseSpec& spec = study.cases[i];
+    const std::size_t i = plan.todo[static_cast<std::size_t>(k)];
     try {
-      History history;
-      CaseRecord rec = run_case(spec, history);
-      write_case_file(cases_dir / (spec.id + ".h5"), spec, rec, history, prov);
-      records[i] = std::move(rec);
-      have[i] = 1;
-      progress.case_done(records[i].status != "ok");
+      plan.records[i] = run_and_write_case(study, plan, i);
+      plan.have[i] = 1;  // vector<char>: distinct elements written from threads
+      progress.case_done(plan.records[i].status != "ok");
     } catch (const std::exception& e) {
       std::lock_guard lock(error_mutex);
-      if (first_error.empty()) first_error = "case " + spec.id + ": " + e.what();
+      if (first_error.empty()) first_error = "case " + study.cases[i].id + ": " + e.what();
       progress.case_done(true);
     }
   }
@@ -221,17 +243,51 @@ int run_study(const Study& study, const RunOptions& opt) {
 
   std::vector<CaseRecord> rows;
   for (std::size_t i = 0; i < study.cases.size(); ++i)
-    if (have[i]) rows.push_back(records[i]);
-  // a shard writes its own summary; `rodend merge` assembles the study's
-  const fs::path summary_dir =
-      opt.shard_count > 1 ? dir / ("shard-" + std::to_string(opt.shard_index) + "-of-" +
-                                   std::to_string(opt.shard_count))
-                          : dir;
-  fs::create_directories(summary_dir);
-  write_summary(summary_dir, study, rows, prov);
-  const bool any_failed =
-      std::any_of(rows.begin(), rows.end(), [](const CaseRecord& r) { return r.status != "ok"; });
-  return any_failed ? 1 : 0;
+    if (plan.have[i]) rows.push_back(plan.records[i]);
+  return write_run_summary(study, plan, rows);
+}
+
+int merge_study(const Study& study, std::ostream& report) {
+  const fs::path dir = study.output_dir;
+  const fs::path cases_dir = dir / "cases";
+  std::vector<CaseRecord> rows;
+  rows.reserve(study.cases.size());
+  std::vector<const CaseSpec*> missing;
+  // the shard count, when the shard summaries present agree on one (to name missing shards)
+  int shards = 0;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    int k = 0, n = 0;
+    char tail = 0;
+    const std::string name = e.path().filename().string();
+    if (std::sscanf(name.c_str(), "shard-%d-of-%d%c", &k, &n, &tail) == 2 && n > 0)
+      shards = (shards == 0 || shards == n) ? n : -1;
+  }
+  if (shards < 0) shards = 0;
+  for (const CaseSpec& c : study.cases) {
+    if (auto rec = read_case_record(cases_dir / (c.id + ".h5")))
+      rows.push_back(std::move(*rec));
+    else
+      missing.push_back(&c);
+  }
+  if (!missing.empty()) {
+    report << "rodend: " << missing.size() << " of " << study.cases.size()
+           << " cases have no complete file in " << cases_dir.string()
+           << "; no summary written. Missing (case index, case id"
+           << (shards > 0 ? ", shard K/N" : "") << "):\n";
+    for (const CaseSpec* c : missing) {
+      report << "  " << c->index << "\t" << c->id;
+      if (shards > 0) report << "\t" << (c->index % shards) + 1 << "/" << shards;
+      report << "\n";
+    }
+    return 1;
+  }
+  write_summary(dir, study, rows, provenance(study));
+  const auto failed =
+      std::count_if(rows.begin(), rows.end(), [](const CaseRecord& r) { return r.status != "ok"; });
+  report << "rodend: merged " << rows.size() << " cases (" << failed << " failed) into "
+         << (dir / "summary.h5").string() << " and summary.csv\n";
+  return 0;
 }
 
 }  // namespace rodend

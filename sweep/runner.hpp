@@ -4,9 +4,16 @@
 // Thread-safety rule: a Scene is immutable and built per case; the driver, its scratch, the
 // recorder and the metrics belong to one case on one thread; nothing in the physics is shared
 // mutably between threads. All HDF5 I/O goes through sweep/results.hpp, which serialises it.
+//
+// The building blocks below (plan_run, run_and_write_case, Progress, read_records) are shared
+// by run_study (one process), the MPI runner (sweep/mpi_runner.hpp: one study over the ranks of
+// an mpirun job) and merge_study (the summary of a study run in shards).
 #pragma once
 
+#include <chrono>
+#include <filesystem>
 #include <iosfwd>
+#include <mutex>
 
 #include "sweep/results.hpp"
 #include "sweep/study.hpp"
@@ -14,7 +21,7 @@
 namespace rodend {
 
 struct RunOptions {
-  int threads = 1;            ///< OpenMP threads over cases
+  int threads = 1;            ///< OpenMP threads over cases (per rank under MPI)
   bool rerun_failed = false;  ///< rerun cases whose stored status is a failure
   bool progress = true;       ///< progress on stderr
   int shard_index = 1;        ///< run only the shard_index-th of shard_count slices (1-based)
@@ -33,5 +40,56 @@ int run_study(const Study& study, const RunOptions& options);
 
 /// The cases of one shard: case index i belongs to shard (i mod N) + 1.
 bool in_shard(const CaseSpec& c, const RunOptions& o);
+
+/// Assembles `study.output_dir`/summary.{h5,csv} from the case files in
+/// `study.output_dir`/cases (every case of the study, whichever shard or rank wrote it).
+/// Returns 0 when every case has a complete file (failed cases included: their status is in the
+/// summary), 1 when some are missing: they are listed on `report` and no summary is written.
+int merge_study(const Study& study, std::ostream& report);
+
+// ---------------------------------------------------------------------------------------------
+// Building blocks
+
+/// What a run has to do, decided from the case files present (resume).
+struct RunPlan {
+  std::filesystem::path dir;          ///< the study's results directory
+  std::filesystem::path cases_dir;    ///< dir/cases
+  std::filesystem::path summary_dir;  ///< dir, or dir/shard-K-of-N for a shard
+  Json provenance;
+  std::vector<CaseRecord> records;    ///< by case index; valid where have[i]
+  std::vector<char> have;             ///< case i has a complete file that is kept
+  std::vector<std::size_t> todo;      ///< case indices to run, in grid order
+  long in_scope = 0;                  ///< cases of this shard (all cases without shards)
+};
+
+/// Creates the results directories, writes study.json, and reads the case files present: a
+/// complete case is kept (unless failed and options.rerun_failed), the others are to run.
+/// Throws InputError when the results directory cannot be created or written.
+RunPlan plan_run(const Study& study, const RunOptions& options);
+
+/// Runs case `i` of the study and writes its file into plan.cases_dir. Returns its record;
+/// throws std::runtime_error when the file cannot be written (or InputError when the case
+/// does not build).
+CaseRecord run_and_write_case(const Study& study, const RunPlan& plan, std::size_t i);
+
+/// Writes the summary of `rows` (grid order) into plan.summary_dir. Returns 0 when every row
+/// is ok, 1 otherwise.
+int write_run_summary(const Study& study, const RunPlan& plan, const std::vector<CaseRecord>& rows);
+
+/// Progress on stderr: one updating line on a terminal, periodic plain lines otherwise.
+/// Thread-safe.
+class Progress {
+ public:
+  Progress(bool enabled, long total, long already);
+  void case_done(bool failed);
+
+ private:
+  bool enabled_, tty_;
+  long total_, done_, failed_ = 0;
+  std::chrono::steady_clock::time_point start_;
+  long already_;
+  double last_print_ = 0.0;
+  std::mutex mutex_;
+};
 
 }  // namespace rodend

@@ -29,8 +29,8 @@ InputError thrown_input_error(const std::function<void()>& f) {
   return InputError("", "");
 }
 
-SphericalContactModel steel_model(double chi) {
-  SphericalContactModel m;
+ClearanceContactModel steel_model(double chi) {
+  ClearanceContactModel m;
   m.ball_radius = 0.01;
   m.clearance = 0.5e-3;
   m.stiffness = 6.9e10;
@@ -42,7 +42,7 @@ SphericalContactModel steel_model(double chi) {
 
 /// The ball displaced by `pen` beyond the clearance along +x, moving at `rate` along +x
 /// (positive: approaching the socket wall), socket fixed at the origin.
-BodyKinematics ball_at(const SphericalContactModel& m, double pen, double rate,
+BodyKinematics ball_at(const ClearanceContactModel& m, double pen, double rate,
                        const Vec3& tangential_velocity = Vec3::Zero()) {
   BodyKinematics b = BodyKinematics::fixed(Vec3(m.clearance + pen, 0.0, 0.0));
   b.v_W = Vec3(rate, 0.0, 0.0) + tangential_velocity;
@@ -117,7 +117,7 @@ TEST_CASE("normal force is never negative, however fast the contact separates", 
   const double chi = GENERATE(0.0, 0.75, 1.5, 14.4);
   const double rate = GENERATE(-1e-4, -0.01, -1.0, -10.0);
   const bool latched = GENERATE(true, false);
-  const SphericalContactModel m = steel_model(chi);
+  const ClearanceContactModel m = steel_model(chi);
   const BodyKinematics socket = BodyKinematics::fixed(Vec3::Zero());
   const ContactLatch latch{latched, 1e-3};
   const ContactEval e = evaluate_contact(m, ball_at(m, 1e-6, rate), socket, latch);
@@ -136,7 +136,7 @@ TEST_CASE("normal force is never negative, however fast the contact separates", 
 }
 
 TEST_CASE("no force across a gap", "[contact]") {
-  const SphericalContactModel m = steel_model(0.75);
+  const ClearanceContactModel m = steel_model(0.75);
   const BodyKinematics socket = BodyKinematics::fixed(Vec3::Zero());
   for (double pen : {-1e-4, -1e-12, 0.0}) {
     const ContactEval e = evaluate_contact(m, ball_at(m, pen, 1.0, Vec3(0, 0.5, 0)), socket,
@@ -239,7 +239,7 @@ TEST_CASE("friction opposes the slip with mu F_n", "[friction]") {
   fp.dynamic_coefficient = 0.1;
   fp.static_speed = 1e-3;
   fp.dynamic_speed = 5e-3;
-  SphericalContactModel m = steel_model(0.0);
+  ClearanceContactModel m = steel_model(0.0);
   m.friction = make_friction_law(fp);
   const BodyKinematics socket = BodyKinematics::fixed(Vec3::Zero());
   // ball pressed 1 um into the wall along +x, sliding along +y at 0.1 m/s (> v_dyn)

@@ -21,8 +21,9 @@ constexpr double kDeg = 180.0 / std::numbers::pi;
 /// Rod lengths across the closing range (|t - s|, t + s) = (0.27, 0.49) m, the stroke ends
 /// l0 +- 0.06 m included, staying 10 mm clear of the flat triangles at the range ends.
 std::vector<double> rod_lengths() {
-  return {0.28,        0.30,        0.34, 0.40,        0.46,       0.48,  // across the range
-          kRod - 0.06, kRod - 0.01, kRod, kRod + 0.01, kRod + 0.06};      // around l0
+  std::vector<double> l = {0.28, 0.30, 0.34, 0.40, 0.46, 0.48};            // across the range
+  for (double d : {-0.06, -0.01, 0.0, 0.01, 0.06}) l.push_back(kRod + d);  // around l0
+  return l;
 }
 
 /// Distances are built from the lengths 0.11-0.49 m; 1e-12 m is ~1e4 ulp of those, far above

@@ -31,7 +31,7 @@ class GravityDropScene final : public Scene {
  public:
   explicit GravityDropScene(const ParameterSet& p)
       : ball_(read_body(p, "ball")),
-        contact_(read_spherical_contact(p, "contact", "friction")),
+        contact_(read_clearance_contact(p, "contact", "friction")),
         gravity_(p.vec3("gravity")),
         offset_(p.vec3("ball.initial_offset")),
         v0_(p.vec3("ball.initial_velocity")),
@@ -95,7 +95,7 @@ class GravityDropScene final : public Scene {
 
  private:
   RigidBodyParams ball_;
-  SphericalContactModel contact_;
+  ClearanceContactModel contact_;
   Vec3 gravity_, offset_, v0_;
   BodyKinematics socket_;
 };

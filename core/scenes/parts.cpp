@@ -30,9 +30,9 @@ RigidBodyParams read_body(const ParameterSet& p, const std::string& prefix) {
   return b;
 }
 
-SphericalContactModel read_spherical_contact(const ParameterSet& p, const std::string& prefix,
+ClearanceContactModel read_clearance_contact(const ParameterSet& p, const std::string& prefix,
                                              const std::string& fprefix) {
-  SphericalContactModel m;
+  ClearanceContactModel m;
   m.ball_radius = read_positive(p, prefix + ".ball_radius");
   const double c = p.number(prefix + ".clearance");
   if (!(c > 0.0))
@@ -48,11 +48,23 @@ SphericalContactModel read_spherical_contact(const ParameterSet& p, const std::s
     throw InputError(prefix + ".ball_poisson_ratio", "expected -1 < nu < 0.5");
   if (!(nus > -1.0 && nus < 0.5))
     throw InputError(prefix + ".socket_poisson_ratio", "expected -1 < nu < 0.5");
-  m.stiffness = p.number(prefix + ".stiffness_scale") *
-                sphere_in_sphere_stiffness(m.ball_radius, m.socket_radius(), Eb, nub, Es, nus);
+  // the elastic force is the geometry's (contact.hpp); the laws below supply only chi(c_r)
+  const std::string geometry = p.text(prefix + ".geometry");
+  double coefficient = 0.0;
+  if (geometry == "sphere") {
+    m.geometry = ContactGeometry::sphere;
+    coefficient = sphere_in_sphere_stiffness(m.ball_radius, m.socket_radius(), Eb, nub, Es, nus);
+  } else if (geometry == "cylinder") {
+    m.geometry = ContactGeometry::cylinder;
+    coefficient = cylinder_in_cylinder_coefficient(read_positive(p, prefix + ".bearing_length"),
+                                                   Eb, nub, Es, nus);
+  } else {
+    throw InputError(prefix + ".geometry", "expected \"sphere\" or \"cylinder\"");
+  }
+  m.stiffness = p.number(prefix + ".stiffness_scale") * coefficient;
   if (!(m.stiffness > 0.0) || !std::isfinite(m.stiffness))
     throw InputError(prefix + ".stiffness_scale", "expected a value > 0");
-  m.exponent = 1.5;
+  m.exponent = 1.5;  // both geometries (thesis 3.3; model-notes §3)
   const std::string law_name = p.text(prefix + ".law");
   const NormalLaw* law = find_normal_law(law_name);
   if (!law) throw InputError(prefix + ".law", "unknown normal-contact law '" + law_name + "'");

@@ -20,9 +20,11 @@ inline double solid_sphere_inertia(double mass, double radius) {
   return 0.4 * mass * radius * radius;
 }
 
-/// The clearance contact under `<prefix>` (clearance, ball_radius, materials, law, restitution,
-/// min_impact_speed) and the friction under `<friction_prefix>`.
-SphericalContactModel read_spherical_contact(const ParameterSet& p, const std::string& prefix,
+/// The clearance contact under `<prefix>` (geometry, clearance, ball_radius, bearing_length,
+/// materials, stiffness_scale, law, restitution, min_impact_speed) and the friction under
+/// `<friction_prefix>`. `geometry` "sphere" (Hertz, ball in a conformal socket) or "cylinder"
+/// (pin in a bearing of length `bearing_length`, read only then).
+ClearanceContactModel read_clearance_contact(const ParameterSet& p, const std::string& prefix,
                                              const std::string& friction_prefix);
 
 /// A 3-D spring under `<prefix>` (stiffness, damping, rotational_stiffness, rotational_damping),

@@ -27,7 +27,7 @@ RodEndMechanism::RodEndMechanism(const ParameterSet& p)
     : geometry_(read_geometry(p)),
       ball_(read_body(p, "ball")),
       socket_(read_body(p, "socket")),
-      contact_(read_spherical_contact(p, "contact", "friction")),
+      contact_(read_clearance_contact(p, "contact", "friction")),
       slider_spring_(read_spring(p, "slider_spring")),
       crank_spring_(read_spring(p, "crank_spring")),
       hinge_(read_hinge(p, "hinge")),

@@ -60,7 +60,7 @@ class RodEndMechanism {
   void outputs(const Eval& e, const double* x, SignalFrame& f) const;
 
   ContactGap gap(const double* x) const;
-  const SphericalContactModel& contact() const { return contact_; }
+  const ClearanceContactModel& contact() const { return contact_; }
   const SliderCrank& geometry() const { return geometry_; }
   double surface_inertia() const { return surface_inertia_; }
 
@@ -73,7 +73,7 @@ class RodEndMechanism {
  private:
   SliderCrank geometry_;
   RigidBodyParams ball_, socket_;
-  SphericalContactModel contact_;
+  ClearanceContactModel contact_;
   Spring3DParams slider_spring_, crank_spring_;
   double surface_inertia_ = 0.0;  ///< m (s/3)^2 + I about the hinge [kg m^2] (eq. 4.15-4.16)
   double surface_damping_ = 0.0;  ///< c [N m s/rad]

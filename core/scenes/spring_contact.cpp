@@ -36,7 +36,7 @@ class SpringContactScene final : public Scene {
   explicit SpringContactScene(const ParameterSet& p)
       : ball_(read_body(p, "ball")),
         socket_(read_body(p, "socket")),
-        contact_(read_spherical_contact(p, "contact", "friction")),
+        contact_(read_clearance_contact(p, "contact", "friction")),
         tether_(read_spring(p, "tether")),
         drive_(read_spring(p, "drive")),
         drive_velocity_(p.vec3("drive.velocity")),
@@ -144,7 +144,7 @@ class SpringContactScene final : public Scene {
 
  private:
   RigidBodyParams ball_, socket_;
-  SphericalContactModel contact_;
+  ClearanceContactModel contact_;
   Spring3DParams tether_, drive_;
   Vec3 drive_velocity_;
   double drive_start_;

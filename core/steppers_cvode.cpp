@@ -1,0 +1,179 @@
+// SUNDIALS CVODE in the integrator menu: BDF (stiff, Newton with a dense direct solver) and
+// Adams (non-stiff, fixed-point iteration), on the same scaled right-hand side, one internal
+// step at a time (CV_ONE_STEP), with CVODE's dense output and its own root finding for
+// contact onset (the penetration of each contact, crossing zero upwards).
+#include <cvode/cvode.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
+
+#include <sstream>
+
+#include "core/stepper.hpp"
+
+namespace rodend::detail {
+namespace {
+
+class CvodeStepper final : public Stepper {
+ public:
+  CvodeStepper(ScaledSystem& sys, const Scene& scene, const IntegratorSettings& s)
+      : sys_(sys), scene_(scene), s_(s), n_(static_cast<sunindextype>(sys.scale.size())) {
+    if (SUNContext_Create(nullptr, &ctx_) != 0) fail("cannot create a SUNDIALS context");
+    y_ = N_VNew_Serial(n_, ctx_);
+    tmp_ = N_VNew_Serial(n_, ctx_);
+    const bool bdf = s.method == "cvode_bdf";
+    mem_ = CVodeCreate(bdf ? CV_BDF : CV_ADAMS, ctx_);
+    if (!y_ || !tmp_ || !mem_) fail("cannot create CVODE");
+    z_buf_.resize(static_cast<std::size_t>(n_));
+    dz_buf_.resize(static_cast<std::size_t>(n_));
+    N_VConst(0.0, y_);
+    check(CVodeInit(mem_, &CvodeStepper::rhs, 0.0, y_), "CVodeInit");
+    check(CVodeSetUserData(mem_, this), "CVodeSetUserData");
+    // scalar tolerances on the scaled state, as for every method of the menu
+    check(CVodeSStolerances(mem_, s.rel_tol, s.abs_tol), "CVodeSStolerances");
+    check(CVodeSetMaxStep(mem_, s.max_step), "CVodeSetMaxStep");
+    check(CVodeSetMinStep(mem_, 0.0), "CVodeSetMinStep");
+    check(CVodeSetMaxNumSteps(mem_, -1), "CVodeSetMaxNumSteps");  // the driver keeps the budget
+    check(CVodeSetMaxHnilWarns(mem_, -1), "CVodeSetMaxHnilWarns");
+    if (bdf) {
+      A_ = SUNDenseMatrix(n_, n_, ctx_);
+      ls_ = SUNLinSol_Dense(y_, A_, ctx_);
+      check(CVodeSetLinearSolver(mem_, ls_, A_), "CVodeSetLinearSolver");
+    } else {
+      nls_ = SUNNonlinSol_FixedPoint(y_, 0, ctx_);
+      check(CVodeSetNonlinearSolver(mem_, nls_), "CVodeSetNonlinearSolver");
+    }
+    const int nc = scene.contact_count();
+    if (nc > 0) {
+      check(CVodeRootInit(mem_, nc, &CvodeStepper::roots_fn), "CVodeRootInit");
+      std::vector<int> dir(static_cast<std::size_t>(nc), 1);  // onsets only: upward crossings
+      check(CVodeSetRootDirection(mem_, dir.data()), "CVodeSetRootDirection");
+      check(CVodeSetNoInactiveRootWarn(mem_), "CVodeSetNoInactiveRootWarn");
+      found_.resize(static_cast<std::size_t>(nc));
+    }
+  }
+  ~CvodeStepper() override {
+    if (mem_) CVodeFree(&mem_);
+    if (ls_) SUNLinSolFree(ls_);
+    if (A_) SUNMatDestroy(A_);
+    if (nls_) SUNNonlinSolFree(nls_);
+    if (y_) N_VDestroy(y_);
+    if (tmp_) N_VDestroy(tmp_);
+    if (ctx_) SUNContext_Free(&ctx_);
+  }
+
+  void reset(const state_t& z, double t, double dt) override {
+    std::copy(z.begin(), z.end(), N_VGetArrayPointer(y_));
+    check(CVodeReInit(mem_, t, y_), "CVodeReInit");
+    check(CVodeSetInitStep(mem_, dt > 0.0 ? std::min(dt, s_.max_step) : 0.0), "CVodeSetInitStep");
+    z_now = z;
+    t_now = t;
+    counted_steps_ = counted_fails_ = 0;
+  }
+  void step(double t_limit) override {
+    z_prev = z_now;
+    t_prev = t_now;
+    roots.clear();
+    // never past the end of the run (tstop), but free to step over sample times (dense)
+    check(CVodeSetStopTime(mem_, t_limit), "CVodeSetStopTime");
+    double t = t_prev;
+    const int flag = CVode(mem_, t_limit, y_, &t, CV_ONE_STEP);
+    if (flag < 0) {
+      std::ostringstream m;
+      m << "CVODE failed at t = " << t_prev << " s: " << CVodeGetReturnFlagName(flag);
+      const auto status =
+          (flag == CV_TOO_CLOSE || flag == CV_ERR_FAILURE || flag == CV_CONV_FAILURE)
+              ? RunStatus::step_size_underflow
+              : RunStatus::non_finite_state;
+      throw RunFailure{status, m.str()};
+    }
+    if (flag == CV_ROOT_RETURN) {
+      check(CVodeGetRootInfo(mem_, found_.data()), "CVodeGetRootInfo");
+      for (std::size_t i = 0; i < found_.size(); ++i)
+        if (found_[i] > 0) roots.push_back(static_cast<int>(i));
+    }
+    t_now = t;
+    const double* y = N_VGetArrayPointer(y_);
+    z_now.assign(y, y + n_);
+    // CVODE's own counts (cumulative since the last re-initialisation)
+    long nst = 0, netf = 0, nni_fail = 0;
+    CVodeGetNumSteps(mem_, &nst);
+    CVodeGetNumErrTestFails(mem_, &netf);
+    CVodeGetNumNonlinSolvConvFails(mem_, &nni_fail);
+    accepted += nst - counted_steps_;
+    rejected += (netf + nni_fail) - counted_fails_;
+    counted_steps_ = nst;
+    counted_fails_ = netf + nni_fail;
+  }
+  void interpolate(double t, state_t& out) override {
+    check(CVodeGetDky(mem_, t, 0, tmp_), "CVodeGetDky");
+    const double* y = N_VGetArrayPointer(tmp_);
+    out.assign(y, y + n_);
+  }
+  bool dense() const override { return true; }
+  bool finds_roots() const override { return true; }
+  double suggested_dt() const override {
+    double h = 0.0;
+    CVodeGetCurrentStep(mem_, &h);
+    return h;
+  }
+
+ private:
+  static int rhs(double t, N_Vector y, N_Vector ydot, void* user) {
+    auto* self = static_cast<CvodeStepper*>(user);
+    const double* yy = N_VGetArrayPointer(y);
+    self->z_buf_.assign(yy, yy + self->n_);
+    try {
+      self->sys_(self->z_buf_, self->dz_buf_, t);
+    } catch (const RunFailure& f) {
+      self->pending_ = f;
+      return -1;  // unrecoverable: CVODE returns, the driver reports the budget failure
+    }
+    std::copy(self->dz_buf_.begin(), self->dz_buf_.end(), N_VGetArrayPointer(ydot));
+    return 0;
+  }
+  static int roots_fn(double, N_Vector y, double* g, void* user) {
+    auto* self = static_cast<CvodeStepper*>(user);
+    const double* yy = N_VGetArrayPointer(y);
+    state_t& x = self->sys_.x;
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = yy[i] * self->sys_.scale[i];
+    for (int c = 0; c < self->scene_.contact_count(); ++c)
+      g[c] = self->scene_.contact_gap(c, x.data()).penetration;
+    return 0;
+  }
+  void check(int flag, const char* what) {
+    if (flag < 0) {
+      if (pending_.status != RunStatus::ok) throw pending_;
+      fail(std::string(what) + " failed: " + CVodeGetReturnFlagName(flag));
+    }
+  }
+  [[noreturn]] void fail(const std::string& m) {
+    throw RunFailure{RunStatus::non_finite_state, "CVODE: " + m};
+  }
+
+  ScaledSystem& sys_;
+  const Scene& scene_;
+  IntegratorSettings s_;
+  sunindextype n_;
+  SUNContext ctx_ = nullptr;
+  N_Vector y_ = nullptr, tmp_ = nullptr;
+  SUNMatrix A_ = nullptr;
+  SUNLinearSolver ls_ = nullptr;
+  SUNNonlinearSolver nls_ = nullptr;
+  void* mem_ = nullptr;
+  state_t z_buf_, dz_buf_;
+  std::vector<int> found_;
+  long counted_steps_ = 0, counted_fails_ = 0;
+  RunFailure pending_{RunStatus::ok, {}};
+};
+
+}  // namespace
+
+std::unique_ptr<Stepper> make_cvode_stepper(ScaledSystem& sys, const Scene& scene,
+                                            const IntegratorSettings& s) {
+  return std::make_unique<CvodeStepper>(sys, scene, s);
+}
+
+}  // namespace rodend::detail
