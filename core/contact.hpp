@@ -47,10 +47,13 @@ class NormalLaw {
   virtual bool defined_at_zero_restitution() const { return true; }
 };
 
-/// Restitution achieved by a free impact under F = K delta^n (1 + chi delta'/delta'^-), from the
-/// dimensionless impact x'' = -x^n (1 + chi x'), x(0) = 0, x'(0) = 1, which holds for any mass,
-/// speed and stiffness (core/laws/restitution_matched.cpp, which inverts it).
-double dimensionless_impact_restitution(double chi, double n);
+/// Restitution e achieved by a free impact under F = F_el(delta) (1 + chi delta'/delta'^-), for
+/// any elastic force F_el (either geometry), mass and approach speed (above min_impact_speed):
+/// the root of ln((1 + chi)/(1 - chi e)) = chi (1 + e); 1 at chi = 0. Derivation in
+/// core/laws/restitution_matched.cpp.
+double free_impact_restitution(double chi);
+/// Its inverse: the chi whose free impact restitutes e (0 at e = 1, infinite at e = 0).
+double hysteresis_for_restitution(double e);
 
 /// The catalogue of normal laws (core/laws/*.cpp, listed in core/laws/normal_laws.def).
 const NormalLaw* find_normal_law(std::string_view name);

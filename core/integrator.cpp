@@ -29,6 +29,8 @@ std::string_view to_string(RunStatus s) {
     case RunStatus::step_size_underflow: return "step_size_underflow";
     case RunStatus::non_finite_state: return "non_finite_state";
     case RunStatus::penetration_limit: return "penetration_limit";
+    case RunStatus::energy_residual_limit: return "energy_residual_limit";
+    case RunStatus::actuator_saturation: return "actuator_saturation";
   }
   return "unknown";
 }
@@ -64,6 +66,18 @@ void validate(const TimeSettings& s) {
                      "more than 5e7 samples requested; expected a larger sample interval");
 }
 
+void validate(const HealthLimits& h) {
+  auto check = [](double v, bool zero_ok, const char* key, const char* what) {
+    if (!std::isfinite(v) || (zero_ok ? !(v >= 0.0) : !(v > 0.0)))
+      throw InputError(key, std::string("expected a finite ") + what);
+  };
+  check(h.max_penetration_fraction, false, "health.max_penetration_fraction", "fraction > 0");
+  check(h.max_energy_residual, false, "health.max_energy_residual", "fraction > 0");
+  check(h.energy_flow_floor, true, "health.energy_flow_floor", "energy >= 0 [J]");
+  check(h.max_tracking_error, false, "health.max_tracking_error", "length > 0 [m]");
+  check(h.tracking_window, true, "health.tracking_window", "time >= 0 [s]");
+}
+
 namespace {
 
 bool all_finite(const state_t& z) {
@@ -90,7 +104,13 @@ class Driver {
     for (int o : scene.audit_offsets()) scale_[static_cast<std::size_t>(o)] *= 1e12;
     discrete_.contacts.assign(static_cast<std::size_t>(scene.contact_count()), ContactLatch{});
     const auto sig = scene.signals();
-    provides_force_ = std::find(sig.begin(), sig.end(), SignalId::contact_force) != sig.end();
+    auto provides = [&](SignalId id) { return std::find(sig.begin(), sig.end(), id) != sig.end(); };
+    provides_force_ = provides(SignalId::contact_force);
+    checks_energy_ = provides(SignalId::energy_residual) && provides(SignalId::input_work) &&
+                     provides(SignalId::dissipated_energy);
+    checks_tracking_ =
+        provides(SignalId::actuator_command) && provides(SignalId::actuator_position);
+    signals_.assign(sig.begin(), sig.end());
     n_samples_ = static_cast<long long>(std::floor(time.end / time.sample_interval + 1e-9)) + 1;
   }
 
@@ -135,9 +155,59 @@ class Driver {
 
   void emit_sample(long long k, const state_t& z) {
     unscale(z, x_);
-    frame_.set(SignalId::time, sample_time(k));
-    scene_.outputs(sample_time(k), x_.data(), discrete_, frame_);
+    const double t = sample_time(k);
+    frame_.set(SignalId::time, t);
+    scene_.outputs(t, x_.data(), discrete_, frame_);
+    check_frame_finite(t);
     obs_.on_sample(frame_);
+    check_health_at_sample(t);
+  }
+
+  /// A frame with a non-finite value never reaches the observer: the run ends there.
+  void check_frame_finite(double t) {
+    for (SignalId id : signals_)
+      for (int k = 0; k < signal_spec(id).width; ++k)
+        if (!std::isfinite(frame_.get(id, k))) {
+          std::ostringstream m;
+          m << "non-finite signal " << signal_spec(id).name << " at t = " << t << " s";
+          throw RunFailure{RunStatus::non_finite_state, m.str()};
+        }
+  }
+
+  /// Health checks on the sample frame just emitted (energy audit, actuator tracking).
+  void check_health_at_sample(double t) {
+    if (checks_energy_) {
+      const double r = frame_.get(SignalId::energy_residual);
+      max_energy_flow_ = std::max({max_energy_flow_, std::abs(frame_.get(SignalId::input_work)),
+                                   std::abs(frame_.get(SignalId::dissipated_energy))});
+      if (max_energy_flow_ > health_.energy_flow_floor &&
+          std::abs(r) > health_.max_energy_residual * max_energy_flow_) {
+        std::ostringstream m;
+        m << "energy-audit residual " << std::abs(r) / max_energy_flow_
+          << " x the largest energy flow (" << max_energy_flow_
+          << " J) exceeds the limit " << health_.max_energy_residual << " at t = " << t << " s";
+        stats_.t_reached = t;
+        throw RunFailure{RunStatus::energy_residual_limit, m.str()};
+      }
+    }
+    if (checks_tracking_) {
+      const double e = std::abs(frame_.get(SignalId::actuator_command) -
+                                frame_.get(SignalId::actuator_position));
+      if (!(e > health_.max_tracking_error)) {
+        tracking_since_ = -1.0;
+      } else if (tracking_since_ < 0.0) {
+        tracking_since_ = t;
+      }
+      if (tracking_since_ >= 0.0 && t - tracking_since_ > health_.tracking_window) {
+        std::ostringstream m;
+        m << "actuator cannot follow its command: |command - position| = " << e
+          << " m, above max_tracking_error " << health_.max_tracking_error << " m since t = "
+          << tracking_since_ << " s (longer than tracking_window " << health_.tracking_window
+          << " s) at t = " << t << " s";
+        stats_.t_reached = t;
+        throw RunFailure{RunStatus::actuator_saturation, m.str()};
+      }
+    }
   }
 
   /// Emits every sample in (t_from, t_to] from the stepper's interpolant.
@@ -198,8 +268,10 @@ class Driver {
       std::ostringstream m;
       m << "non-finite state at t = " << stepper_->t_now << " s (last finite t = "
         << stepper_->t_prev << " s)";
+      stats_.t_reached = stepper_->t_prev;
       throw RunFailure{RunStatus::non_finite_state, m.str()};
     }
+    stats_.t_reached = stepper_->t_now;  // an accepted, finite step
     if (stepper_->accepted + stepper_->rejected > settings_.max_steps) {
       std::ostringstream m;
       m << "step budget of " << settings_.max_steps << " steps exhausted at t = "
@@ -304,6 +376,7 @@ class Driver {
     for (double t : times) {
       if (!(t > t0 && t < t1)) continue;
       frame_at(t);
+      check_frame_finite(t);
       obs_.on_step(frame_);
     }
   }
@@ -318,9 +391,20 @@ class Driver {
 
       // contact onset found by the method itself (CVODE's root finding): latch it there
       if (stepper_->finds_roots() && !stepper_->roots.empty()) {
-        emit_samples_until(stepper_->t_now);
+        // re-take the step from its start up to the root, as for a located onset below: the
+        // method's interpolant over the crossing step carries the contact force back to the
+        // samples before the root and into the restart state
+        const std::vector<int> found = stepper_->roots;
+        const double t_root = stepper_->t_now;
+        const state_t z_start = stepper_->z_prev;
+        stepper_->reset(z_start, stepper_->t_prev, t_root - stepper_->t_prev);
+        while (stepper_->t_now < t_root) {
+          stepper_->step(t_root);
+          check_health_after_step();
+          emit_samples_until(stepper_->t_now);
+        }
         unscale(stepper_->z_now, x_);
-        for (int c : stepper_->roots) {
+        for (int c : found) {
           ContactLatch& l = discrete_.contacts[static_cast<std::size_t>(c)];
           if (l.in_contact) continue;
           l.in_contact = true;
@@ -376,6 +460,7 @@ class Driver {
         refine_impact_peaks();
         frame_.set(SignalId::time, stepper_->t_now);
         scene_.outputs(stepper_->t_now, x_.data(), discrete_, frame_);
+        check_frame_finite(stepper_->t_now);
         obs_.on_step(frame_);
       }
       state_t& z = stepper_->z_now;
@@ -400,6 +485,10 @@ class Driver {
   long long n_samples_ = 0, next_sample_ = 0;
   RunStats stats_;
   bool provides_force_ = false;
+  bool checks_energy_ = false, checks_tracking_ = false;
+  std::vector<SignalId> signals_;   ///< the scene's signals (checked finite in every frame)
+  double max_energy_flow_ = 0.0;    ///< largest |input work|, |dissipated| at samples so far [J]
+  double tracking_since_ = -1.0;    ///< first sample of the current tracking excess [s], or -1
   double latch_time_ = 0.0;  ///< time at which latch_if_touching is evaluated
 };
 
@@ -409,6 +498,7 @@ RunResult simulate(const Scene& scene, const IntegratorSettings& settings,
                    const TimeSettings& time, RunObserver& observer, const HealthLimits& health) {
   validate(settings);
   validate(time);
+  validate(health);
   Driver d(scene, settings, time, observer, health);
   return d.run();
 }

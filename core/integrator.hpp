@@ -32,9 +32,22 @@ struct TimeSettings {
   double sample_interval = 1e-3;  ///< history sample interval [s]
 };
 
-/// Health limits checked on every accepted step.
+/// Health limits (study key "health"). The penetration is checked on every accepted step; the
+/// energy audit and the actuator tracking at every sample time, on the frame the driver computes
+/// for the sample anyway (cheap; resolved to one sample interval).
 struct HealthLimits {
   double max_penetration_fraction = 0.2;  ///< penetration / clearance above which a run fails [-]
+  /// |energy-audit residual| relative to the largest energy flow so far (max |input work|,
+  /// |dissipated energy|) above which a run fails [-] (scenes with an energy audit)
+  double max_energy_residual = 0.01;
+  /// the energy check starts once the largest energy flow exceeds this floor [J]: before, the
+  /// relative residual is round-off over nothing (and a conservative run never reaches it)
+  double energy_flow_floor = 1e-9;
+  /// |command - position| of the actuator above which it is not following [m] (scenes with an
+  /// actuator command) ...
+  double max_tracking_error = 5e-3;
+  /// ... and for longer than this window the run fails as actuator_saturation [s]
+  double tracking_window = 0.1;
 };
 
 std::vector<std::string_view> integrator_methods();
@@ -46,6 +59,8 @@ enum class RunStatus {
   step_size_underflow,
   non_finite_state,
   penetration_limit,
+  energy_residual_limit,  ///< energy-audit residual beyond health.max_energy_residual
+  actuator_saturation,    ///< actuator tracking error beyond health.max_tracking_error too long
 };
 std::string_view to_string(RunStatus s);
 
@@ -69,7 +84,9 @@ struct RunResult {
 class RunObserver {
  public:
   virtual ~RunObserver() = default;
-  /// At t = 0 and every sample interval (and never after a failure).
+  /// At t = 0 and every sample interval (and never after a failure). Every value of a frame
+  /// passed here or to on_step is finite: a non-finite output ends the run as non_finite_state
+  /// before it reaches the observer.
   virtual void on_sample(const SignalFrame& /*frame*/) {}
   /// At the end of every accepted step, when wants_steps() is true (metrics that need peaks).
   virtual void on_step(const SignalFrame& /*frame*/) {}
@@ -81,6 +98,8 @@ class RunObserver {
 /// Checks settings; throws InputError with a key path under "integrator." or "time.".
 void validate(const IntegratorSettings& s);
 void validate(const TimeSettings& s);
+/// Checks health limits; throws InputError with a key path under "health.".
+void validate(const HealthLimits& h);
 
 /// Runs `scene` from its initial state to `time.end`. Never throws for numerical trouble: a
 /// failed run returns its status, a message and the time reached.

@@ -33,7 +33,8 @@ MetricsAccumulator::MetricsAccumulator(const Scene& scene, const MetricsSettings
       has_surface_(provides(scene, SignalId::surface_angle)),
       has_energy_(provides(scene, SignalId::energy_residual)),
       has_rates_(provides(scene, SignalId::penetration_rate) &&
-                 provides(scene, SignalId::impact_speed)) {
+                 provides(scene, SignalId::impact_speed)),
+      has_chambers_(provides(scene, SignalId::chamber_pressures)) {
   v_.fill(kNaN);
   if (has_contact_) {
     for (MetricId id : {MetricId::first_impact_peak_force, MetricId::max_contact_force,
@@ -83,15 +84,17 @@ void MetricsAccumulator::on_step(const SignalFrame& f) {
         dissipated_before_ = first_step_ ? 0.0 : dissipated_prev_;
       }
     }
-    if (!touching && in_contact_ && episode_ == 1 && has_rates_) {
+    const double exit_rate = f.get(SignalId::penetration_rate);
+    if (!touching && in_contact_ && episode_ == 1 && has_rates_ && exit_rate < 0.0) {
       // the first episode ended during this step: this step end is the first after it. The
       // rate here is the exit speed delta'+ once the bodies fly freely (no force after the
-      // end); the end is extrapolated back along it, not before the previous step end.
-      const double rate = f.get(SignalId::penetration_rate);
+      // end); the end is extrapolated back along it, not before the previous step end. (A
+      // penetration that turns <= 0 while still approaching is no separation, but a body gone
+      // through the centre of a failing run: the metrics of the episode then stay NaN.)
       const double approach = at(v_, MetricId::first_impact_speed);
-      if (approach > 0.0) at(v_, MetricId::first_impact_restitution) = -rate / approach;
-      const double end = rate < 0.0 ? std::max(t - pen / rate, t_prev_) : t;
-      at(v_, MetricId::first_impact_duration) = end - first_onset_;
+      if (approach > 0.0) at(v_, MetricId::first_impact_restitution) = -exit_rate / approach;
+      at(v_, MetricId::first_impact_duration) =
+          std::max(t - pen / exit_rate, t_prev_) - first_onset_;
       if (has_energy_)
         at(v_, MetricId::first_impact_dissipated_energy) =
             f.get(SignalId::dissipated_energy) - dissipated_before_;
@@ -117,6 +120,11 @@ void MetricsAccumulator::on_step(const SignalFrame& f) {
     if (std::isnan(at(v_, MetricId::surface_motion_onset_time)) &&
         std::abs(a) > settings_.surface_motion_threshold)
       at(v_, MetricId::surface_motion_onset_time) = t;
+  }
+  if (has_chambers_) {
+    const double p = std::max(f.get(SignalId::chamber_pressures, 0), f.get(SignalId::chamber_pressures, 1));
+    double& m = at(v_, MetricId::max_chamber_pressure);
+    m = std::isnan(m) ? p : std::max(m, p);
   }
   if (has_energy_) {
     const double w = f.get(SignalId::input_work);

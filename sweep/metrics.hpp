@@ -47,6 +47,7 @@ class MetricsAccumulator {
  private:
   MetricsSettings settings_;
   bool has_contact_ = false, has_surface_ = false, has_energy_ = false, has_rates_ = false;
+  bool has_chambers_ = false;
   double t_prev_ = 0.0, force_prev_ = 0.0, wear_prev_ = 0.0;
   bool first_step_ = true;
   MetricValues v_{};

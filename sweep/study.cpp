@@ -8,6 +8,7 @@
 #include <functional>
 #include <sstream>
 
+#include "core/presets.hpp"
 #include "core/scene.hpp"
 
 namespace rodend {
@@ -60,7 +61,12 @@ Json CaseSpec::canonical() const {
           {"parameters", as_doubles(parameters.values())},
           {"integrator", to_json(integrator)},
           {"time", {{"end", time.end}, {"sample_interval", time.sample_interval}}},
-          {"health", {{"max_penetration_fraction", health.max_penetration_fraction}}},
+          {"health",
+           {{"max_penetration_fraction", health.max_penetration_fraction},
+            {"max_energy_residual", health.max_energy_residual},
+            {"energy_flow_floor", health.energy_flow_floor},
+            {"max_tracking_error", health.max_tracking_error},
+            {"tracking_window", health.tracking_window}}},
           {"metrics",
            {{"post_impact_window", metrics.post_impact_window},
             {"surface_motion_threshold", metrics.surface_motion_threshold}}},
@@ -127,7 +133,12 @@ void apply(Draft& d, const std::string& key, const Json& v) {
   }
   if (section == "integrator") {
     auto& s = d.integrator;
-    if (field == "method") s.method = need_string(v, key);
+    if (field == "preset") {
+      const std::string name = need_string(v, key);
+      const auto p = preset_settings(d.scene, name);
+      if (!p) throw InputError(key, "unknown preset '" + name + "'; expected fast, balanced or reference");
+      s = *p;
+    } else if (field == "method") s.method = need_string(v, key);
     else if (field == "abs_tol") s.abs_tol = need_number(v, key);
     else if (field == "rel_tol") s.rel_tol = need_number(v, key);
     else if (field == "step") s.step = need_number(v, key);
@@ -137,7 +148,7 @@ void apply(Draft& d, const std::string& key, const Json& v) {
     else if (field == "max_rhs_calls") s.max_rhs_calls = need_integer(v, key);
     else if (field == "contact_onset") s.contact_onset = need_string(v, key);
     else
-      throw InputError(key, "unknown integrator setting; expected one of method, abs_tol, "
+      throw InputError(key, "unknown integrator setting; expected one of preset, method, abs_tol, "
                             "rel_tol, step, max_step, min_step, max_steps, max_rhs_calls, "
                             "contact_onset");
     return;
@@ -149,13 +160,17 @@ void apply(Draft& d, const std::string& key, const Json& v) {
     return;
   }
   if (section == "health") {
-    if (field == "max_penetration_fraction") {
-      d.health.max_penetration_fraction = need_number(v, key);
-      if (!(d.health.max_penetration_fraction > 0.0))
-        throw InputError(key, "expected a fraction > 0");
-    } else {
-      throw InputError(key, "unknown health setting; expected max_penetration_fraction");
-    }
+    auto& h = d.health;
+    if (field == "max_penetration_fraction") h.max_penetration_fraction = need_number(v, key);
+    else if (field == "max_energy_residual") h.max_energy_residual = need_number(v, key);
+    else if (field == "energy_flow_floor") h.energy_flow_floor = need_number(v, key);
+    else if (field == "max_tracking_error") h.max_tracking_error = need_number(v, key);
+    else if (field == "tracking_window") h.tracking_window = need_number(v, key);
+    else
+      throw InputError(key, "unknown health setting; expected one of max_penetration_fraction, "
+                            "max_energy_residual, energy_flow_floor, max_tracking_error, "
+                            "tracking_window");
+    validate(d.health);  // the others are defaults or were checked when set
     return;
   }
   if (section == "metrics") {
@@ -165,6 +180,8 @@ void apply(Draft& d, const std::string& key, const Json& v) {
     else
       throw InputError(key, "unknown metrics setting; expected post_impact_window or "
                             "surface_motion_threshold");
+    if (const double x = need_number(v, key); !(x >= 0.0) || !std::isfinite(x))
+      throw InputError(key, "expected a finite number >= 0");
     return;
   }
   throw InputError(key, "unknown section '" + section +
@@ -199,6 +216,9 @@ void apply_section(Draft& d, const Json& doc, const std::string& section) {
   const Json& obj = need_object(doc[section], section);
   std::vector<std::pair<std::string, Json>> flat;
   flatten(obj, section, flat);
+  // a preset sets every integrator field: apply it first, so the keys beside it override it
+  std::stable_partition(flat.begin(), flat.end(),
+                        [](const auto& kv) { return kv.first == "integrator.preset"; });
   for (const auto& [k, v] : flat) apply(d, k, v);
 }
 
@@ -319,6 +339,7 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
     Draft base;
     base.scene = study.scene;
     base.parameters = ParameterSet::defaults_for(study.scene);  // unknown scene -> key "scene"
+    base.integrator = *preset_settings(study.scene, kDefaultPreset);  // overridden below
     if (!doc.contains("time")) throw InputError("time", "missing: {\"end\": ..., \"sample_interval\": ...}");
     for (const char* section : {"parameters", "integrator", "time", "health", "metrics"})
       apply_section(base, doc, section);

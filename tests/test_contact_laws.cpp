@@ -8,6 +8,7 @@
 #include "core/math.hpp"
 #include "core/scene.hpp"
 #include "fixture.hpp"
+#include "sweep/study.hpp"
 
 using namespace rodend;
 using namespace rodend::test;
@@ -164,6 +165,13 @@ TEST_CASE("hysteresis factors chi(c_r) of the normal laws (model-notes §3)", "[
         Approx(8.0 * (1 - cr) / (5.0 * cr)).epsilon(1e-15).margin(1e-300));
   CHECK(find_normal_law("gonthier")->hysteresis_factor(cr) ==
         Approx((1 - cr * cr) / cr).epsilon(1e-15).margin(1e-300));
+  // the flap-actuation study's modified law: Gonthier's chi, meant for the cylinder geometry
+  CHECK(find_normal_law("flap-modified")->hysteresis_factor(cr) ==
+        Approx((1 - cr * cr) / cr).epsilon(1e-15).margin(1e-300));
+  // restitution-matched: chi solved numerically (tests/test_impact_pair.cpp); decreasing in c_r
+  const NormalLaw* rm = find_normal_law("restitution-matched");
+  REQUIRE(rm);
+  if (cr < 1.0) CHECK(rm->hysteresis_factor(cr) > rm->hysteresis_factor(std::min(cr + 0.05, 1.0)));
   // perfectly elastic: every law is undamped at c_r = 1
   if (cr == 1.0)
     for (const NormalLaw* law : normal_laws()) CHECK(law->hysteresis_factor(1.0) == 0.0);
@@ -173,7 +181,8 @@ TEST_CASE("hysteresis factors chi(c_r) of the normal laws (model-notes §3)", "[
 
 TEST_CASE("laws that divide by c_r reject c_r = 0 when a scene is built", "[contact]") {
   const std::string scene = GENERATE(as<std::string>{}, "gravity-drop", "spring-contact");
-  const std::string law = GENERATE(as<std::string>{}, "flores", "gonthier");
+  const std::string law =
+      GENERATE(as<std::string>{}, "flores", "gonthier", "flap-modified", "restitution-matched");
   ParameterSet p = ParameterSet::defaults_for(scene);
   p.set("contact.law", law);
   p.set("contact.restitution", 0.0);
@@ -284,4 +293,97 @@ TEST_CASE("the other friction laws", "[friction]") {
   CHECK(make_friction_law(f) == nullptr);
   f.law = "bogus";
   CHECK_THROWS_AS(make_friction_law(f), std::invalid_argument);
+}
+
+TEST_CASE("every friction law: mu(0) = 0, continuous, its limits", "[friction]") {
+  // the laws share FrictionParams; each uses the coefficients it needs (contact.hpp)
+  FrictionParams f;
+  f.static_coefficient = 0.12;
+  f.dynamic_coefficient = 0.1;
+  f.static_speed = 1e-3;
+  f.dynamic_speed = 5e-3;
+  f.viscous_coefficient = 0.0;
+  const std::string name = GENERATE(as<std::string>{}, "thesis", "ambrosio", "coulomb", "none");
+  CAPTURE(name);
+  f.law = name;
+  const auto law = make_friction_law(f);
+  if (name == "none") {
+    // no law object: the contact then applies no friction at all
+    REQUIRE(law == nullptr);
+    ClearanceContactModel m = steel_model(0.0);
+    m.friction = nullptr;
+    const ContactEval e = evaluate_contact(
+        m, ball_at(m, 1e-6, 0.0, Vec3(0.0, 0.1, 0.0)), BodyKinematics::fixed(Vec3::Zero()),
+        {true, 1e-3});
+    REQUIRE(e.normal_force > 0.0);
+    CHECK(e.friction_on_ball == Vec3::Zero());
+    CHECK(e.friction_power == 0.0);
+    return;
+  }
+  REQUIRE(law);
+  CHECK(law->name() == name);
+  // mu(0) = 0 exactly: the friction force -mu F_n v_t/|v_t| then goes to 0 with the slip,
+  // continuous through zero slip whatever its direction
+  CHECK(law->coefficient(0.0) == 0.0);
+  // Lipschitz: no jump anywhere on [0, 4 v_dyn]; slope bounds by hand: thesis 1.5 x the
+  // steepest blend (rise / width), Ambrosio c_f / (v1 - v0), Coulomb mu / v_eps (tanh' <= 1)
+  const double slope =
+      name == "thesis" ? 1.5 * std::max(2 * f.static_coefficient / (2 * f.static_speed),
+                                        (f.static_coefficient - f.dynamic_coefficient) /
+                                            (f.dynamic_speed - f.static_speed))
+      : name == "ambrosio" ? f.dynamic_coefficient / (f.dynamic_speed - f.static_speed)
+                           : f.dynamic_coefficient / f.static_speed;
+  const double h = 1e-7;
+  double worst = 0.0;
+  for (double v = 0.0; v < 4 * f.dynamic_speed; v += h) {
+    worst = std::max(worst, std::abs(law->coefficient(v + h) - law->coefficient(v)) / (slope * h));
+    REQUIRE(law->coefficient(v) >= 0.0);
+  }
+  measured(name + " friction: max |d mu| / (slope bound * dv)", worst, 1.0);
+  CHECK(worst <= 1.0 + 1e-6);  // the slope bound, plus round-off of mu over dv = 1e-7
+  // limits at large slip: the dynamic coefficient (no viscous term here); tanh(1000) = 1
+  CHECK(law->coefficient(1.0) == Approx(f.dynamic_coefficient).epsilon(1e-14));
+  CHECK(law->coefficient(100.0) == Approx(f.dynamic_coefficient).epsilon(1e-14));
+  // near zero slip: thesis and Coulomb rise at once (slope 1.5 mu_st/v_st for the cubic step
+  // centred on 0, mu/v_eps for tanh); Ambrosio is 0 up to v0
+  const double small = 1e-9;
+  if (name == "thesis")
+    CHECK(law->coefficient(small) / small ==
+          Approx(1.5 * f.static_coefficient / f.static_speed).epsilon(1e-5));
+  if (name == "coulomb")
+    CHECK(law->coefficient(small) / small ==
+          Approx(f.dynamic_coefficient / f.static_speed).epsilon(1e-5));
+  if (name == "ambrosio") CHECK(law->coefficient(0.999 * f.static_speed) == 0.0);
+}
+
+TEST_CASE("the contact and friction laws are selectable per study", "[friction][contact]") {
+  // every scene with a contact lists exactly the catalogues' laws as choices of contact.law
+  // and friction.law, and a study can pick each of them (parameters.friction.law)
+  std::vector<std::string> normal, friction;
+  for (const NormalLaw* l : normal_laws()) normal.emplace_back(l->name());
+  for (std::string_view n : friction_law_names()) friction.emplace_back(n);
+  for (const SceneEntry& s : scene_catalogue()) {
+    const ParameterSet p = ParameterSet::defaults_for(s.name);
+    if (!p.has("contact.law")) continue;
+    CAPTURE(s.name);
+    const Json leaves = p.leaves();
+    CHECK(leaves.at("contact.law").at("choices").get<std::vector<std::string>>() == normal);
+    CHECK(leaves.at("friction.law").at("choices").get<std::vector<std::string>>() == friction);
+    CHECK(leaves.at("contact.geometry").at("choices").get<std::vector<std::string>>() ==
+          std::vector<std::string>{"sphere", "cylinder"});
+    for (const std::string& law : friction) {
+      ParameterSet q = p;
+      q.set("friction.law", law);
+      CHECK_NOTHROW(make_scene(s.name, q));
+    }
+  }
+  // through a study file, as a grid axis
+  const Json doc = {
+      {"scene", "impact-pair"},
+      {"time", {{"end", 1e-4}, {"sample_interval", 1e-5}}},
+      {"grid", {{{"key", "parameters.friction.law"}, {"values", friction}}}}};
+  const Study study = parse_study(doc, "friction-laws.json");
+  REQUIRE(study.cases.size() == friction.size());
+  for (std::size_t i = 0; i < friction.size(); ++i)
+    CHECK(study.cases[i].parameters.text("friction.law") == friction[i]);
 }

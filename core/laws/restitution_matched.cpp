@@ -1,30 +1,29 @@
-// Restitution-matched law: chi(c_r) solved numerically so that a free impact restitutes exactly
-// the requested c_r. Undefined at c_r = 0 (it would need chi = infinity).
+// Restitution-matched law: chi(c_r) chosen so that a free impact restitutes exactly the
+// requested c_r, for either geometry. Undefined at c_r = 0 (it would need chi = infinity).
 //
-// Why it can be done once for every mass, speed and stiffness: for a pure power law
-// F = K delta^n (1 + chi delta'/delta'^-) and two bodies of reduced mass m meeting at speed v
-// (or one body on a fixed one), delta = d x and t = (d/v) tau with d = (m v^2/K)^(1/(n+1)) give
-//     x'' = -x^n (1 + chi x'),   x(0) = 0,  x'(0) = 1,
-// free of m, v and K: the achieved restitution e = -x'(end of contact) depends on chi and n
-// only (n = 1.5, both geometries of contact.hpp). So chi(c_r) is the root of e(chi) = c_r.
+// Why one relation holds for every geometry, mass and speed. In a free impact (two bodies, or
+// one on a fixed one, reduced mass m, nothing else acting) the pipeline of contact.hpp gives
+//     m delta'' = -F_el(delta) (1 + chi delta'/v),   v = delta'^- (latched at the onset).
+// Multiply by delta' and divide by (1 + chi delta'/v):  m delta' d(delta') / (1 + chi delta'/v)
+// = -F_el(delta) d(delta). Over the whole contact delta goes from 0 back to 0, so the right
+// side integrates to 0 whatever F_el is (sphere, cylinder, any exponent), and with w = delta'/v
+// going from 1 to -e:
+//     int_{-e}^{1} w / (1 + chi w) dw = 0   <=>   ln((1 + chi) / (1 - chi e)) = chi (1 + e).
+// The division is legitimate: g = 1 + chi delta'/v obeys g' = -(chi/(m v)) F_el g, so g never
+// reaches 0 and the no-pull clamp never acts in a free impact (also e < 1/chi).
+// The achieved restitution e therefore depends on chi alone (for an approach speed above the
+// guard contact.min_impact_speed, below which the damping uses the guard instead of v).
+// Expanding for small chi gives chi = 3 (1 - e^2) / (2 (1 + e^3)) + ..., whose leading term
+// near e = 1 is Lankarani-Nikravesh's 3 (1 - e^2) / 4: the published laws are approximations of
+// this relation, good near c_r = 1 (see the README's "Contact laws").
 //
-// Properties used by the solver:
-//  - g = 1 + chi x' obeys g' = chi x'' = -chi x^n g, so g never reaches 0: the no-pull clamp
-//    never acts in a free impact, and the exit speed stays below 1/chi, i.e. e(chi) < 1/chi.
-//    Hence [0, 1/c_r] brackets the root (e(0) = 1 >= c_r, e(1/c_r) < c_r).
-//  - e(chi) decreases with chi (more damping, less rebound).
-// e(chi) is integrated with Dormand-Prince 5(4) at abs/rel 1e-13 with dense output; the end of
-// contact (x back to 0) is located on the interpolant by bisection, and x' read there. The root
-// is found by the Illinois variant of regula falsi to |e - c_r| <= 1e-11.
-// Residual: e(chi) is reproduced to ~1e-11 (checked against classical RK4 at dtau = 1e-4 in
-// tests/test_impact_pair.cpp), so the law restitutes c_r to that, up to the simulator's own
-// integration error. It is exact for the sphere (pure power law); on the cylinder geometry,
-// F_el ~ delta^1.5 (1 - delta/(2 dR) + ...), so the match is off by O(delta_max/dR), under
-// 1e-3 for the impacts of the shipped scenes.
-//
-// Cost: ~20 solves of a ~100-step integration, well under a millisecond, once per scene built.
-#include <array>
-#include <boost/numeric/odeint.hpp>
+// Numerics: the relation is solved by bisection to the last bits (about 60 halvings), on
+// G(chi, e) = [ln(1 + chi) - ln(1 - e chi) - chi (1 + e)] / chi^2, which removes the trivial root
+// chi = 0; for chi <= 0.05 G is summed from its series sum_{k>=2} ((-1)^(k+1) + e^k) chi^(k-2)/k
+// (no cancellation). G(., e) < 0 below the root and > 0 above it (the numerator is concave then
+// convex in chi), and G(chi, .) increases with e. Residual: round-off only (checked in
+// tests/test_impact_pair.cpp against a direct integration of the impact, and through the
+// simulator to 1e-7).
 #include <cmath>
 
 #include "core/contact.hpp"
@@ -32,72 +31,56 @@
 namespace rodend {
 namespace {
 
-namespace odeint = boost::numeric::odeint;
-using State = std::array<double, 2>;  // x, x'
-
-constexpr double kExponent = 1.5;
+/// G(chi, e) above, for chi > 0, 0 <= e <= 1, e chi < 1.
+double relation(double chi, double e) {
+  if (chi <= 0.05) {
+    double sum = 0.0, chi_pow = 1.0, e_pow = e;  // chi^(k-2), e^(k-1)
+    for (int k = 2; k <= 18; ++k) {
+      e_pow *= e;
+      sum += ((k % 2 == 1 ? 1.0 : -1.0) + e_pow) * chi_pow / k;
+      chi_pow *= chi;
+    }
+    return sum;
+  }
+  return (std::log1p(chi) - std::log1p(-e * chi) - chi * (1.0 + e)) / (chi * chi);
+}
 
 class Law final : public NormalLaw {
  public:
   std::string_view name() const override { return "restitution-matched"; }
-  double hysteresis_factor(double cr) const override {
-    if (cr >= 1.0) return 0.0;
-    // Illinois regula falsi on f(chi) = e(chi) - c_r over [0, 1/c_r]
-    double a = 0.0, fa = 1.0 - cr;
-    double b = 1.0 / cr, fb = dimensionless_impact_restitution(b, kExponent) - cr;
-    // for small c_r, e(1/c_r) is within round-off of c_r (e -> 1/chi as chi grows): then 1/c_r
-    // is the root to that accuracy
-    if (!(fb < 0.0)) return b;
-    int side = 0;
-    double c = b;
-    for (int it = 0; it < 200; ++it) {
-      c = (a * fb - b * fa) / (fb - fa);
-      const double fc = dimensionless_impact_restitution(c, kExponent) - cr;
-      if (std::abs(fc) <= 1e-11 || b - a <= 1e-15 * b) break;
-      if ((fc > 0.0) == (fa > 0.0)) {
-        a = c;
-        fa = fc;
-        if (side == -1) fb *= 0.5;
-        side = -1;
-      } else {
-        b = c;
-        fb = fc;
-        if (side == +1) fa *= 0.5;
-        side = +1;
-      }
-    }
-    return c;
-  }
+  double hysteresis_factor(double cr) const override { return hysteresis_for_restitution(cr); }
   bool defined_at_zero_restitution() const override { return false; }
 };
 
 }  // namespace
 
-double dimensionless_impact_restitution(double chi, double n) {
-  const auto rhs = [chi, n](const State& s, State& ds, double) {
-    ds[0] = s[1];
-    // no force across a gap; g = 1 + chi x' stays > 0 (see above), clamped all the same
-    ds[1] = s[0] > 0.0 ? -std::pow(s[0], n) * std::max(1.0 + chi * s[1], 0.0) : 0.0;
-  };
-  auto stepper = odeint::make_dense_output(1e-13, 1e-13, odeint::runge_kutta_dopri5<State>());
-  stepper.initialize(State{0.0, 1.0}, 0.0, 1e-3);
-  State s{};
-  for (int i = 0; i < 1'000'000; ++i) {
-    stepper.do_step(rhs);
-    const State& now = stepper.current_state();
-    if (now[0] < 0.0 && now[1] < 0.0) {
-      // back through x = 0: locate it on the interpolant and read the speed there
-      double lo = stepper.previous_time(), hi = stepper.current_time();
-      for (int k = 0; k < 80 && hi - lo > 1e-15 * hi; ++k) {
-        const double mid = 0.5 * (lo + hi);
-        stepper.calc_state(mid, s);
-        (s[0] > 0.0 ? lo : hi) = mid;
-      }
-      stepper.calc_state(hi, s);
-      return -s[1];
-    }
+double free_impact_restitution(double chi) {
+  if (!(chi > 0.0)) return 1.0;
+  double lo = 0.0, hi = std::min(1.0, 1.0 / chi);
+  for (int it = 0; it < 200 && hi - lo > 2e-16 * hi; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    if (1.0 - chi * mid <= 0.0 || relation(chi, mid) >= 0.0)
+      hi = mid;
+    else
+      lo = mid;
   }
-  return std::nan("");  // never ends (cannot happen for chi < infinity)
+  return 0.5 * (lo + hi);
+}
+
+double hysteresis_for_restitution(double e) {
+  if (e >= 1.0) return 0.0;
+  if (!(e > 0.0)) return INFINITY;
+  double lo = 0.0, hi = 1.0 / e;
+  for (int it = 0; it < 200 && hi - lo > 2e-16 * hi; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    if (1.0 - e * mid <= 0.0 || relation(mid, e) >= 0.0)
+      hi = mid;
+    else
+      lo = mid;
+  }
+  // for small e the root lies within round-off of 1/e (1 - e chi = (1 + chi) exp(-chi (1 + e)),
+  // e.g. 2e-42 at e = 0.01): the bracket then closes on 1/e itself
+  return 0.5 * (lo + hi);
 }
 
 const NormalLaw& restitution_matched_law() {

@@ -35,7 +35,16 @@ class GravityDropScene final : public Scene {
         gravity_(p.vec3("gravity")),
         offset_(p.vec3("ball.initial_offset")),
         v0_(p.vec3("ball.initial_velocity")),
-        socket_(BodyKinematics::fixed(Vec3::Zero())) {}
+        socket_(BodyKinematics::fixed(Vec3::Zero())) {
+    // the ball cannot start inside the socket wall (README "Modelling decisions"): resting on
+    // it, |offset| = clearance, is the deepest start (round-off allowed)
+    if (offset_.norm() > contact_.clearance * (1.0 + 1e-12))
+      throw InputError("ball.initial_offset",
+                       "the ball would start inside the socket wall: |offset| = " +
+                           format_number(offset_.norm()) + " m exceeds contact.clearance = " +
+                           format_number(contact_.clearance) +
+                           " m; expected |offset| <= the clearance (at most resting on the wall)");
+  }
 
   std::string_view name() const override { return "gravity-drop"; }
   int state_size() const override { return kStates; }

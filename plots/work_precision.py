@@ -1,0 +1,199 @@
+#!/usr/bin/python3
+"""Work-precision study: runs the shipped studies for one scene (every method of the integrator
+menu at a ladder of tolerances, rk4 at a ladder of steps, and the references), measures the error
+of well-conditioned quantities against a reference computed with a *different* high-order method
+at a much tighter tolerance, and the cost (right-hand-side calls, steps, wall time: minimum of
+the repeats), then writes a table and the work-precision diagram.
+
+    /usr/bin/python3 plots/work_precision.py --scene rod-end-kinematic [--repeats 3] [--threads 1]
+
+Outputs in results/work-precision-<scene>/: table.csv, table.md, presets.md and
+work_precision.png (error against cost, log-log, one line per method).
+
+Errors (per case, then the largest over the clearance cases of a configuration):
+  relative error |x - x_ref| / |x_ref| of first_contact_time, first_impact_speed,
+  first_impact_peak_force, max_contact_force, wear_integral, max_eccentricity and
+  max_chamber_pressure (actuator scenes); final_surface_angle relative to the reference's largest
+  |surface angle| (the final angle itself is near zero); and the pointwise eccentricity history
+  up to the first impact, relative to the clearance. Final-state errors after many impacts are
+  chaotic and are not used.
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+METRICS = ["first_contact_time", "first_impact_speed", "first_impact_peak_force",
+           "max_contact_force", "wear_integral", "max_eccentricity", "final_surface_angle",
+           "max_chamber_pressure"]
+
+
+def run(rodend, study, root, threads):
+    r = subprocess.run([rodend, "run", study, "--results-root", root, "-q", "--threads", str(threads)],
+                       capture_output=True, text=True)
+    if r.returncode not in (0, 1):
+        sys.exit(f"work_precision: {study}: {r.stderr.strip()}")
+
+
+def summary(study_dir):
+    with h5py.File(os.path.join(study_dir, "summary.h5"), "r") as f:
+        g = f["summary"]
+        out = {}
+        for k in json.loads(g.attrs["columns"]):
+            v = g[k][()]
+            if v.dtype.kind in "OS":
+                v = np.array([x.decode() if isinstance(x, bytes) else x for x in v])
+            out[k] = v
+    return out
+
+
+def rows(study_dir):
+    s = summary(study_dir)
+    n = len(s["case_id"])
+    return [{k: s[k][i] for k in s} for i in range(n)]
+
+
+def history(study_dir, case_id, name):
+    with h5py.File(os.path.join(study_dir, "cases", case_id + ".h5"), "r") as f:
+        return f["signals/time"][()], f["signals/" + name][()]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--scene", default="rod-end-kinematic")
+    ap.add_argument("--rodend", default="./build/rodend")
+    ap.add_argument("--repeats", type=int, default=3, help="runs for the minimum wall time")
+    ap.add_argument("--threads", type=int, default=1, help="threads over cases (1: cleanest timing)")
+    ap.add_argument("--skip-run", action="store_true", help="analyse existing results only")
+    a = ap.parse_args()
+    out = os.path.join("results", "work-precision-" + a.scene)
+    os.makedirs(out, exist_ok=True)
+    studies = {"adaptive": f"studies/work-precision-{a.scene}.json",
+               "rk4": f"studies/work-precision-rk4-{a.scene}.json",
+               "reference": f"studies/work-precision-reference-{a.scene}.json"}
+    names = {k: json.load(open(v))["name"] for k, v in studies.items()}
+    if not a.skip_run:
+        run(a.rodend, studies["reference"], os.path.join(out, "ref"), 2)
+        for k in range(a.repeats):
+            for key in ("adaptive", "rk4"):
+                run(a.rodend, studies[key], os.path.join(out, f"run{k}"), a.threads)
+
+    ref_dir = os.path.join(out, "ref", names["reference"])
+    refs = {}  # (clearance, reference method) -> row
+    for r in rows(ref_dir):
+        refs[(float(r["parameters.contact.clearance"]), r["integrator.method"])] = r
+
+    configs = {}  # (method, setting) -> list of per-case dicts
+    for key in ("adaptive", "rk4"):
+        per_repeat = [rows(os.path.join(out, f"run{k}", names[key])) for k in range(a.repeats)]
+        for i, r in enumerate(per_repeat[0]):
+            method = "rk4" if key == "rk4" else r["integrator.method"]
+            setting = float(r["integrator.step"]) if key == "rk4" else float(r["integrator.rel_tol"])
+            c = float(r["parameters.contact.clearance"])
+            ref_method = "dopri5" if method == "fehlberg78" else "fehlberg78"
+            ref = refs[(c, ref_method)]
+            ok = all(p[i]["status"] == "ok" for p in per_repeat)
+            err = {}
+            for m in METRICS:
+                if m not in r or not np.isfinite(float(ref[m])):
+                    continue
+                x, xr = float(r[m]), float(ref[m])
+                scale = abs(float(ref["max_surface_angle"])) if m == "final_surface_angle" else abs(xr)
+                err[m] = abs(x - xr) / scale if ok and scale > 0 else math.inf
+            # pointwise eccentricity history up to the first impact (relative to the clearance)
+            t1 = float(ref["first_contact_time"])
+            t, e = history(os.path.join(out, "run0", names[key]), r["case_id"], "eccentricity")
+            tr, er = history(ref_dir, ref["case_id"], "eccentricity")
+            m_ = (t < t1) & (tr[: len(t)] < t1) if len(t) == len(tr) else np.zeros(0, bool)
+            err["history_before_first_impact"] = (float(np.max(np.abs(e[m_] - er[m_]))) / c
+                                                  if ok and m_.any() else math.inf)
+            configs.setdefault((method, setting), []).append({
+                "ok": ok,
+                "rhs_calls": float(r["rhs_calls"]),
+                "steps": float(r["steps_accepted"]) + float(r["steps_rejected"]),
+                "wall": min(float(p[i]["wall_time_s"]) for p in per_repeat),
+                "err": err})
+
+    table = []
+    for (method, setting), cases in sorted(configs.items()):
+        metrics = sorted({m for c in cases for m in c["err"]})
+        worst = {m: max(c["err"].get(m, 0.0) for c in cases) for m in metrics}
+        table.append({"method": method, "setting": setting,
+                      "ok": all(c["ok"] for c in cases),
+                      "rhs_calls": sum(c["rhs_calls"] for c in cases),
+                      "steps": sum(c["steps"] for c in cases),
+                      "wall_s": sum(c["wall"] for c in cases),
+                      "max_error": max(worst.values()), **{"err_" + m: v for m, v in worst.items()}})
+    cols = []
+    for t in table:
+        cols += [k for k in t if k not in cols]
+    with open(os.path.join(out, "table.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=cols, restval=float("nan"))
+        w.writeheader()
+        w.writerows(table)
+
+    # presets: the cheapest (wall time) configuration within each error target
+    def cheapest(limit):
+        good = [t for t in table if t["ok"] and t["max_error"] <= limit]
+        return min(good, key=lambda t: t["wall_s"]) if good else None
+    choice = {"fast (<= 10 %)": cheapest(0.10), "balanced (<= 1 %)": cheapest(0.01),
+              "reference": min((t for t in table if t["ok"]), key=lambda t: t["max_error"])}
+
+    def fmt_setting(t):
+        return f"step {t['setting']:g} s" if t["method"] == "rk4" else f"tol {t['setting']:g}"
+    errs = [k for k in cols if k.startswith("err_")]
+    with open(os.path.join(out, "table.md"), "w") as f:
+        f.write("| method | setting | " + " | ".join(e[4:] for e in errs) +
+                " | max error | RHS calls | steps | wall [s] |\n")
+        f.write("|---" * (len(errs) + 6) + "|\n")
+        for t in table:
+            f.write(f"| {t['method']} | {fmt_setting(t)} | " +
+                    " | ".join(f"{t.get(e, float('nan')):.2g}" for e in errs) +
+                    f" | {t['max_error']:.2g} | {t['rhs_calls']:.3g} | {t['steps']:.3g} | {t['wall_s']:.3g} |\n")
+    with open(os.path.join(out, "presets.md"), "w") as f:
+        f.write("| preset | method | setting | max error | worst metric | RHS calls | wall [s] |\n|---|---|---|---|---|---|---|\n")
+        for name, t in choice.items():
+            if t is None:
+                f.write(f"| {name} | (none reaches it) | | | | | |\n")
+                continue
+            worst = max(errs, key=lambda e: t.get(e, 0.0))
+            f.write(f"| {name} | {t['method']} | {fmt_setting(t)} | {t['max_error']:.2g} | {worst[4:]} | "
+                    f"{t['rhs_calls']:.3g} | {t['wall_s']:.3g} |\n")
+
+    fig, axes = plt.subplots(1, 2, figsize=(12, 5))
+    for method in sorted({t["method"] for t in table}):
+        pts = sorted((t["rhs_calls"], t["wall_s"], t["max_error"]) for t in table
+                     if t["method"] == method and t["ok"] and np.isfinite(t["max_error"]))
+        if not pts:
+            continue
+        x1, x2, y = zip(*pts)
+        axes[0].loglog(x1, y, "o-", label=method)
+        axes[1].loglog(x2, y, "o-", label=method)
+    for ax, xl in zip(axes, ["right-hand-side calls (sum over the cases)", "wall time [s] (min of repeats, sum over the cases)"]):
+        ax.axhline(0.01, color="k", ls="--", lw=0.8)
+        ax.set_xlabel(xl)
+        ax.set_ylabel("largest relative error over the metrics [-]")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].legend(fontsize=8)
+    fig.suptitle(f"Work-precision, {a.scene}: thesis clearance study, one cycle per case "
+                 "(dashed: 1 % error)")
+    fig.tight_layout()
+    png = os.path.join(out, "work_precision.png")
+    fig.savefig(png, dpi=150)
+    print(open(os.path.join(out, "presets.md")).read())
+    print("wrote", png, os.path.join(out, "table.md"))
+
+
+if __name__ == "__main__":
+    main()
