@@ -57,10 +57,16 @@ void validate(const IntegratorSettings& s) {
 }
 
 void validate(const TimeSettings& s) {
+  auto got = [](double v) {
+    std::ostringstream o;
+    o << v;
+    return o.str();
+  };
   if (!(s.end > 0.0) || !std::isfinite(s.end))
-    throw InputError("time.end", "expected an end time > 0 [s]");
+    throw InputError("time.end", "expected an end time > 0 [s], got " + got(s.end));
   if (!(s.sample_interval > 0.0) || !std::isfinite(s.sample_interval))
-    throw InputError("time.sample_interval", "expected a sample interval > 0 [s]");
+    throw InputError("time.sample_interval",
+                     "expected a sample interval > 0 [s], got " + got(s.sample_interval));
   if (s.end / s.sample_interval > 5e7)
     throw InputError("time.sample_interval",
                      "more than 5e7 samples requested; expected a larger sample interval");
@@ -108,6 +114,7 @@ class Driver {
     provides_force_ = provides(SignalId::contact_force);
     checks_energy_ = provides(SignalId::energy_residual) && provides(SignalId::input_work) &&
                      provides(SignalId::dissipated_energy);
+    has_kinetic_ = provides(SignalId::kinetic_energy);
     checks_tracking_ =
         provides(SignalId::actuator_command) && provides(SignalId::actuator_position);
     signals_.assign(sig.begin(), sig.end());
@@ -178,13 +185,16 @@ class Driver {
   void check_health_at_sample(double t) {
     if (checks_energy_) {
       const double r = frame_.get(SignalId::energy_residual);
+      // the energy scale: what crossed the boundary (input work, dissipation) and what moves
+      // inside it (kinetic energy: a falling ball's or a conservative run's exchanges)
       max_energy_flow_ = std::max({max_energy_flow_, std::abs(frame_.get(SignalId::input_work)),
-                                   std::abs(frame_.get(SignalId::dissipated_energy))});
+                                   std::abs(frame_.get(SignalId::dissipated_energy)),
+                                   has_kinetic_ ? frame_.get(SignalId::kinetic_energy) : 0.0});
       if (max_energy_flow_ > health_.energy_flow_floor &&
           std::abs(r) > health_.max_energy_residual * max_energy_flow_) {
         std::ostringstream m;
         m << "energy-audit residual " << std::abs(r) / max_energy_flow_
-          << " x the largest energy flow (" << max_energy_flow_
+          << " x the largest energy flow or kinetic energy (" << max_energy_flow_
           << " J) exceeds the limit " << health_.max_energy_residual << " at t = " << t << " s";
         stats_.t_reached = t;
         throw RunFailure{RunStatus::energy_residual_limit, m.str()};
@@ -402,6 +412,10 @@ class Driver {
           stepper_->step(t_root);
           check_health_after_step();
           emit_samples_until(stepper_->t_now);
+          // the re-take found the root a hair before t_root (a grazing approach): latch there;
+          // stepping on from a root without re-initialising is CVODE's CV_ILL_INPUT ("root
+          // found at and very near t")
+          if (!stepper_->roots.empty()) break;
         }
         unscale(stepper_->z_now, x_);
         for (int c : found) {
@@ -417,9 +431,16 @@ class Driver {
         continue;
       }
       // contact onset: locate it and restart there, so the step that crossed it is discarded
-      if (settings_.contact_onset == "locate" && !stepper_->finds_roots()) {
+      // (after a relocation that ended short of contact, the next onset is latched at the step
+      // end instead: the interpolant's onset can lie a little before the method's own, and
+      // relocating again and again would creep towards it without ever getting there)
+      const bool locate_now = !locate_suspended_;
+      locate_suspended_ = false;
+      if (settings_.contact_onset == "locate" && !stepper_->finds_roots() && locate_now) {
         const double t_event = locate_onset();
         if (t_event < stepper_->t_now) {
+          const double dt_before = stepper_->suggested_dt();
+          const long long onsets_before = stats_.contact_onsets;
           // re-take the step from its start up to the onset: the crossing step's later stages
           // felt the contact force, so its interpolant would leak that force into the samples
           // before the onset and into the restart state
@@ -434,7 +455,9 @@ class Driver {
           unscale(z_event, x_);
           latch_time_ = stepper_->t_now;
           for (int c = 0; c < scene_.contact_count(); ++c) latch_if_touching(c, x_.data());
-          stepper_->reset(z_event, stepper_->t_now, stepper_->suggested_dt());
+          if (stats_.contact_onsets == onsets_before) locate_suspended_ = true;
+          // restart with the step the controller had before the relocation, not the short one
+          stepper_->reset(z_event, stepper_->t_now, dt_before);
           stats_.t_reached = stepper_->t_now;
           continue;
         }
@@ -485,11 +508,12 @@ class Driver {
   long long n_samples_ = 0, next_sample_ = 0;
   RunStats stats_;
   bool provides_force_ = false;
-  bool checks_energy_ = false, checks_tracking_ = false;
+  bool checks_energy_ = false, checks_tracking_ = false, has_kinetic_ = false;
   std::vector<SignalId> signals_;   ///< the scene's signals (checked finite in every frame)
-  double max_energy_flow_ = 0.0;    ///< largest |input work|, |dissipated| at samples so far [J]
+  double max_energy_flow_ = 0.0;    ///< largest |input work|, |dissipated|, kinetic at samples [J]
   double tracking_since_ = -1.0;    ///< first sample of the current tracking excess [s], or -1
-  double latch_time_ = 0.0;  ///< time at which latch_if_touching is evaluated
+  double latch_time_ = 0.0;
+  bool locate_suspended_ = false;  ///< latch the next onset at the step end (see loop())  ///< time at which latch_if_touching is evaluated
 };
 
 }  // namespace

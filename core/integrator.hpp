@@ -37,12 +37,14 @@ struct TimeSettings {
 /// for the sample anyway (cheap; resolved to one sample interval).
 struct HealthLimits {
   double max_penetration_fraction = 0.2;  ///< penetration / clearance above which a run fails [-]
-  /// |energy-audit residual| relative to the largest energy flow so far (max |input work|,
-  /// |dissipated energy|) above which a run fails [-] (scenes with an energy audit)
+  /// |energy-audit residual| relative to the largest energy flow so far (max of |input work|,
+  /// |dissipated energy| and the kinetic energy, over the samples so far) above which a run
+  /// fails [-] (scenes with an energy audit)
   double max_energy_residual = 0.01;
-  /// the energy check starts once the largest energy flow exceeds this floor [J]: before, the
-  /// relative residual is round-off over nothing (and a conservative run never reaches it)
-  double energy_flow_floor = 1e-9;
+  /// the energy check starts once that largest flow exceeds this floor [J]: below it the
+  /// relative residual measures the audit's absolute resolution, not an error (the actuator's
+  /// net flows are the difference of watts of hydraulic power: ~1e-9 J of round-off)
+  double energy_flow_floor = 1e-6;
   /// |command - position| of the actuator above which it is not following [m] (scenes with an
   /// actuator command) ...
   double max_tracking_error = 5e-3;

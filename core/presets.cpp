@@ -26,13 +26,13 @@ const std::array<Entry, 9>& table() {
   static const std::array<Entry, 9> t{{
       {"rod-end-kinematic", "fast", adaptive("dopri5", 1e-5)},
       {"rod-end-kinematic", "balanced", adaptive("dopri5", 1e-6)},
-      {"rod-end-kinematic", "reference", adaptive("fehlberg78", 1e-10)},
+      {"rod-end-kinematic", "reference", adaptive("dopri5", 1e-10)},
       {"rod-end-actuator", "fast", adaptive("dopri5", 1e-5)},
       {"rod-end-actuator", "balanced", adaptive("dopri5", 1e-6)},
-      {"rod-end-actuator", "reference", adaptive("fehlberg78", 1e-10)},
+      {"rod-end-actuator", "reference", adaptive("dopri5", 1e-10)},
       {"*", "fast", adaptive("dopri5", 1e-6)},
       {"*", "balanced", adaptive("dopri5", 1e-8)},
-      {"*", "reference", adaptive("fehlberg78", 1e-11)},
+      {"*", "reference", adaptive("dopri5", 1e-11)},
   }};
   return t;
 }

@@ -101,7 +101,7 @@ def main():
             method = "rk4" if key == "rk4" else r["integrator.method"]
             setting = float(r["integrator.step"]) if key == "rk4" else float(r["integrator.rel_tol"])
             c = float(r["parameters.contact.clearance"])
-            ref_method = "dopri5" if method == "fehlberg78" else "fehlberg78"
+            ref_method = "fehlberg78" if method == "dopri5" else "dopri5"
             ref = refs[(c, ref_method)]
             ok = all(p[i]["status"] == "ok" for p in per_repeat)
             err = {}

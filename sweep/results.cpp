@@ -751,6 +751,21 @@ std::optional<CaseRecord> read_case_record(const fs::path& path) {
   }
 }
 
+std::optional<CaseRecord> read_case_record_strict(const fs::path& path) {
+  std::error_code ec;
+  const fs::file_status st = fs::symlink_status(path, ec);
+  if (st.type() == fs::file_type::not_found) return std::nullopt;
+  if (ec) throw std::runtime_error(path.string() + ": " + ec.message());
+  if (!fs::is_regular_file(path, ec))
+    throw std::runtime_error(path.string() + ": not a regular file");
+  Hdf5Lock lock;  // held for the whole open-read-close
+  try {
+    return read_case_locked(path);
+  } catch (const Json::exception& e) {
+    throw std::runtime_error("cannot read results file " + path.string() + ": " + e.what());
+  }
+}
+
 void write_summary(const fs::path& dir, const Study& study, const std::vector<CaseRecord>& rows,
                    const Json& prov) {
   const std::vector<Column> cols = summary_columns(study, rows);

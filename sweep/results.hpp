@@ -79,6 +79,10 @@ void write_case_file(const std::filesystem::path& path, const CaseSpec& spec,
 
 /// Reads the record of a complete case file; nullopt if the file is missing or unreadable.
 std::optional<CaseRecord> read_case_record(const std::filesystem::path& path);
+/// The same, but only a missing file gives nullopt: a file (or anything else) under that name
+/// that cannot be read as a rodend case file (truncated, corrupt, locked by another process,
+/// another schema version) throws std::runtime_error naming it and the reason.
+std::optional<CaseRecord> read_case_record_strict(const std::filesystem::path& path);
 
 /// Writes summary.h5 and summary.csv in `dir` (temporary names, then rename): one row per case
 /// in grid order.

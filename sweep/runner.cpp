@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <fstream>
 #include <iostream>
@@ -170,34 +172,56 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
     throw InputError("output", "cannot create the results directory " +
                                    plan.cases_dir.string() + ": " + ec.message(),
                      study.file.string());
-  if (::access(plan.cases_dir.c_str(), W_OK) != 0)
-    throw InputError("output",
-                     "the results directory " + plan.cases_dir.string() + " is not writable",
-                     study.file.string());
+  // both directories take files (cases; study.json and the summary): checked before anything
+  // runs, so a read-only results folder fails at once, not after the cases
+  for (const fs::path& d : {plan.cases_dir, plan.dir})
+    if (::access(d.c_str(), W_OK) != 0)
+      throw InputError("output",
+                       "the results directory " + d.string() + " is not writable (" +
+                           std::strerror(errno) + ")",
+                       study.file.string());
   plan.provenance = provenance(study);
-  write_text_atomically(plan.dir / "study.json", study.source.dump(2) + "\n");
   // a shard writes its own summary; `rodend merge` assembles the study's
   plan.summary_dir = opt.shard_count > 1
                          ? plan.dir / ("shard-" + std::to_string(opt.shard_index) + "-of-" +
                                        std::to_string(opt.shard_count))
                          : plan.dir;
 
-  // what is complete already (resume): a case file under its final name is complete
+  // what is complete already (resume): a case file under its final name is complete. One that
+  // cannot be read (truncated, corrupt, locked, another case's or another schema's) is never
+  // overwritten: it is reported and nothing runs.
   plan.records.assign(study.cases.size(), CaseRecord{});
   plan.have.assign(study.cases.size(), 0);
+  std::vector<std::string> unreadable;
   for (std::size_t i = 0; i < study.cases.size(); ++i) {
     const CaseSpec& c = study.cases[i];
     if (!in_shard(c, opt)) continue;
     ++plan.in_scope;
-    if (auto rec = read_case_record(plan.cases_dir / (c.id + ".h5"))) {
-      if (rec->status == "ok" || !opt.rerun_failed) {
-        plan.records[i] = *rec;
-        plan.have[i] = 1;
-        continue;
-      }
+    const fs::path path = plan.cases_dir / (c.id + ".h5");
+    std::optional<CaseRecord> rec;
+    try {
+      rec = read_case_record_strict(path);
+      if (rec && rec->id != c.id)
+        throw std::runtime_error(path.string() + " holds case " + rec->id + ", not " + c.id);
+    } catch (const std::exception& e) {
+      unreadable.push_back(e.what());
+      continue;
+    }
+    if (rec && (rec->status == "ok" || !opt.rerun_failed)) {
+      plan.records[i] = *rec;
+      plan.have[i] = 1;
+      continue;
     }
     plan.todo.push_back(i);
   }
+  if (!unreadable.empty()) {
+    std::string m = std::to_string(unreadable.size()) +
+                    " case file(s) exist but cannot be read; rodend does not overwrite them. "
+                    "Move them away (or delete them) to rerun those cases:";
+    for (const std::string& u : unreadable) m += "\n  " + u;
+    throw std::runtime_error(m);
+  }
+  write_text_atomically(plan.dir / "study.json", study.source.dump(2) + "\n");
   return plan;
 }
 

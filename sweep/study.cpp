@@ -77,6 +77,28 @@ std::string case_id(const CaseSpec& c) { return fnv1a64_hex(c.canonical().dump()
 
 namespace {
 
+/// Limits on what a study may ask for (README "Studies"): cases per study, nesting of the
+/// document, memory of one case's histories.
+constexpr std::size_t kMaxCases = 100'000;
+constexpr std::size_t kMaxDepth = 64;
+constexpr double kMaxHistoryBytes = 2147483648.0;  // 2 GiB
+
+/// Nesting depth of a document, without recursion (a deeply nested input must not overflow the
+/// stack here, nor later in the recursive copies and dumps this file makes of it).
+std::size_t nesting_depth(const Json& doc) {
+  std::size_t deepest = 0;
+  std::vector<std::pair<const Json*, std::size_t>> todo{{&doc, 1}};
+  while (!todo.empty()) {
+    const auto [j, d] = todo.back();
+    todo.pop_back();
+    deepest = std::max(deepest, d);
+    if (d > kMaxDepth) break;
+    if (j->is_structured())
+      for (const Json& child : *j) todo.emplace_back(&child, d + 1);
+  }
+  return deepest;
+}
+
 std::string describe(const Json& j) {
   if (j.is_number()) return "a number";
   if (j.is_string()) return "a string";
@@ -188,6 +210,21 @@ void apply(Draft& d, const std::string& key, const Json& v) {
                             "'; expected parameters, integrator, time, health or metrics");
 }
 
+/// A case's histories are held in memory until its file is written: refuse sizes that cannot be.
+void check_history_size(const TimeSettings& t, const std::vector<SignalId>& signals) {
+  double width = 0.0;
+  for (SignalId id : signals) width += signal_spec(id).width;
+  const double samples = std::floor(t.end / t.sample_interval + 1e-9) + 1.0;
+  const double bytes = samples * width * 8.0;
+  if (bytes > kMaxHistoryBytes) {
+    std::ostringstream m;
+    m << samples << " samples of " << width << " recorded values need " << bytes / 1073741824.0
+      << " GiB of memory per case (limit 2 GiB); expected a larger sample interval, a shorter "
+         "end time or fewer signals";
+    throw InputError("time.sample_interval", m.str());
+  }
+}
+
 /// Builds the scene to run its own physical checks; its key paths are under "parameters.".
 std::unique_ptr<Scene> build_checked(const std::string& scene, const ParameterSet& params) {
   try {
@@ -248,7 +285,7 @@ std::vector<Json> expand_values(const Json& a, const std::string& where) {
   const double start = need_number(g[0], key + "[0]");
   const double stop = need_number(g[1], key + "[1]");
   const long long n = need_integer(g[2], key + "[2]");
-  if (n < 1 || n > 10'000'000) throw InputError(key + "[2]", "expected a count in [1, 1e7]");
+  if (n < 1 || n > static_cast<long long>(kMaxCases)) throw InputError(key + "[2]", "expected a count in [1, 1e5]");
   if (log && !(start > 0.0 && stop > 0.0))
     throw InputError(key, "expected start > 0 and stop > 0 (the values, not exponents)");
   for (long long i = 0; i < n; ++i) {
@@ -314,6 +351,9 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
   const std::string fname = file.string();
   try {
     if (!doc.is_object()) throw InputError("", "a study must be a JSON object");
+    if (nesting_depth(doc) > kMaxDepth)
+      throw InputError("", "the document is nested deeper than " + std::to_string(kMaxDepth) +
+                               " levels; a study needs a few");
     static const std::vector<std::string> kKeys{"name",   "description", "scene",  "parameters",
                                                 "integrator", "time",    "signals", "health",
                                                 "metrics", "grid",       "output"};
@@ -390,7 +430,10 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
         study.axis_keys.push_back(k);
       }
       total *= a.size();
-      if (total > 10'000'000) throw InputError("grid", "more than 1e7 cases");
+      if (total > kMaxCases)
+        throw InputError("grid", "more than 1e5 cases (each resolved case is held in memory, "
+                                 "about 50 kB, and validated before anything runs): split the "
+                                 "study into several");
     }
 
     study.cases.reserve(total);
@@ -412,6 +455,7 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
           }
         validate(d.integrator);
         validate(d.time);
+        check_history_size(d.time, signals);
         (void)build_checked(d.scene, d.parameters);  // the scene's own physical checks
       } catch (const InputError& e) {
         if (axes.empty()) throw;

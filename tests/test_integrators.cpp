@@ -98,7 +98,10 @@ TEST_CASE("locating contact onset beats latching at the end of the step", "[inte
     s.step = 5e-5;
     s.contact_onset = mode;
     Onset o;
-    REQUIRE(simulate(*scene, s, TimeSettings{0.02, 1e-4}, o).status == RunStatus::ok);
+    // the coarse step is deliberate: the energy-audit health limit would stop the run
+    HealthLimits lax;
+    lax.max_energy_residual = 1e9;
+    REQUIRE(simulate(*scene, s, TimeSettings{0.02, 1e-4}, o, lax).status == RunStatus::ok);
     err[k++] = std::abs(o.v1 - v_exact) / v_exact;
   }
   INFO("relative impact-speed error: locate " << err[0] << ", step-end " << err[1]);
@@ -113,7 +116,7 @@ TEST_CASE("presets resolve as documented", "[integrators]") {
   const auto ref = preset_settings("rod-end-kinematic", "reference");
   REQUIRE(fast);
   REQUIRE(ref);
-  // fast is looser than balanced, reference tighter, and reference is a different method
+  // fast is no tighter than balanced, reference is tighter
   CHECK(fast->rel_tol >= bal->rel_tol);
   CHECK(ref->rel_tol < bal->rel_tol);
   CHECK_FALSE(preset_settings("rod-end-kinematic", "quick"));

@@ -22,7 +22,8 @@ constexpr std::array kSignals{
     SignalId::penetration_rate, SignalId::impact_speed,    SignalId::contact_force_vector,
     SignalId::contact_force, SignalId::friction_force_vector, SignalId::friction_force,
     SignalId::slip_speed,    SignalId::wear_indicator,     SignalId::contact_angle,
-    SignalId::mechanical_energy, SignalId::input_work,     SignalId::dissipated_energy,
+    SignalId::kinetic_energy, SignalId::mechanical_energy, SignalId::input_work,
+    SignalId::dissipated_energy,
     SignalId::energy_residual, SignalId::quaternion_norm_error};
 constexpr std::array kQuaternions{kBall + BodyStateLayout::q};
 constexpr std::array kAudit{kDissipated};
@@ -97,6 +98,7 @@ class GravityDropScene final : public Scene {
     f.set(SignalId::ball_angular_velocity, ball.w_B);
     f.set(SignalId::socket_position, socket_.p_W);
     write_contact_signals(f, c, ball, socket_, d.contacts[0]);
+    f.set(SignalId::kinetic_energy, kinetic_energy(ball_, ball));
     const double e0 = 0.5 * ball_.mass * v0_.squaredNorm() - ball_.mass * gravity_.dot(offset_);
     write_energy_signals(f, energy(t, x, d), e0);
     f.set(SignalId::quaternion_norm_error, quaternion_norm_error(x, kBall + BodyStateLayout::q));

@@ -47,7 +47,7 @@ struct LoadProfile {
   double ramp_time = 1.0;  ///< [s]
   bool body_frame = false;  ///< the amplitude is in the body frame (else inertial)
   Vec3 at(double t) const;
-  /// Time integral of at() from 0 to t, and its double integral (for closed forms in tests).
+  /// Time integral of at() from 0 to t (for closed forms in tests).
   Vec3 integral(double t) const;
 };
 LoadProfile read_load(const ParameterSet& p, const std::string& prefix);

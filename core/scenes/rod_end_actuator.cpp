@@ -40,7 +40,8 @@ constexpr std::array kSignals{
     SignalId::actuator_command, SignalId::lvdt_position, SignalId::controller_current,
     SignalId::jet_pipe_position, SignalId::spool_position, SignalId::chamber_pressures,
     SignalId::chamber_flows, SignalId::actuator_external_force, SignalId::hydraulic_power,
-    SignalId::mechanical_energy, SignalId::input_work, SignalId::dissipated_energy,
+    SignalId::kinetic_energy, SignalId::mechanical_energy, SignalId::input_work,
+    SignalId::dissipated_energy,
     SignalId::energy_residual, SignalId::quaternion_norm_error};
 constexpr std::array kQuaternions{kMech + Mech::kBall + BodyStateLayout::q,
                                   kMech + Mech::kSocket + BodyStateLayout::q};
@@ -124,6 +125,9 @@ class RodEndActuatorScene final : public Scene {
     mech_.outputs(e.mech, x + kMech, f);
     write_contact_signals(f, e.mech.contact, e.mech.ball, e.mech.socket, d.contacts[0]);
     act_.outputs(e.act, x + kAct, e.external_force, f);
+    const double v = x[kAct + ServoActuator::kVel];
+    f.set(SignalId::kinetic_energy,
+          mech_.kinetic_energy(e.mech) + 0.5 * act_.params().piston_mass * v * v);
     write_energy_signals(f, energy(t, x, d), initial_energy_);
   }
 

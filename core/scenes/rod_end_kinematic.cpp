@@ -35,7 +35,8 @@ constexpr std::array kSignals{
     SignalId::slider_spring_force, SignalId::slider_spring_axial_force,
     SignalId::slider_spring_moment, SignalId::crank_spring_force,
     SignalId::crank_spring_axial_force, SignalId::crank_spring_moment,
-    SignalId::mechanical_energy, SignalId::input_work, SignalId::dissipated_energy,
+    SignalId::kinetic_energy, SignalId::mechanical_energy, SignalId::input_work,
+    SignalId::dissipated_energy,
     SignalId::energy_residual, SignalId::quaternion_norm_error};
 constexpr std::array kQuaternions{kMech + Mech::kBall + BodyStateLayout::q,
                                   kMech + Mech::kSocket + BodyStateLayout::q};

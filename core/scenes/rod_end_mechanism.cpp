@@ -153,8 +153,13 @@ void RodEndMechanism::derivatives(const Eval& e, const double* x, double* dxdt) 
       (e.crank_torque - surface_damping_ * e.theta_dot + e.hinge_moment) / surface_inertia_;
 }
 
+double RodEndMechanism::kinetic_energy(const Eval& e) const {
+  return rodend::kinetic_energy(ball_, e.ball) + rodend::kinetic_energy(socket_, e.socket) +
+         0.5 * surface_inertia_ * e.theta_dot * e.theta_dot;
+}
+
 double RodEndMechanism::mechanical_energy(const Eval& e) const {
-  return kinetic_energy(ball_, e.ball) + kinetic_energy(socket_, e.socket) +
+  return rodend::kinetic_energy(ball_, e.ball) + rodend::kinetic_energy(socket_, e.socket) +
          0.5 * surface_inertia_ * e.theta_dot * e.theta_dot -
          ball_.mass * gravity_.dot(e.ball.p_W) - socket_.mass * gravity_.dot(e.socket.p_W) +
          e.contact.potential + e.slider_spring.potential + e.crank_spring.potential;
@@ -192,6 +197,7 @@ void RodEndMechanism::outputs(const Eval& e, const double* x, SignalFrame& f) co
   derivatives(e, x, dxdt);
   f.set(SignalId::surface_acceleration, dxdt[kThetaDot]);
   f.set(SignalId::hinge_moment, e.hinge_moment);
+  f.set(SignalId::kinetic_energy, kinetic_energy(e));
   f.set(SignalId::slider_spring_force, e.slider_spring.force_on_body);
   // thesis §4 sign conventions: slider spring compression positive, crank spring tension
   // positive, both along the rod

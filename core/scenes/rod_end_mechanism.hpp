@@ -47,6 +47,8 @@ class RodEndMechanism {
   void state_scale(double* s) const;
   /// Writes the 28 derivatives.
   void derivatives(const Eval& e, const double* x, double* dxdt) const;
+  /// Kinetic energy of the spheres and the surface [J].
+  double kinetic_energy(const Eval& e) const;
   /// Kinetic + potential energy of the mechanism [J].
   double mechanical_energy(const Eval& e) const;
   /// Power delivered by the rod end (through the slider spring) and the hinge moment [W].

@@ -22,7 +22,8 @@ constexpr std::array kSignals{
     SignalId::actuator_velocity, SignalId::lvdt_position, SignalId::controller_current,
     SignalId::jet_pipe_position, SignalId::spool_position, SignalId::chamber_pressures,
     SignalId::chamber_flows, SignalId::actuator_external_force, SignalId::hydraulic_power,
-    SignalId::mechanical_energy, SignalId::input_work, SignalId::dissipated_energy,
+    SignalId::kinetic_energy, SignalId::mechanical_energy, SignalId::input_work,
+    SignalId::dissipated_energy,
     SignalId::energy_residual};
 constexpr std::array kAudit{kWork, kDissipated};
 
@@ -68,6 +69,8 @@ class ServoActuatorScene final : public Scene {
                SignalFrame& f) const override {
     const auto e = act_.evaluate(motion_.at(t).position, x + kAct);
     act_.outputs(e, x + kAct, load_force_, f);
+    const double v = x[kAct + ServoActuator::kVel];
+    f.set(SignalId::kinetic_energy, 0.5 * (act_.params().piston_mass + load_mass_) * v * v);
     write_energy_signals(f, energy(t, x, d), 0.0);
   }
 

@@ -25,7 +25,8 @@ constexpr std::array kSignals{
     SignalId::penetration,   SignalId::penetration_rate,   SignalId::impact_speed,
     SignalId::contact_force_vector, SignalId::contact_force, SignalId::friction_force_vector,
     SignalId::friction_force, SignalId::slip_speed,        SignalId::wear_indicator,
-    SignalId::contact_angle, SignalId::drive_anchor_position, SignalId::mechanical_energy,
+    SignalId::contact_angle, SignalId::drive_anchor_position, SignalId::kinetic_energy,
+    SignalId::mechanical_energy,
     SignalId::input_work,    SignalId::dissipated_energy,  SignalId::energy_residual,
     SignalId::quaternion_norm_error};
 constexpr std::array kQuaternions{kBall + BodyStateLayout::q, kSocket + BodyStateLayout::q};
@@ -136,6 +137,7 @@ class SpringContactScene final : public Scene {
     out.set(SignalId::socket_euler_321, euler321(socket.R_WB));
     write_contact_signals(out, f.contact, ball, socket, d.contacts[0]);
     out.set(SignalId::drive_anchor_position, drive_anchor(t).p_W);
+    out.set(SignalId::kinetic_energy, kinetic_energy(ball_, ball) + kinetic_energy(socket_, socket));
     write_energy_signals(out, energy(t, x, d), 0.0);
     out.set(SignalId::quaternion_norm_error,
             std::max(quaternion_norm_error(x, kBall + BodyStateLayout::q),
