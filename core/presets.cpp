@@ -24,11 +24,13 @@ struct Entry {
 /// documented there. Scenes without a row of their own use the "*" rows.
 const std::array<Entry, 9>& table() {
   static const std::array<Entry, 9> t{{
-      {"rod-end-kinematic", "fast", adaptive("dopri5", 1e-5)},
-      {"rod-end-kinematic", "balanced", adaptive("dopri5", 1e-6)},
+      {"rod-end-kinematic", "fast", adaptive("dopri5", 1e-6)},
+      {"rod-end-kinematic", "balanced", adaptive("dopri5", 1e-8)},
       {"rod-end-kinematic", "reference", adaptive("dopri5", 1e-10)},
-      {"rod-end-actuator", "fast", adaptive("dopri5", 1e-5)},
-      {"rod-end-actuator", "balanced", adaptive("dopri5", 1e-6)},
+      // not yet measured on this scene: the rod-end-kinematic choices (same contact, same step
+      // limit; the hydraulics add 1 % steps)
+      {"rod-end-actuator", "fast", adaptive("dopri5", 1e-6)},
+      {"rod-end-actuator", "balanced", adaptive("dopri5", 1e-8)},
       {"rod-end-actuator", "reference", adaptive("dopri5", 1e-10)},
       {"*", "fast", adaptive("dopri5", 1e-6)},
       {"*", "balanced", adaptive("dopri5", 1e-8)},

@@ -11,9 +11,10 @@
 
 namespace rodend {
 
-/// fast: about 10 % error on the impact metrics, for screening sweeps;
-/// balanced: <= 1 % on every metric of the work-precision study, the cheapest measured (default);
-/// reference: the most accurate setting measured, for regression references and checks.
+/// fast: about 1 % error on the impact-peak metrics, the cheapest setting measured;
+/// balanced: <= 0.3 % on every metric of the work-precision study (default);
+/// reference: dopri5 at 1e-10, for regression references and checks.
+/// (README "Speed and accuracy" gives the measurement behind each.)
 std::span<const std::string_view> preset_names();
 
 /// The settings of `preset` for `scene`; nullopt for an unknown preset.

@@ -7,7 +7,7 @@
 //  - misalignment = 1.1 x clearance: the socket starts against the ball (no initial penetration)
 //    and the contact force stays at the slider spring's preload, not the Hertz force of the
 //    overlap (README "Modelling decisions");
-//  - c_r = 0.05 with every law: finite, never pulling, settles;
+//  - c_r = 0.05 with every law: finite, never pulling, settles (the damping laws);
 //  - each failure status of the health checks, from a case built to trigger it; a non-finite
 //    state or output ends the run before the frame reaches the observer.
 //
@@ -216,7 +216,10 @@ TEST_CASE("extremes: c_r = 0.05 with every law: finite, never pulling, settles",
     }
     CHECK_FALSE(pulls);
     CHECK_FALSE(force_across_gap);
-    CHECK(obs.samples.back()[1] == Approx(delta_static).epsilon(kStaticPenetrationRel));
+    // a law that damps settles at the static penetration; hertz ignores c_r (chi = 0) and
+    // keeps bouncing, elastically
+    if (law->hysteresis_factor(0.05) > 0.0)
+      CHECK(obs.samples.back()[1] == Approx(delta_static).epsilon(kStaticPenetrationRel));
   }
   CHECK(laws >= 5);
 }
@@ -298,7 +301,7 @@ TEST_CASE("extremes: no frame after a non-finite state or output", "[extremes]")
     REQUIRE(r.status == RunStatus::non_finite_state);
     CHECK(obs.all_finite);
     REQUIRE_FALSE(obs.samples.empty());
-    CHECK(obs.sample_times.back() <= r.stats.t_reached);
+    CHECK(obs.sample_times.back() <= r.stats.t_reached + 1e-12);
     CHECK(r.message.find("non-finite state") != std::string::npos);
   }
   SECTION("the state blows up: dopri5 (fails one way or another, never with a bad frame)") {
