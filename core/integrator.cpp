@@ -17,20 +17,28 @@ using detail::state_t;
 using detail::Stepper;
 
 std::vector<std::string_view> integrator_methods() {
-  return {"rk4",         "dopri5",      "cash_karp54", "fehlberg78",
-          "bulirsch_stoer", "rosenbrock4", "cvode_bdf", "cvode_adams"};
+  return {"rk4",         "dopri5",    "cash_karp54", "fehlberg78", "bulirsch_stoer",
+          "rosenbrock4", "cvode_bdf", "cvode_adams"};
 }
 
 std::string_view to_string(RunStatus s) {
   switch (s) {
-    case RunStatus::ok: return "ok";
-    case RunStatus::step_budget_exhausted: return "step_budget_exhausted";
-    case RunStatus::rhs_budget_exhausted: return "rhs_budget_exhausted";
-    case RunStatus::step_size_underflow: return "step_size_underflow";
-    case RunStatus::non_finite_state: return "non_finite_state";
-    case RunStatus::penetration_limit: return "penetration_limit";
-    case RunStatus::energy_residual_limit: return "energy_residual_limit";
-    case RunStatus::actuator_saturation: return "actuator_saturation";
+    case RunStatus::ok:
+      return "ok";
+    case RunStatus::step_budget_exhausted:
+      return "step_budget_exhausted";
+    case RunStatus::rhs_budget_exhausted:
+      return "rhs_budget_exhausted";
+    case RunStatus::step_size_underflow:
+      return "step_size_underflow";
+    case RunStatus::non_finite_state:
+      return "non_finite_state";
+    case RunStatus::penetration_limit:
+      return "penetration_limit";
+    case RunStatus::energy_residual_limit:
+      return "energy_residual_limit";
+    case RunStatus::actuator_saturation:
+      return "actuator_saturation";
   }
   return "unknown";
 }
@@ -40,7 +48,8 @@ void validate(const IntegratorSettings& s) {
   if (std::find(methods.begin(), methods.end(), s.method) == methods.end()) {
     std::string list;
     for (auto m : methods) list += (list.empty() ? "" : ", ") + std::string(m);
-    throw InputError("integrator.method", "unknown method '" + s.method + "'; expected one of: " + list);
+    throw InputError("integrator.method",
+                     "unknown method '" + s.method + "'; expected one of: " + list);
   }
   auto positive = [](double v, const char* key) {
     if (!(v > 0.0) || !std::isfinite(v)) throw InputError(key, "expected a finite number > 0");
@@ -211,9 +220,9 @@ class Driver {
       if (tracking_since_ >= 0.0 && t - tracking_since_ > health_.tracking_window) {
         std::ostringstream m;
         m << "actuator cannot follow its command: |command - position| = " << e
-          << " m, above max_tracking_error " << health_.max_tracking_error << " m since t = "
-          << tracking_since_ << " s (longer than tracking_window " << health_.tracking_window
-          << " s) at t = " << t << " s";
+          << " m, above max_tracking_error " << health_.max_tracking_error
+          << " m since t = " << tracking_since_ << " s (longer than tracking_window "
+          << health_.tracking_window << " s) at t = " << t << " s";
         stats_.t_reached = t;
         throw RunFailure{RunStatus::actuator_saturation, m.str()};
       }
@@ -261,7 +270,7 @@ class Driver {
       // 60 halvings reach the resolution of double time for any step length
       for (int it = 0; it < 60 && hi - lo > 4e-16 * std::max(1.0, std::abs(hi)); ++it) {
         const double mid = 0.5 * (lo + hi);
-        stepper_->interpolate_cheap(mid, z_tmp_);
+        stepper_->interpolate(mid, z_tmp_);  // the method itself: consistent with the re-take
         if (penetration_at(c, z_tmp_) > 0.0)
           hi = mid;
         else
@@ -276,16 +285,16 @@ class Driver {
     const state_t& z = stepper_->z_now;
     if (!all_finite(z)) {
       std::ostringstream m;
-      m << "non-finite state at t = " << stepper_->t_now << " s (last finite t = "
-        << stepper_->t_prev << " s)";
+      m << "non-finite state at t = " << stepper_->t_now
+        << " s (last finite t = " << stepper_->t_prev << " s)";
       stats_.t_reached = stepper_->t_prev;
       throw RunFailure{RunStatus::non_finite_state, m.str()};
     }
     stats_.t_reached = stepper_->t_now;  // an accepted, finite step
     if (stepper_->accepted + stepper_->rejected > settings_.max_steps) {
       std::ostringstream m;
-      m << "step budget of " << settings_.max_steps << " steps exhausted at t = "
-        << stepper_->t_now << " s";
+      m << "step budget of " << settings_.max_steps << " steps exhausted at t = " << stepper_->t_now
+        << " s";
       throw RunFailure{RunStatus::step_budget_exhausted, m.str()};
     }
     unscale(z, x_);
@@ -394,8 +403,7 @@ class Driver {
   void loop() {
     const double t_end = time_.end;
     while (stepper_->t_now < t_end) {
-      const double t_limit =
-          stepper_->dense() ? t_end : std::min(sample_time(next_sample_), t_end);
+      const double t_limit = stepper_->dense() ? t_end : std::min(sample_time(next_sample_), t_end);
       stepper_->step(t_limit);
       check_health_after_step();
 
@@ -455,7 +463,23 @@ class Driver {
           unscale(z_event, x_);
           latch_time_ = stepper_->t_now;
           for (int c = 0; c < scene_.contact_count(); ++c) latch_if_touching(c, x_.data());
-          if (stats_.contact_onsets == onsets_before) locate_suspended_ = true;
+          if (stats_.contact_onsets == onsets_before) {
+            // the re-taken step may end a hair short of the interpolant's onset: at the onset
+            // within round-off and approaching, latch it here; otherwise fall back to step-end
+            // latching for the next onset
+            for (int c = 0; c < scene_.contact_count(); ++c) {
+              ContactLatch& l = discrete_.contacts[static_cast<std::size_t>(c)];
+              const ContactGap g = scene_.contact_gap(c, x_.data());
+              if (!l.in_contact && g.penetration_rate > 0.0 &&
+                  g.penetration > -1e-9 * std::max(scene_.contact_clearance(c), 1e-300)) {
+                l.in_contact = true;
+                l.impact_speed = g.penetration_rate;
+                ++stats_.contact_onsets;
+                obs_.on_contact_onset(latch_time_, c, l.impact_speed);
+              }
+            }
+            if (stats_.contact_onsets == onsets_before) locate_suspended_ = true;
+          }
           // restart with the step the controller had before the relocation, not the short one
           stepper_->reset(z_event, stepper_->t_now, dt_before);
           stats_.t_reached = stepper_->t_now;
@@ -509,17 +533,18 @@ class Driver {
   RunStats stats_;
   bool provides_force_ = false;
   bool checks_energy_ = false, checks_tracking_ = false, has_kinetic_ = false;
-  std::vector<SignalId> signals_;   ///< the scene's signals (checked finite in every frame)
-  double max_energy_flow_ = 0.0;    ///< largest |input work|, |dissipated|, kinetic at samples [J]
-  double tracking_since_ = -1.0;    ///< first sample of the current tracking excess [s], or -1
+  std::vector<SignalId> signals_;  ///< the scene's signals (checked finite in every frame)
+  double max_energy_flow_ = 0.0;   ///< largest |input work|, |dissipated|, kinetic at samples [J]
+  double tracking_since_ = -1.0;   ///< first sample of the current tracking excess [s], or -1
   double latch_time_ = 0.0;
-  bool locate_suspended_ = false;  ///< latch the next onset at the step end (see loop())  ///< time at which latch_if_touching is evaluated
+  bool locate_suspended_ = false;  ///< latch the next onset at the step end (see loop())  ///< time
+                                   ///< at which latch_if_touching is evaluated
 };
 
 }  // namespace
 
-RunResult simulate(const Scene& scene, const IntegratorSettings& settings,
-                   const TimeSettings& time, RunObserver& observer, const HealthLimits& health) {
+RunResult simulate(const Scene& scene, const IntegratorSettings& settings, const TimeSettings& time,
+                   RunObserver& observer, const HealthLimits& health) {
   validate(settings);
   validate(time);
   validate(health);

@@ -43,7 +43,9 @@ constexpr std::array<std::string_view, 3> kNames{"fast", "balanced", "reference"
 
 }  // namespace
 
-std::span<const std::string_view> preset_names() { return kNames; }
+std::span<const std::string_view> preset_names() {
+  return kNames;
+}
 
 std::optional<IntegratorSettings> preset_settings(std::string_view scene, std::string_view preset) {
   for (const Entry& e : table())

@@ -45,10 +45,14 @@ Json as_doubles(const Json& j) {
 }
 
 Json to_json(const IntegratorSettings& s) {
-  return {{"method", s.method},           {"abs_tol", s.abs_tol},
-          {"rel_tol", s.rel_tol},         {"step", s.step},
-          {"max_step", s.max_step},       {"min_step", s.min_step},
-          {"max_steps", s.max_steps},     {"max_rhs_calls", s.max_rhs_calls},
+  return {{"method", s.method},
+          {"abs_tol", s.abs_tol},
+          {"rel_tol", s.rel_tol},
+          {"step", s.step},
+          {"max_step", s.max_step},
+          {"min_step", s.min_step},
+          {"max_steps", s.max_steps},
+          {"max_rhs_calls", s.max_rhs_calls},
           {"contact_onset", s.contact_onset}};
 }
 
@@ -73,7 +77,9 @@ Json CaseSpec::canonical() const {
           {"signals", sig}};
 }
 
-std::string case_id(const CaseSpec& c) { return fnv1a64_hex(c.canonical().dump()); }
+std::string case_id(const CaseSpec& c) {
+  return fnv1a64_hex(c.canonical().dump());
+}
 
 namespace {
 
@@ -144,7 +150,8 @@ void apply(Draft& d, const std::string& key, const Json& v) {
   const auto dot = key.find('.');
   const std::string section = key.substr(0, dot);
   const std::string field = dot == std::string::npos ? "" : key.substr(dot + 1);
-  if (field.empty()) throw InputError(key, "expected a key path such as parameters.contact.clearance");
+  if (field.empty())
+    throw InputError(key, "expected a key path such as parameters.contact.clearance");
   if (section == "parameters") {
     try {
       d.parameters.set(field, v);
@@ -158,50 +165,73 @@ void apply(Draft& d, const std::string& key, const Json& v) {
     if (field == "preset") {
       const std::string name = need_string(v, key);
       const auto p = preset_settings(d.scene, name);
-      if (!p) throw InputError(key, "unknown preset '" + name + "'; expected fast, balanced or reference");
+      if (!p)
+        throw InputError(key,
+                         "unknown preset '" + name + "'; expected fast, balanced or reference");
       s = *p;
-    } else if (field == "method") s.method = need_string(v, key);
-    else if (field == "abs_tol") s.abs_tol = need_number(v, key);
-    else if (field == "rel_tol") s.rel_tol = need_number(v, key);
-    else if (field == "step") s.step = need_number(v, key);
-    else if (field == "max_step") s.max_step = need_number(v, key);
-    else if (field == "min_step") s.min_step = need_number(v, key);
-    else if (field == "max_steps") s.max_steps = need_integer(v, key);
-    else if (field == "max_rhs_calls") s.max_rhs_calls = need_integer(v, key);
-    else if (field == "contact_onset") s.contact_onset = need_string(v, key);
+    } else if (field == "method")
+      s.method = need_string(v, key);
+    else if (field == "abs_tol")
+      s.abs_tol = need_number(v, key);
+    else if (field == "rel_tol")
+      s.rel_tol = need_number(v, key);
+    else if (field == "step")
+      s.step = need_number(v, key);
+    else if (field == "max_step")
+      s.max_step = need_number(v, key);
+    else if (field == "min_step")
+      s.min_step = need_number(v, key);
+    else if (field == "max_steps")
+      s.max_steps = need_integer(v, key);
+    else if (field == "max_rhs_calls")
+      s.max_rhs_calls = need_integer(v, key);
+    else if (field == "contact_onset")
+      s.contact_onset = need_string(v, key);
     else
-      throw InputError(key, "unknown integrator setting; expected one of preset, method, abs_tol, "
-                            "rel_tol, step, max_step, min_step, max_steps, max_rhs_calls, "
-                            "contact_onset");
+      throw InputError(key,
+                       "unknown integrator setting; expected one of preset, method, abs_tol, "
+                       "rel_tol, step, max_step, min_step, max_steps, max_rhs_calls, "
+                       "contact_onset");
     return;
   }
   if (section == "time") {
-    if (field == "end") d.time.end = need_number(v, key);
-    else if (field == "sample_interval") d.time.sample_interval = need_number(v, key);
-    else throw InputError(key, "unknown time setting; expected end or sample_interval");
+    if (field == "end")
+      d.time.end = need_number(v, key);
+    else if (field == "sample_interval")
+      d.time.sample_interval = need_number(v, key);
+    else
+      throw InputError(key, "unknown time setting; expected end or sample_interval");
     return;
   }
   if (section == "health") {
     auto& h = d.health;
-    if (field == "max_penetration_fraction") h.max_penetration_fraction = need_number(v, key);
-    else if (field == "max_energy_residual") h.max_energy_residual = need_number(v, key);
-    else if (field == "energy_flow_floor") h.energy_flow_floor = need_number(v, key);
-    else if (field == "max_tracking_error") h.max_tracking_error = need_number(v, key);
-    else if (field == "tracking_window") h.tracking_window = need_number(v, key);
+    if (field == "max_penetration_fraction")
+      h.max_penetration_fraction = need_number(v, key);
+    else if (field == "max_energy_residual")
+      h.max_energy_residual = need_number(v, key);
+    else if (field == "energy_flow_floor")
+      h.energy_flow_floor = need_number(v, key);
+    else if (field == "max_tracking_error")
+      h.max_tracking_error = need_number(v, key);
+    else if (field == "tracking_window")
+      h.tracking_window = need_number(v, key);
     else
-      throw InputError(key, "unknown health setting; expected one of max_penetration_fraction, "
-                            "max_energy_residual, energy_flow_floor, max_tracking_error, "
-                            "tracking_window");
+      throw InputError(key,
+                       "unknown health setting; expected one of max_penetration_fraction, "
+                       "max_energy_residual, energy_flow_floor, max_tracking_error, "
+                       "tracking_window");
     validate(d.health);  // the others are defaults or were checked when set
     return;
   }
   if (section == "metrics") {
-    if (field == "post_impact_window") d.metrics.post_impact_window = need_number(v, key);
+    if (field == "post_impact_window")
+      d.metrics.post_impact_window = need_number(v, key);
     else if (field == "surface_motion_threshold")
       d.metrics.surface_motion_threshold = need_number(v, key);
     else
-      throw InputError(key, "unknown metrics setting; expected post_impact_window or "
-                            "surface_motion_threshold");
+      throw InputError(key,
+                       "unknown metrics setting; expected post_impact_window or "
+                       "surface_motion_threshold");
     if (const double x = need_number(v, key); !(x >= 0.0) || !std::isfinite(x))
       throw InputError(key, "expected a finite number >= 0");
     return;
@@ -260,8 +290,8 @@ void apply_section(Draft& d, const Json& doc, const std::string& section) {
 }
 
 struct Axis {
-  std::vector<std::string> keys;            // several for a zip group
-  std::vector<std::vector<Json>> values;    // per key, same length
+  std::vector<std::string> keys;          // several for a zip group
+  std::vector<std::vector<Json>> values;  // per key, same length
   std::size_t size() const { return values.empty() ? 0 : values.front().size(); }
 };
 
@@ -280,12 +310,12 @@ std::vector<Json> expand_values(const Json& a, const std::string& where) {
   const bool log = a.contains("logspace");
   const std::string key = where + (log ? ".logspace" : ".linspace");
   const Json& g = a[log ? "logspace" : "linspace"];
-  if (!g.is_array() || g.size() != 3)
-    throw InputError(key, "expected [start, stop, count]");
+  if (!g.is_array() || g.size() != 3) throw InputError(key, "expected [start, stop, count]");
   const double start = need_number(g[0], key + "[0]");
   const double stop = need_number(g[1], key + "[1]");
   const long long n = need_integer(g[2], key + "[2]");
-  if (n < 1 || n > static_cast<long long>(kMaxCases)) throw InputError(key + "[2]", "expected a count in [1, 1e5]");
+  if (n < 1 || n > static_cast<long long>(kMaxCases))
+    throw InputError(key + "[2]", "expected a count in [1, 1e5]");
   if (log && !(start > 0.0 && stop > 0.0))
     throw InputError(key, "expected start > 0 and stop > 0 (the values, not exponents)");
   for (long long i = 0; i < n; ++i) {
@@ -310,11 +340,12 @@ Axis parse_axis(const Json& a, const std::string& where) {
       throw InputError(where + ".zip", "expected a non-empty array of axes");
     for (std::size_t i = 0; i < members.size(); ++i) {
       const std::string w = where + ".zip[" + std::to_string(i) + "]";
+      if (members[i].is_object() && members[i].contains("zip"))
+        throw InputError(w, "a zip group cannot contain another zip");
       Axis m = parse_axis(members[i], w);
-      if (m.keys.size() != 1) throw InputError(w, "a zip group cannot contain another zip");
       if (!axis.keys.empty() && m.size() != axis.size())
-        throw InputError(w, "zip members must have the same length: " +
-                                std::to_string(m.size()) + " vs " + std::to_string(axis.size()));
+        throw InputError(w, "zip members must have the same length: " + std::to_string(m.size()) +
+                                " vs " + std::to_string(axis.size()));
       axis.keys.push_back(m.keys[0]);
       axis.values.push_back(m.values[0]);
     }
@@ -326,7 +357,8 @@ Axis parse_axis(const Json& a, const std::string& where) {
       throw InputError(where + "." + it.key(),
                        "unknown key in a grid axis; expected key with values, linspace or "
                        "logspace, or zip");
-  if (!a.contains("key")) throw InputError(where + ".key", "missing: the key path this axis varies");
+  if (!a.contains("key"))
+    throw InputError(where + ".key", "missing: the key path this axis varies");
   axis.keys.push_back(need_string(a["key"], where + ".key"));
   axis.values.push_back(expand_values(a, where));
   return axis;
@@ -354,14 +386,15 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
     if (nesting_depth(doc) > kMaxDepth)
       throw InputError("", "the document is nested deeper than " + std::to_string(kMaxDepth) +
                                " levels; a study needs a few");
-    static const std::vector<std::string> kKeys{"name",   "description", "scene",  "parameters",
-                                                "integrator", "time",    "signals", "health",
-                                                "metrics", "grid",       "output"};
+    static const std::vector<std::string> kKeys{
+        "name",    "description", "scene",   "parameters", "integrator", "time",
+        "signals", "health",      "metrics", "grid",       "output"};
     for (auto it = doc.begin(); it != doc.end(); ++it)
       if (std::find(kKeys.begin(), kKeys.end(), it.key()) == kKeys.end())
-        throw InputError(it.key(), "unknown key; expected one of name, description, scene, "
-                                   "parameters, integrator, time, signals, health, metrics, "
-                                   "grid, output");
+        throw InputError(it.key(),
+                         "unknown key; expected one of name, description, scene, "
+                         "parameters, integrator, time, signals, health, metrics, "
+                         "grid, output");
     Study study;
     study.file = file;
     study.source = doc;
@@ -369,7 +402,8 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
     if (study.name.empty() || study.name.find('/') != std::string::npos || study.name == "." ||
         study.name == "..")
       throw InputError("name", "expected a non-empty name without '/'");
-    study.description = doc.contains("description") ? need_string(doc["description"], "description") : "";
+    study.description =
+        doc.contains("description") ? need_string(doc["description"], "description") : "";
     if (!doc.contains("scene")) throw InputError("scene", "missing: which scene to run");
     study.scene = need_string(doc["scene"], "scene");
     study.output_dir = doc.contains("output") ? fs::path(need_string(doc["output"], "output"))
@@ -380,7 +414,8 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
     base.scene = study.scene;
     base.parameters = ParameterSet::defaults_for(study.scene);  // unknown scene -> key "scene"
     base.integrator = *preset_settings(study.scene, kDefaultPreset);  // overridden below
-    if (!doc.contains("time")) throw InputError("time", "missing: {\"end\": ..., \"sample_interval\": ...}");
+    if (!doc.contains("time"))
+      throw InputError("time", "missing: {\"end\": ..., \"sample_interval\": ...}");
     for (const char* section : {"parameters", "integrator", "time", "health", "metrics"})
       apply_section(base, doc, section);
     if (!doc["time"].contains("end")) throw InputError("time.end", "missing: the end time [s]");
@@ -431,9 +466,10 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
       }
       total *= a.size();
       if (total > kMaxCases)
-        throw InputError("grid", "more than 1e5 cases (each resolved case is held in memory, "
-                                 "about 50 kB, and validated before anything runs): split the "
-                                 "study into several");
+        throw InputError("grid",
+                         "more than 1e5 cases (each resolved case is held in memory, "
+                         "about 50 kB, and validated before anything runs): split the "
+                         "study into several");
     }
 
     study.cases.reserve(total);
@@ -497,14 +533,24 @@ Study load_study(const fs::path& file, const fs::path& results_root) {
   Json doc;
   try {
     doc = Json::parse(text);
+  } catch (const Json::out_of_range& e) {
+    // a number JSON can write but a double cannot hold (1e400)
+    std::string what = e.what();
+    const auto colon = what.find("] ");
+    throw InputError(
+        "",
+        "number out of range: " + (colon == std::string::npos ? what : what.substr(colon + 2)) +
+            " (expected a finite number)",
+        file.string());
   } catch (const Json::parse_error& e) {
     const auto [line, col] = line_column(text, e.byte > 0 ? e.byte - 1 : 0);
     std::string what = e.what();
     // nlohmann's message starts with "[json.exception.parse_error.101] parse error at ..."
     const auto colon = what.find(": ");
     const std::string detail = colon == std::string::npos ? what : what.substr(colon + 2);
-    throw InputError("", "JSON syntax error at line " + std::to_string(line) + ", column " +
-                             std::to_string(col) + ": " + detail,
+    throw InputError("",
+                     "JSON syntax error at line " + std::to_string(line) + ", column " +
+                         std::to_string(col) + ": " + detail,
                      file.string());
   }
   return parse_study(doc, file, results_root);

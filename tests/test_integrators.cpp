@@ -24,7 +24,7 @@ IntegratorSettings tight(const std::string& method) {
 
 struct Onset : RunObserver {
   double t1 = NAN, v1 = NAN;
-  double exit_speed = NAN;  // approach speed latched at the first onset; rebound measured below
+  double exit_speed = NAN;   // approach speed latched at the first onset; rebound measured below
   double max_y = -INFINITY;  // highest ball position after the first contact
   bool in_contact_seen = false;
   void on_contact_onset(double t, int, double v) override {
@@ -105,7 +105,7 @@ TEST_CASE("locating contact onset beats latching at the end of the step", "[inte
     err[k++] = std::abs(o.v1 - v_exact) / v_exact;
   }
   INFO("relative impact-speed error: locate " << err[0] << ", step-end " << err[1]);
-  CHECK(err[0] < 1e-9);        // rk4 is exact on a parabola; bisection to ~1e-15 s
+  CHECK(err[0] < 1e-9);  // rk4 is exact on a parabola; bisection to ~1e-15 s
   CHECK(err[1] > 100 * err[0]);
 }
 
@@ -125,7 +125,8 @@ TEST_CASE("presets resolve as documented", "[integrators]") {
     for (std::string_view name : preset_names()) CHECK(preset_settings(e.name, name));
 
   // a study: the default is the balanced preset; a preset with an override; a preset axis
-  Json doc = Json::parse(R"({"scene": "rod-end-kinematic", "time": {"end": 0.1, "sample_interval": 1e-3}})");
+  Json doc = Json::parse(
+      R"({"scene": "rod-end-kinematic", "time": {"end": 0.1, "sample_interval": 1e-3}})");
   const Study plain = parse_study(doc, "p.json");
   CHECK(plain.cases[0].integrator.method == bal->method);
   CHECK(plain.cases[0].integrator.rel_tol == bal->rel_tol);
@@ -135,10 +136,12 @@ TEST_CASE("presets resolve as documented", "[integrators]") {
   CHECK(over.cases[0].integrator.rel_tol == ref->rel_tol);
   CHECK(over.cases[0].integrator.max_step == 1e-4);
   doc.erase("integrator");
-  doc["grid"] = Json::parse(R"([{"key": "integrator.preset", "values": ["fast", "balanced", "reference"]}])");
+  doc["grid"] =
+      Json::parse(R"([{"key": "integrator.preset", "values": ["fast", "balanced", "reference"]}])");
   const Study axis = parse_study(doc, "p.json");
   REQUIRE(axis.cases.size() == 3);
   CHECK(axis.cases[2].integrator.method == ref->method);
   doc["grid"] = Json::parse(R"([{"key": "integrator.preset", "values": ["quick"]}])");
-  CHECK_THROWS_WITH(parse_study(doc, "p.json"), Catch::Contains("integrator.preset") && Catch::Contains("unknown preset"));
+  CHECK_THROWS_WITH(parse_study(doc, "p.json"),
+                    Catch::Contains("integrator.preset") && Catch::Contains("unknown preset"));
 }
