@@ -51,16 +51,16 @@ int list_signals(bool markdown, bool json) {
   if (json) {
     Json out = Json::array();
     for (const auto& s : signal_catalogue())
-      out.push_back({{"name", s.name}, {"unit", s.unit}, {"width", s.width},
-                     {"description", s.description}});
+      out.push_back(
+          {{"name", s.name}, {"unit", s.unit}, {"width", s.width}, {"description", s.description}});
     std::cout << out.dump(2) << "\n";
     return 0;
   }
   if (markdown) std::cout << "| signal | unit | width | description |\n|---|---|---|---|\n";
   for (const auto& s : signal_catalogue()) {
     if (markdown)
-      std::cout << "| `" << s.name << "` | " << s.unit << " | " << s.width << " | "
-                << s.description << " |\n";
+      std::cout << "| `" << s.name << "` | " << s.unit << " | " << s.width << " | " << s.description
+                << " |\n";
     else
       std::cout << s.name << " [" << s.unit << "] x" << s.width << ": " << s.description << "\n";
   }
@@ -97,8 +97,9 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string(RODEND_VERSION) + " (" + RODEND_GIT_REVISION + ")");
 
   auto* run = app.add_subcommand(
-      "run", "Run a study (or a single case: a study with no grid). Cases already complete in "
-             "the results directory are kept (resume); interrupted ones are rerun.");
+      "run",
+      "Run a study (or a single case: a study with no grid). Cases already complete in "
+      "the results directory are kept (resume); interrupted ones are rerun.");
   std::string study_file;
   RunOptions opt;
   bool dry_run = false, quiet = false;
@@ -107,20 +108,23 @@ int main(int argc, char** argv) {
   run->add_option("STUDY", study_file, "study file (JSON)")->required();
   run->add_option("--threads,-j", opt.threads, "OpenMP threads over cases")
       ->check(CLI::Range(1, 4096));
-  run->add_flag("--dry-run", dry_run, "resolve and validate every case, print the case count "
-                                      "and the resolved table, run nothing");
+  run->add_flag("--dry-run", dry_run,
+                "resolve and validate every case, print the case count "
+                "and the resolved table, run nothing");
   run->add_flag("--rerun-failed", opt.rerun_failed, "rerun cases whose stored status is a failure");
   run->add_flag("--quiet,-q", quiet, "no progress on stderr");
   run->add_option("--results-root", results_root,
                   "where studies without an \"output\" key write (default: results)");
-  run->add_option("--shard", shard, "K/N: run only the K-th of N deterministic slices of the cases");
+  run->add_option("--shard", shard,
+                  "K/N: run only the K-th of N deterministic slices of the cases");
 
   auto* merge = app.add_subcommand(
-      "merge", "Assemble results/<study>/summary.{h5,csv} from the case files of a study run in "
-               "shards (--shard K/N) or by several jobs. STUDY is the study file or its results "
-               "directory (with the study.json a run leaves there). Exit 0: every case has its "
-               "file (failed cases included); 1: cases missing (listed on stderr, no summary "
-               "written); 2: error.");
+      "merge",
+      "Assemble results/<study>/summary.{h5,csv} from the case files of a study run in "
+      "shards (--shard K/N) or by several jobs. STUDY is the study file or its results "
+      "directory (with the study.json a run leaves there). Exit 0: every case has its "
+      "file (failed cases included); 1: cases missing (listed on stderr, no summary "
+      "written); 2: error.");
   merge->add_option("STUDY", study_file, "study file (JSON) or results directory")->required();
   merge->add_option("--results-root", results_root, "as for run");
 
@@ -129,8 +133,8 @@ int main(int argc, char** argv) {
   rdir->add_option("--results-root", results_root, "as for run");
 
   auto* scenes = app.add_subcommand("scenes", "List the scenes.");
-  auto* params = app.add_subcommand(
-      "params", "Print a scene's default parameters with units and provenance.");
+  auto* params =
+      app.add_subcommand("params", "Print a scene's default parameters with units and provenance.");
   std::string scene_name;
   bool as_json = false, markdown = false;
   params->add_option("SCENE", scene_name, "scene name")->required();
@@ -142,10 +146,11 @@ int main(int argc, char** argv) {
   metrics->add_flag("--markdown", markdown, "as a Markdown table");
 
   auto* compare = app.add_subcommand(
-      "compare", "Compare study results B against reference A: summary metrics with per-metric "
-                 "tolerances, histories pointwise up to the first impact and as envelopes after "
-                 "it. Missing or extra cases and signals are differences. Exit 0: equal within "
-                 "tolerance; 1: different; 2: error.");
+      "compare",
+      "Compare study results B against reference A: summary metrics with per-metric "
+      "tolerances, histories pointwise up to the first impact and as envelopes after "
+      "it. Missing or extra cases and signals are differences. Exit 0: equal within "
+      "tolerance; 1: different; 2: error.");
   std::string cmp_a, cmp_b, tolerance_file;
   bool summary_only = false;
   compare->add_option("A", cmp_a, "reference results folder (results/<study>)")->required();

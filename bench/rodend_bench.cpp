@@ -59,11 +59,12 @@ struct Options {
 };
 
 void usage(std::FILE* out) {
-  std::fprintf(out,
-               "usage: rodend-bench [--quick] [--json FILE] [--only rhs,throughput,cvode]\n"
-               "  --quick        fewer repetitions and a shorter CVODE ladder (< 30 s on an idle machine)\n"
-               "  --json FILE    also write every figure as JSON\n"
-               "  --only LIST    run only these parts (comma-separated)\n");
+  std::fprintf(
+      out,
+      "usage: rodend-bench [--quick] [--json FILE] [--only rhs,throughput,cvode]\n"
+      "  --quick        fewer repetitions and a shorter CVODE ladder (< 30 s on an idle machine)\n"
+      "  --json FILE    also write every figure as JSON\n"
+      "  --only LIST    run only these parts (comma-separated)\n");
 }
 
 Options parse(int argc, char** argv) {
@@ -151,8 +152,7 @@ class RecordingScene final : public Scene {
   void state_scale(double* s) const override { inner_.state_scale(s); }
   std::span<const int> quaternion_offsets() const override { return inner_.quaternion_offsets(); }
   std::span<const int> audit_offsets() const override { return inner_.audit_offsets(); }
-  void derivatives(double t, const double* x, const DiscreteState& d,
-                   double* dxdt) const override {
+  void derivatives(double t, const double* x, const DiscreteState& d, double* dxdt) const override {
     if (calls_++ % stride_ == 0) {
       times.push_back(t);
       states.insert(states.end(), x, x + inner_.state_size());
@@ -164,8 +164,7 @@ class RecordingScene final : public Scene {
   ContactGap contact_gap(int c, const double* x) const override { return inner_.contact_gap(c, x); }
   double contact_clearance(int c) const override { return inner_.contact_clearance(c); }
   std::span<const SignalId> signals() const override { return inner_.signals(); }
-  void outputs(double t, const double* x, const DiscreteState& d,
-               SignalFrame& f) const override {
+  void outputs(double t, const double* x, const DiscreteState& d, SignalFrame& f) const override {
     inner_.outputs(t, x, d, f);
   }
   EnergyTerms energy(double t, const double* x, const DiscreteState& d) const override {
@@ -208,7 +207,7 @@ IntegratorSettings preset_for(const Scene& scene, const std::string& name) {
 constexpr const char* kPresetSource = "rodend::preset_settings(scene, preset) (core/presets.hpp)";
 
 json settings_json(const IntegratorSettings& s) {
-  return {{"method", s.method}, {"abs_tol", s.abs_tol}, {"rel_tol", s.rel_tol},
+  return {{"method", s.method}, {"abs_tol", s.abs_tol},   {"rel_tol", s.rel_tol},
           {"step", s.step},     {"max_step", s.max_step}, {"contact_onset", s.contact_onset}};
 }
 
@@ -386,7 +385,9 @@ constexpr ErrorMetric kErrorMetrics[] = {
 };
 constexpr int kErrorMetricCount = static_cast<int>(std::size(kErrorMetrics));
 
-double metric(const MetricValues& v, MetricId id) { return v[static_cast<std::size_t>(id)]; }
+double metric(const MetricValues& v, MetricId id) {
+  return v[static_cast<std::size_t>(id)];
+}
 
 /// Per-metric scale of the error: |reference value|, except the final surface angle (about 0
 /// after a full cycle), scaled on the surface's angular range over the reference run.
@@ -395,7 +396,8 @@ std::vector<double> error_scales(const MetricValues& ref) {
   for (const auto& e : kErrorMetrics) {
     double v = std::abs(metric(ref, e.id));
     if (e.id == MetricId::final_surface_angle)
-      v = std::max(v, metric(ref, MetricId::max_surface_angle) - metric(ref, MetricId::min_surface_angle));
+      v = std::max(
+          v, metric(ref, MetricId::max_surface_angle) - metric(ref, MetricId::min_surface_angle));
     s.push_back(v > 0.0 ? v : 1.0);
   }
   return s;
@@ -514,8 +516,9 @@ int main(int argc, char** argv) {
               RODEND_GIT_REVISION, RODEND_BENCH_BUILD_TYPE, RODEND_BENCH_CXX_FLAGS);
   std::printf("host %s, %u hardware threads, load average %s (1, 5, 15 min) at start\n", host,
               std::thread::hardware_concurrency(), load_string().c_str());
-  std::printf("wall = std::chrono::steady_clock; cpu = this thread's CPU clock (wall/cpu > 1: the "
-              "machine was busy)\n");
+  std::printf(
+      "wall = std::chrono::steady_clock; cpu = this thread's CPU clock (wall/cpu > 1: the "
+      "machine was busy)\n");
   const auto t_start = now();
 
   std::map<std::string, double> rhs_ns_cpu;  // part 1's cpu cost per call, per scene
@@ -524,20 +527,23 @@ int main(int argc, char** argv) {
     const int reps = opt.quick ? 5 : 15, calls = opt.quick ? 5000 : 20000;
     std::fprintf(stderr, "rodend-bench: right-hand-side cost...\n");
     std::vector<RhsResult> rows;
-    for (const SceneEntry& e : scene_catalogue()) rows.push_back(bench_rhs(std::string(e.name), reps, calls));
+    for (const SceneEntry& e : scene_catalogue())
+      rows.push_back(bench_rhs(std::string(e.name), reps, calls));
     auto find = [&](const char* n) -> const RhsResult* {
       for (const auto& r : rows)
         if (r.scene == n) return &r;
       return nullptr;
     };
     const RhsResult* kin = find("rod-end-kinematic");
-    std::printf("\n1. Right-hand-side cost per scene: median of %d repetitions of %d calls, cycling "
-                "through states sampled from a short run (contact active where the scene has one);\n"
-                "   ratio = cost / rod-end-kinematic's\n",
-                reps, calls);
+    std::printf(
+        "\n1. Right-hand-side cost per scene: median of %d repetitions of %d calls, cycling "
+        "through states sampled from a short run (contact active where the scene has one);\n"
+        "   ratio = cost / rod-end-kinematic's\n",
+        reps, calls);
     rule(108);
     std::printf("%-18s %7s %7s %9s %12s %12s %10s %10s %14s\n", "scene", "states", "(audit)",
-                "contact", "ns/call wall", "ns/call cpu", "ratio wall", "ratio cpu", "ns/state cpu");
+                "contact", "ns/call wall", "ns/call cpu", "ratio wall", "ratio cpu",
+                "ns/state cpu");
     rule(108);
     json jr = json::array();
     for (const auto& r : rows) {
@@ -570,9 +576,13 @@ int main(int argc, char** argv) {
     const RhsResult* drop = find("gravity-drop");
     if (kin && act) {
       const double extra = act->ns_cpu - kin->ns_cpu;
-      std::printf("rod-end-actuator / rod-end-kinematic = %.2f (cpu %.2f): the actuator adds %.0f ns "
-                  "cpu per call", act->ns_wall / kin->ns_wall, act->ns_cpu / kin->ns_cpu, extra);
-      if (servo) std::printf("; servo-actuator alone (actuator + equivalent mass) costs %.0f ns", servo->ns_cpu);
+      std::printf(
+          "rod-end-actuator / rod-end-kinematic = %.2f (cpu %.2f): the actuator adds %.0f ns "
+          "cpu per call",
+          act->ns_wall / kin->ns_wall, act->ns_cpu / kin->ns_cpu, extra);
+      if (servo)
+        std::printf("; servo-actuator alone (actuator + equivalent mass) costs %.0f ns",
+                    servo->ns_cpu);
       std::printf("\n");
       checks["actuator_over_kinematic_wall"] = act->ns_wall / kin->ns_wall;
       checks["actuator_over_kinematic_cpu"] = act->ns_cpu / kin->ns_cpu;
@@ -580,15 +590,19 @@ int main(int argc, char** argv) {
       if (servo) checks["servo_actuator_alone_ns_cpu"] = servo->ns_cpu;
     }
     if (kin && drop) {
-      std::printf("gravity-drop / rod-end-kinematic = %.3f (cpu %.3f): one body and the contact, "
-                  "without the mechanism's second body, springs and slider-crank\n",
-                  drop->ns_wall / kin->ns_wall, drop->ns_cpu / kin->ns_cpu);
+      std::printf(
+          "gravity-drop / rod-end-kinematic = %.3f (cpu %.3f): one body and the contact, "
+          "without the mechanism's second body, springs and slider-crank\n",
+          drop->ns_wall / kin->ns_wall, drop->ns_cpu / kin->ns_cpu);
       checks["gravity_drop_over_kinematic_wall"] = drop->ns_wall / kin->ns_wall;
       checks["gravity_drop_over_kinematic_cpu"] = drop->ns_cpu / kin->ns_cpu;
     }
     std::printf("load average after part 1: %s\n", load_string().c_str());
-    out["rhs"] = {{"repetitions", reps}, {"calls_per_repetition", calls}, {"scenes", jr},
-                  {"ratios", checks}, {"load_average_after", load_average()}};
+    out["rhs"] = {{"repetitions", reps},
+                  {"calls_per_repetition", calls},
+                  {"scenes", jr},
+                  {"ratios", checks},
+                  {"load_average_after", load_average()}};
   }
 
   // ---------------------------------------------------------------------------------------------
@@ -614,11 +628,12 @@ int main(int argc, char** argv) {
             row.bare.add(run_once(*scene, row.bare.settings, kCycle, false));
           }
     }
-    std::printf("\n2. Throughput over one extension-retraction cycle (%.1f s simulated), median of %d "
-                "run%s;\n   the summary metrics computed on every step as in a study case (\"bare\": "
-                "nothing observing the steps); \"rhs share\": rhs calls x part 1's cpu cost per call "
-                "/ cpu time\n",
-                kCycle, reps, reps > 1 ? "s" : "");
+    std::printf(
+        "\n2. Throughput over one extension-retraction cycle (%.1f s simulated), median of %d "
+        "run%s;\n   the summary metrics computed on every step as in a study case (\"bare\": "
+        "nothing observing the steps); \"rhs share\": rhs calls x part 1's cpu cost per call "
+        "/ cpu time\n",
+        kCycle, reps, reps > 1 ? "s" : "");
     std::printf("   presets: %s\n", kPresetSource);
     rule(144);
     std::printf("%-18s %-10s %-16s %7s %9s %9s %13s %13s %12s %9s %8s %10s\n", "scene", "preset",
@@ -660,27 +675,31 @@ int main(int argc, char** argv) {
     }
     rule(144);
     std::printf("load average after part 2: %s\n", load_string().c_str());
-    out["throughput"] = {{"simulated_s", kCycle}, {"preset_source", kPresetSource},
-                         {"rows", jt}, {"load_average_after", load_average()}};
+    out["throughput"] = {{"simulated_s", kCycle},
+                         {"preset_source", kPresetSource},
+                         {"rows", jt},
+                         {"load_average_after", load_average()}};
   }
 
   // ---------------------------------------------------------------------------------------------
   if (opt.cvode) {
     const int reps = opt.quick ? 1 : 3;
     const std::vector<double> tols =
-        opt.quick ? std::vector<double>{1e-5, 1e-6, 1e-7, 1e-8, 1e-9}
-                  : std::vector<double>{1e-4, 3e-5, 1e-5, 3e-6, 1e-6, 3e-7, 1e-7, 3e-8, 1e-8, 3e-9, 1e-9};
+        opt.quick
+            ? std::vector<double>{1e-5, 1e-6, 1e-7, 1e-8, 1e-9}
+            : std::vector<double>{1e-4, 3e-5, 1e-5, 3e-6, 1e-6, 3e-7, 1e-7, 3e-8, 1e-8, 3e-9, 1e-9};
     const std::vector<std::string> methods = {"cvode_bdf", "cvode_adams"};
     json jc = json::array();
     std::printf("\n3. CVODE against the default preset (%s) at equal achieved error\n",
                 std::string(rodend::kDefaultPreset).c_str());
-    std::printf("   error of a run = largest relative error over {first_contact_time, "
-                "first_impact_peak_force, max_contact_force, max_eccentricity, final_surface_angle}\n"
-                "   against a reference run (scales: |reference value|; the final surface angle on the "
-                "surface's angular range).\n"
-                "   CVODE's cost at the default's error: log-log interpolation along the work-precision "
-                "front of its tolerance ladder; wall and cpu times median of %d run%s\n",
-                reps, reps > 1 ? "s" : "");
+    std::printf(
+        "   error of a run = largest relative error over {first_contact_time, "
+        "first_impact_peak_force, max_contact_force, max_eccentricity, final_surface_angle}\n"
+        "   against a reference run (scales: |reference value|; the final surface angle on the "
+        "surface's angular range).\n"
+        "   CVODE's cost at the default's error: log-log interpolation along the work-precision "
+        "front of its tolerance ladder; wall and cpu times median of %d run%s\n",
+        reps, reps > 1 ? "s" : "");
     for (const auto& name : mech_scenes) {
       std::fprintf(stderr, "rodend-bench: CVODE ladder, %s...\n", name.c_str());
       const auto scene = build(name);
@@ -701,8 +720,9 @@ int main(int argc, char** argv) {
       IntegratorSettings check_s = ref_s;
       check_s.abs_tol = check_s.rel_tol = 1e-11;
       const RunMeasure chk = run_once(*scene, check_s, kCycle);
-      const double floor_err =
-          chk.result.status == RunStatus::ok ? run_error(chk.metrics, ref.metrics, scale).max : kNaN;
+      const double floor_err = chk.result.status == RunStatus::ok
+                                   ? run_error(chk.metrics, ref.metrics, scale).max
+                                   : kNaN;
 
       // configurations: the default, then each method's ladder; measured in rounds so that a
       // change of the machine's load hits all of them alike
@@ -724,8 +744,8 @@ int main(int argc, char** argv) {
                   name.c_str(), settings_string(ref_s).c_str(), ref.result.stats.rhs_calls,
                   fmt("%.1e", floor_err).c_str());
       rule(150);
-      std::printf("%-9s %-12s %6s %-22s %9s %9s %9s %8s %7s  %s\n", "run", "method", "tol", "status",
-                  "error", "wall [s]", "cpu [s]", "rhs", "steps",
+      std::printf("%-9s %-12s %6s %-22s %9s %9s %9s %8s %7s  %s\n", "run", "method", "tol",
+                  "status", "error", "wall [s]", "cpu [s]", "rhs", "steps",
                   "error per metric: contact t, 1st peak, max F, max ecc, final angle");
       rule(150);
       json ladder = json::array();
@@ -735,8 +755,9 @@ int main(int argc, char** argv) {
         const auto& st = c.first.result.stats;
         std::printf("%-9s %-12s %6s %-22s %9s %9s %9s %8lld %7lld  %s\n", c.label.c_str(),
                     c.settings.method.c_str(), fmt("%.0e", c.settings.rel_tol).c_str(),
-                    std::string(to_string(c.first.result.status)).c_str(), fmt("%.2e", e.max).c_str(),
-                    fmt("%.3f", c.wall()).c_str(), fmt("%.3f", c.cpu()).c_str(), st.rhs_calls,
+                    std::string(to_string(c.first.result.status)).c_str(),
+                    fmt("%.2e", e.max).c_str(), fmt("%.3f", c.wall()).c_str(),
+                    fmt("%.3f", c.cpu()).c_str(), st.rhs_calls,
                     st.steps_accepted + st.steps_rejected, each.c_str());
         ladder.push_back({{"label", c.label},
                           {"settings", settings_json(c.settings)},
@@ -774,7 +795,8 @@ int main(int argc, char** argv) {
           preset_errors[row.preset] = e;
           preset_line += "  " + row.preset + " " + fmt("%.2e", e);
         }
-      if (!preset_line.empty()) std::printf("achieved error of the presets:%s\n", preset_line.c_str());
+      if (!preset_line.empty())
+        std::printf("achieved error of the presets:%s\n", preset_line.c_str());
 
       json jm = json::array();
       for (const auto& m : methods) {
@@ -803,10 +825,11 @@ int main(int argc, char** argv) {
           if (in.hi != in.lo) r += ".." + fmt("%.0e", tol[static_cast<std::size_t>(in.hi)]);
           return r;
         };
-        std::printf("%-12s cost / default at error %.2e: wall %s, cpu %s, rhs calls %s   "
-                    "(front rungs used: wall %s, cpu %s, rhs %s)\n",
-                    m.c_str(), de.max, shown(iw, rw).c_str(), shown(ic, rc).c_str(),
-                    shown(ir, rr).c_str(), rungs(iw).c_str(), rungs(ic).c_str(), rungs(ir).c_str());
+        std::printf(
+            "%-12s cost / default at error %.2e: wall %s, cpu %s, rhs calls %s   "
+            "(front rungs used: wall %s, cpu %s, rhs %s)\n",
+            m.c_str(), de.max, shown(iw, rw).c_str(), shown(ic, rc).c_str(), shown(ir, rr).c_str(),
+            rungs(iw).c_str(), rungs(ic).c_str(), rungs(ir).c_str());
         auto front_tols = [&](const Interpolated& in) {
           std::vector<double> v;
           for (int i : in.front) v.push_back(tol[static_cast<std::size_t>(i)]);
@@ -819,42 +842,51 @@ int main(int argc, char** argv) {
                       {"ratio_wall", rw},
                       {"ratio_cpu", rc},
                       {"ratio_rhs_calls", rr},
-                      {"wall", {{"extrapolated", iw.extrapolated}, {"upper_bound", iw.bound},
-                                {"front_tolerances", front_tols(iw)}}},
-                      {"cpu", {{"extrapolated", ic.extrapolated}, {"upper_bound", ic.bound},
-                               {"front_tolerances", front_tols(ic)}}},
-                      {"rhs_calls", {{"extrapolated", ir.extrapolated}, {"upper_bound", ir.bound},
-                                     {"front_tolerances", front_tols(ir)}}}});
+                      {"wall",
+                       {{"extrapolated", iw.extrapolated},
+                        {"upper_bound", iw.bound},
+                        {"front_tolerances", front_tols(iw)}}},
+                      {"cpu",
+                       {{"extrapolated", ic.extrapolated},
+                        {"upper_bound", ic.bound},
+                        {"front_tolerances", front_tols(ic)}}},
+                      {"rhs_calls",
+                       {{"extrapolated", ir.extrapolated},
+                        {"upper_bound", ir.bound},
+                        {"front_tolerances", front_tols(ir)}}}});
       }
       std::printf("load average: %s\n", load_string().c_str());
       std::vector<std::string> metric_names;
       for (const auto& em : kErrorMetrics) metric_names.emplace_back(em.name);
       json ref_values;
       for (const auto& em : kErrorMetrics) ref_values[em.name] = metric(ref.metrics, em.id);
-      jc.push_back({{"scene", name},
-                    {"reference", settings_json(ref_s)},
-                    {"reference_rhs_calls", ref.result.stats.rhs_calls},
-                    {"reference_metrics", ref_values},
-                    {"error_scales", scale},
-                    {"metrics", metric_names},
-                    {"reference_error_estimate", std::isfinite(floor_err) ? json(floor_err) : json()},
-                    {"default_settings", settings_json(def)},
-                    {"default_error", de.max},
-                    {"default_errors_per_metric", de.each},
-                    {"preset_errors", preset_errors},
-                    {"runs", ladder},
-                    {"cvode_over_default", jm},
-                    {"load_average_after", load_average()}});
+      jc.push_back(
+          {{"scene", name},
+           {"reference", settings_json(ref_s)},
+           {"reference_rhs_calls", ref.result.stats.rhs_calls},
+           {"reference_metrics", ref_values},
+           {"error_scales", scale},
+           {"metrics", metric_names},
+           {"reference_error_estimate", std::isfinite(floor_err) ? json(floor_err) : json()},
+           {"default_settings", settings_json(def)},
+           {"default_error", de.max},
+           {"default_errors_per_metric", de.each},
+           {"preset_errors", preset_errors},
+           {"runs", ladder},
+           {"cvode_over_default", jm},
+           {"load_average_after", load_average()}});
     }
-    out["cvode"] = {{"default_preset", std::string(rodend::kDefaultPreset)}, {"repetitions", reps},
-                    {"tolerances", tols}, {"scenes", jc}};
+    out["cvode"] = {{"default_preset", std::string(rodend::kDefaultPreset)},
+                    {"repetitions", reps},
+                    {"tolerances", tols},
+                    {"scenes", jc}};
   }
 
   const auto t_end = now();
   out["machine"]["load_average_end"] = load_average();
   out["machine"]["total_wall_s"] = t_end.wall - t_start.wall;
-  std::printf("\ntotal %.1f s wall, %.1f s cpu; load average %s at the end\n", t_end.wall - t_start.wall,
-              t_end.cpu - t_start.cpu, load_string().c_str());
+  std::printf("\ntotal %.1f s wall, %.1f s cpu; load average %s at the end\n",
+              t_end.wall - t_start.wall, t_end.cpu - t_start.cpu, load_string().c_str());
   if (!opt.json_path.empty()) {
     std::ofstream f(opt.json_path);
     if (!f) {

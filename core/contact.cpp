@@ -8,8 +8,10 @@ namespace rodend {
 
 std::string_view to_string(ContactGeometry g) {
   switch (g) {
-    case ContactGeometry::sphere: return "sphere";
-    case ContactGeometry::cylinder: return "cylinder";
+    case ContactGeometry::sphere:
+      return "sphere";
+    case ContactGeometry::cylinder:
+      return "cylinder";
   }
   return "unknown";
 }
@@ -32,7 +34,8 @@ double cylinder_in_cylinder_coefficient(double L, double Eb, double nub, double 
 
 double elastic_force(const ClearanceContactModel& m, double delta) {
   switch (m.geometry) {
-    case ContactGeometry::sphere: return m.stiffness * std::pow(delta, m.exponent);
+    case ContactGeometry::sphere:
+      return m.stiffness * std::pow(delta, m.exponent);
     case ContactGeometry::cylinder:
       return m.stiffness * std::pow(delta, m.exponent) / std::sqrt(2.0 * (m.clearance + delta));
   }
@@ -67,7 +70,8 @@ double cylinder_energy_integral(double delta, double c, double n) {
 
 double elastic_energy(const ClearanceContactModel& m, double delta, double force) {
   switch (m.geometry) {
-    case ContactGeometry::sphere: return force * delta / (m.exponent + 1.0);
+    case ContactGeometry::sphere:
+      return force * delta / (m.exponent + 1.0);
     case ContactGeometry::cylinder:
       return m.stiffness / std::numbers::sqrt2 *
              cylinder_energy_integral(delta, m.clearance, m.exponent);
@@ -106,11 +110,9 @@ ContactEval evaluate_contact(const ClearanceContactModel& m, const BodyKinematic
   // elastic part from the geometry (thesis 3.3; model-notes §3) and hysteresis damping of the
   // law (3.6-3.8), clamped so it never pulls
   c.elastic_force = elastic_force(m, c.penetration);
-  const double approach =
-      latch.in_contact ? latch.impact_speed : std::abs(c.penetration_rate);
+  const double approach = latch.in_contact ? latch.impact_speed : std::abs(c.penetration_rate);
   const double impact_speed = std::max(approach, m.min_impact_speed);
-  const double raw =
-      c.elastic_force * (1.0 + m.hysteresis * c.penetration_rate / impact_speed);
+  const double raw = c.elastic_force * (1.0 + m.hysteresis * c.penetration_rate / impact_speed);
   c.normal_force = std::max(raw, 0.0);
   c.normal_force_on_ball = -c.normal_force * c.normal;
   c.potential = elastic_energy(m, c.penetration, c.elastic_force);
@@ -119,7 +121,8 @@ ContactEval evaluate_contact(const ClearanceContactModel& m, const BodyKinematic
   // slip velocity of the ball's contact point relative to the socket's (thesis 3.12-3.13)
   const Vec3 r_ball = m.ball_radius * c.normal;
   const Vec3 r_socket = m.socket_radius() * c.normal;
-  const Vec3 v_rel = (ball.v_W + ball.w_W.cross(r_ball)) - (socket.v_W + socket.w_W.cross(r_socket));
+  const Vec3 v_rel =
+      (ball.v_W + ball.w_W.cross(r_ball)) - (socket.v_W + socket.w_W.cross(r_socket));
   const Vec3 v_t = v_rel - v_rel.dot(c.normal) * c.normal;
   c.slip_speed = v_t.norm();
   if (m.friction && c.slip_speed > 0.0 && c.normal_force > 0.0) {

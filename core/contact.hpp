@@ -70,12 +70,12 @@ class FrictionLaw {
 
 /// Parameters shared by the friction laws (each uses the ones it needs).
 struct FrictionParams {
-  std::string law = "thesis";       ///< thesis | ambrosio | coulomb | none
-  double static_coefficient = 0.0;  ///< mu_st [-] (thesis 3.9)
-  double dynamic_coefficient = 0.0; ///< mu_dyn [-] (thesis 3.9); c_f of Ambrosio; mu of Coulomb
-  double static_speed = 1e-3;       ///< v_st [m/s] (thesis 3.9); v0 of Ambrosio; v_eps of Coulomb
-  double dynamic_speed = 1e-2;      ///< v_dyn [m/s] (thesis 3.9); v1 of Ambrosio
-  double viscous_coefficient = 0.0; ///< mu_v [s/m] (thesis 3.9)
+  std::string law = "thesis";        ///< thesis | ambrosio | coulomb | none
+  double static_coefficient = 0.0;   ///< mu_st [-] (thesis 3.9)
+  double dynamic_coefficient = 0.0;  ///< mu_dyn [-] (thesis 3.9); c_f of Ambrosio; mu of Coulomb
+  double static_speed = 1e-3;        ///< v_st [m/s] (thesis 3.9); v0 of Ambrosio; v_eps of Coulomb
+  double dynamic_speed = 1e-2;       ///< v_dyn [m/s] (thesis 3.9); v1 of Ambrosio
+  double viscous_coefficient = 0.0;  ///< mu_v [s/m] (thesis 3.9)
 };
 std::unique_ptr<FrictionLaw> make_friction_law(const FrictionParams& p);
 std::span<const std::string_view> friction_law_names();
@@ -93,14 +93,14 @@ std::string_view to_string(ContactGeometry g);
 /// Immutable model of one clearance contact (sphere in sphere, or cylinder in cylinder).
 struct ClearanceContactModel {
   ContactGeometry geometry = ContactGeometry::sphere;
-  double ball_radius = 0.0;       ///< R_b, or the pin radius of a cylinder [m]
-  double clearance = 0.0;         ///< radial clearance c = R_s - R_b [m] (dR of a cylinder)
+  double ball_radius = 0.0;  ///< R_b, or the pin radius of a cylinder [m]
+  double clearance = 0.0;    ///< radial clearance c = R_s - R_b [m] (dR of a cylinder)
   /// Elastic coefficient K: sphere, the Hertz stiffness 4/3 E* sqrt(R*) [N/m^n]; cylinder,
   /// (pi/2) L E* [N/m] (F_el = K delta^n (2 (c + delta))^(-1/2)). Includes stiffness_scale.
   double stiffness = 0.0;
-  double exponent = 1.5;          ///< n [-]
-  double hysteresis = 0.0;        ///< chi [-]
-  double min_impact_speed = 1e-3; ///< guard on delta'^- [m/s]
+  double exponent = 1.5;                        ///< n [-]
+  double hysteresis = 0.0;                      ///< chi [-]
+  double min_impact_speed = 1e-3;               ///< guard on delta'^- [m/s]
   std::shared_ptr<const FrictionLaw> friction;  ///< null: frictionless
 
   double socket_radius() const { return ball_radius + clearance; }
@@ -127,17 +127,17 @@ double elastic_energy(const ClearanceContactModel& m, double penetration, double
 
 /// Everything the contact computes at one instant.
 struct ContactEval {
-  Vec3 normal = Vec3::UnitX();  ///< unit vector from socket centre to ball centre
-  double eccentricity = 0.0;    ///< |p_socket - p_ball| [m]
-  double penetration = 0.0;     ///< delta [m], negative for a gap
-  double penetration_rate = 0.0;///< delta' [m/s]
-  double elastic_force = 0.0;   ///< F_el [N]
-  double normal_force = 0.0;    ///< F_n >= 0 [N]
-  Vec3 normal_force_on_ball = Vec3::Zero();   ///< [N]
-  Vec3 friction_on_ball = Vec3::Zero();       ///< [N]
-  Vec3 moment_on_ball = Vec3::Zero();         ///< friction moment about ball centre [N m]
-  Vec3 moment_on_socket = Vec3::Zero();       ///< friction moment about socket centre [N m]
-  double slip_speed = 0.0;      ///< |v_t| [m/s]
+  Vec3 normal = Vec3::UnitX();               ///< unit vector from socket centre to ball centre
+  double eccentricity = 0.0;                 ///< |p_socket - p_ball| [m]
+  double penetration = 0.0;                  ///< delta [m], negative for a gap
+  double penetration_rate = 0.0;             ///< delta' [m/s]
+  double elastic_force = 0.0;                ///< F_el [N]
+  double normal_force = 0.0;                 ///< F_n >= 0 [N]
+  Vec3 normal_force_on_ball = Vec3::Zero();  ///< [N]
+  Vec3 friction_on_ball = Vec3::Zero();      ///< [N]
+  Vec3 moment_on_ball = Vec3::Zero();        ///< friction moment about ball centre [N m]
+  Vec3 moment_on_socket = Vec3::Zero();      ///< friction moment about socket centre [N m]
+  double slip_speed = 0.0;                   ///< |v_t| [m/s]
   double potential = 0.0;       ///< elastic energy, the integral of F_el over delta [J]
   double damping_power = 0.0;   ///< power dissipated by hysteresis damping [W], >= 0
   double friction_power = 0.0;  ///< power dissipated by friction [W], >= 0

@@ -22,7 +22,7 @@ class InputError : public std::runtime_error {
 
   /// The same error, located in `file` and with `prefix.` before its key path.
   InputError located(const std::string& file, const std::string& prefix = {}) const {
-    std::string path = prefix.empty() ? key_path_
+    std::string path = prefix.empty()      ? key_path_
                        : key_path_.empty() ? prefix
                                            : prefix + "." + key_path_;
     return InputError(path, problem_, file.empty() ? file_ : file);

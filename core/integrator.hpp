@@ -13,13 +13,13 @@ namespace rodend {
 
 /// Integrator settings (a plain struct: one field per setting, with its unit).
 struct IntegratorSettings {
-  std::string method = "dopri5";     ///< rk4 (fixed step) | dopri5 (adaptive, dense output)
-  double abs_tol = 1e-6;             ///< absolute tolerance on the scaled state [-]
-  double rel_tol = 1e-6;             ///< relative tolerance [-]
-  double step = 1e-5;                ///< fixed step (rk4) or first trial step (adaptive) [s]
-  double max_step = 1e-3;            ///< largest step of adaptive methods [s]
-  double min_step = 1e-14;           ///< below this an adaptive step is an underflow [s]
-  long long max_steps = 20'000'000;  ///< budget on accepted plus rejected steps [-]
+  std::string method = "dopri5";          ///< rk4 (fixed step) | dopri5 (adaptive, dense output)
+  double abs_tol = 1e-6;                  ///< absolute tolerance on the scaled state [-]
+  double rel_tol = 1e-6;                  ///< relative tolerance [-]
+  double step = 1e-5;                     ///< fixed step (rk4) or first trial step (adaptive) [s]
+  double max_step = 1e-3;                 ///< largest step of adaptive methods [s]
+  double min_step = 1e-14;                ///< below this an adaptive step is an underflow [s]
+  long long max_steps = 20'000'000;       ///< budget on accepted plus rejected steps [-]
   long long max_rhs_calls = 200'000'000;  ///< budget on right-hand-side calls [-]
   /// How contact onset is latched: "locate" finds the onset time on the step's interpolant by
   /// bisection and restarts there; "step-end" latches at the end of the step that crossed it.
@@ -71,9 +71,9 @@ struct RunStats {
   long long steps_rejected = 0;
   long long rhs_calls = 0;
   long long contact_onsets = 0;
-  double t_reached = 0.0;                 ///< [s]
-  double max_quaternion_norm_error = 0.0; ///< largest | |q| - 1 | seen before renormalising [-]
-  double max_penetration_fraction = 0.0;  ///< largest penetration / clearance seen [-]
+  double t_reached = 0.0;                  ///< [s]
+  double max_quaternion_norm_error = 0.0;  ///< largest | |q| - 1 | seen before renormalising [-]
+  double max_penetration_fraction = 0.0;   ///< largest penetration / clearance seen [-]
 };
 
 struct RunResult {
@@ -105,8 +105,7 @@ void validate(const HealthLimits& h);
 
 /// Runs `scene` from its initial state to `time.end`. Never throws for numerical trouble: a
 /// failed run returns its status, a message and the time reached.
-RunResult simulate(const Scene& scene, const IntegratorSettings& settings,
-                   const TimeSettings& time, RunObserver& observer,
-                   const HealthLimits& health = {});
+RunResult simulate(const Scene& scene, const IntegratorSettings& settings, const TimeSettings& time,
+                   RunObserver& observer, const HealthLimits& health = {});
 
 }  // namespace rodend

@@ -17,8 +17,8 @@ inline Vec3 rotation_vector(const Quat& q_in) {
   Quat q = q_in.normalized();
   if (q.w() < 0.0) q.coeffs() = -q.coeffs();  // shortest rotation
   const Vec3 v = q.vec();
-  const double s = v.norm();                // sin(angle/2)
-  const double w = q.w();                   // cos(angle/2)
+  const double s = v.norm();  // sin(angle/2)
+  const double w = q.w();     // cos(angle/2)
   const double angle = 2.0 * std::atan2(s, w);
   // angle / s -> 2 / w as s -> 0 (series of atan2(s, w) / s = (1/w)(1 - s^2/(3 w^2) + ...))
   const double factor = (s > 1e-7) ? angle / s : (2.0 / w) * (1.0 - s * s / (3.0 * w * w));

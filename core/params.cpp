@@ -9,7 +9,9 @@
 namespace rodend {
 namespace {
 
-bool is_leaf(const Json& j) { return j.is_object() && j.contains("value"); }
+bool is_leaf(const Json& j) {
+  return j.is_object() && j.contains("value");
+}
 
 std::string type_name(const Json& j) {
   if (j.is_array()) return "an array of " + std::to_string(j.size()) + " numbers";
@@ -79,7 +81,9 @@ ParameterSet ParameterSet::defaults_for(std::string_view scene) {
   return from_json(doc.at("parameters"), std::string(scene) + ".params.json");
 }
 
-bool ParameterSet::has(const std::string& path) const { return find(tree_, path) != nullptr; }
+bool ParameterSet::has(const std::string& path) const {
+  return find(tree_, path) != nullptr;
+}
 
 const Json& ParameterSet::leaf(const std::string& path) const {
   const Json* l = find(tree_, path);
@@ -91,14 +95,13 @@ void ParameterSet::set(const std::string& path, const Json& value) {
   Json* l = find(tree_, path);
   if (!l) throw InputError(path, "unknown parameter (see `rodend params SCENE`)");
   const Json& old = (*l)["value"];
-  const bool same_array = old.is_array() && value.is_array() && old.size() == value.size() &&
-                          std::all_of(value.begin(), value.end(),
-                                      [](const Json& v) { return v.is_number(); });
+  const bool same_array =
+      old.is_array() && value.is_array() && old.size() == value.size() &&
+      std::all_of(value.begin(), value.end(), [](const Json& v) { return v.is_number(); });
   const bool ok = (old.is_number() && value.is_number()) ||
                   (old.is_string() && value.is_string()) ||
                   (old.is_boolean() && value.is_boolean()) || same_array;
-  if (!ok)
-    throw InputError(path, "expected " + type_name(old) + ", got " + type_name(value));
+  if (!ok) throw InputError(path, "expected " + type_name(old) + ", got " + type_name(value));
   if (old.is_string() && l->contains("choices")) {
     const Json& choices = (*l)["choices"];
     if (std::find(choices.begin(), choices.end(), value) == choices.end())

@@ -8,8 +8,8 @@ namespace rodend {
 
 /// Immutable parameters of a rigid body.
 struct RigidBodyParams {
-  double mass = 1.0;                     ///< [kg]
-  Vec3 inertia = Vec3::Ones();           ///< principal moments of inertia about the mass centre [kg m^2]
+  double mass = 1.0;            ///< [kg]
+  Vec3 inertia = Vec3::Ones();  ///< principal moments of inertia about the mass centre [kg m^2]
 };
 
 /// Layout of one body's 13 states inside the scene state vector, starting at `offset`:
@@ -22,12 +22,12 @@ struct BodyStateLayout {
 /// Read-only view of a body's state with the quaternion normalised (used everywhere a rotation
 /// is needed, so a small drift of |q| never distorts the dynamics).
 struct BodyKinematics {
-  Vec3 p_W;     ///< position of the mass centre [m]
-  Vec3 v_W;     ///< velocity of the mass centre [m/s]
-  Quat q_WB;    ///< orientation, normalised
-  Mat3 R_WB;    ///< rotation matrix body -> inertial
-  Vec3 w_B;     ///< angular velocity in the body frame [rad/s]
-  Vec3 w_W;     ///< angular velocity in the inertial frame [rad/s]
+  Vec3 p_W;   ///< position of the mass centre [m]
+  Vec3 v_W;   ///< velocity of the mass centre [m/s]
+  Quat q_WB;  ///< orientation, normalised
+  Mat3 R_WB;  ///< rotation matrix body -> inertial
+  Vec3 w_B;   ///< angular velocity in the body frame [rad/s]
+  Vec3 w_W;   ///< angular velocity in the inertial frame [rad/s]
 
   static BodyKinematics from_state(const double* x) {
     BodyKinematics k;
@@ -97,8 +97,7 @@ inline void body_derivatives(const RigidBodyParams& body, const BodyKinematics& 
 
 /// Translational plus rotational kinetic energy [J].
 inline double kinetic_energy(const RigidBodyParams& body, const BodyKinematics& k) {
-  return 0.5 * body.mass * k.v_W.squaredNorm() +
-         0.5 * k.w_B.dot(body.inertia.cwiseProduct(k.w_B));
+  return 0.5 * body.mass * k.v_W.squaredNorm() + 0.5 * k.w_B.dot(body.inertia.cwiseProduct(k.w_B));
 }
 
 /// Angular momentum about the mass centre, in the inertial frame [kg m^2/s].

@@ -26,9 +26,9 @@ struct DiscreteState {
 /// Energy-audit terms at one instant [J]. `input_work` and `dissipated` are time integrals the
 /// scene carries as states of its own.
 struct EnergyTerms {
-  double mechanical = 0.0;   ///< kinetic + potential (gravity, springs, contact)
-  double input_work = 0.0;   ///< work of prescribed motions and applied loads since t = 0
-  double dissipated = 0.0;   ///< energy dissipated since t = 0
+  double mechanical = 0.0;  ///< kinetic + potential (gravity, springs, contact)
+  double input_work = 0.0;  ///< work of prescribed motions and applied loads since t = 0
+  double dissipated = 0.0;  ///< energy dissipated since t = 0
 };
 
 class Scene {

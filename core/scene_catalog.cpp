@@ -35,16 +35,16 @@ static std::string known_scenes() {
 
 std::string_view scene_default_parameters_json(std::string_view scene) {
   if (!find_scene(scene))
-    throw InputError("scene", "unknown scene '" + std::string(scene) + "'; expected one of: " +
-                                  known_scenes());
+    throw InputError(
+        "scene", "unknown scene '" + std::string(scene) + "'; expected one of: " + known_scenes());
   return embedded_scene_defaults(scene);
 }
 
 std::unique_ptr<Scene> make_scene(std::string_view name, const ParameterSet& params) {
   const SceneEntry* e = find_scene(name);
   if (!e)
-    throw InputError("scene", "unknown scene '" + std::string(name) + "'; expected one of: " +
-                                  known_scenes());
+    throw InputError(
+        "scene", "unknown scene '" + std::string(name) + "'; expected one of: " + known_scenes());
   return e->make(params);
 }
 

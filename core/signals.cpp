@@ -18,10 +18,18 @@ constexpr auto kOffsets = make_offsets();
 
 }  // namespace
 
-std::span<const SignalSpec> signal_catalogue() { return kCatalogue; }
-const SignalSpec& signal_spec(SignalId id) { return kCatalogue[static_cast<int>(id)]; }
-int signal_offset(SignalId id) { return kOffsets[static_cast<int>(id)]; }
-int signal_frame_width() { return kOffsets[signal_count]; }
+std::span<const SignalSpec> signal_catalogue() {
+  return kCatalogue;
+}
+const SignalSpec& signal_spec(SignalId id) {
+  return kCatalogue[static_cast<int>(id)];
+}
+int signal_offset(SignalId id) {
+  return kOffsets[static_cast<int>(id)];
+}
+int signal_frame_width() {
+  return kOffsets[signal_count];
+}
 
 std::optional<SignalId> signal_by_name(std::string_view name) {
   for (int i = 0; i < signal_count; ++i)

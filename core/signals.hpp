@@ -45,7 +45,8 @@ class SignalFrame {
   SignalFrame() : values_(static_cast<std::size_t>(signal_frame_width()), 0.0) {}
   void set(SignalId id, double v) {
     assert(signal_spec(id).width == 1);
-    values_[static_cast<std::size_t>(signal_offset(id))] = v; }
+    values_[static_cast<std::size_t>(signal_offset(id))] = v;
+  }
   void set(SignalId id, const Vec3& v) {
     assert(signal_spec(id).width == 3);
     const auto o = static_cast<std::size_t>(signal_offset(id));
@@ -63,9 +64,7 @@ class SignalFrame {
     return values_[static_cast<std::size_t>(signal_offset(id) + component)];
   }
   Vec3 get3(SignalId id) const { return Vec3(get(id, 0), get(id, 1), get(id, 2)); }
-  const double* data(SignalId id) const {
-    return values_.data() + signal_offset(id);
-  }
+  const double* data(SignalId id) const { return values_.data() + signal_offset(id); }
 
  private:
   std::vector<double> values_;

@@ -17,10 +17,10 @@ struct Spring3DParams {
 
 /// The far end of a spring: where it is, how it moves, and the orientation it holds the body to.
 struct SpringAnchor {
-  Vec3 p_W = Vec3::Zero();                 ///< anchor position [m] (rest position of the body)
-  Vec3 v_W = Vec3::Zero();                 ///< anchor velocity [m/s]
-  Quat q_ref = Quat::Identity();           ///< orientation the body is held to
-  Vec3 w_ref_W = Vec3::Zero();             ///< angular velocity of that orientation [rad/s]
+  Vec3 p_W = Vec3::Zero();        ///< anchor position [m] (rest position of the body)
+  Vec3 v_W = Vec3::Zero();        ///< anchor velocity [m/s]
+  Quat q_ref = Quat::Identity();  ///< orientation the body is held to
+  Vec3 w_ref_W = Vec3::Zero();    ///< angular velocity of that orientation [rad/s]
 };
 
 struct SpringEval {
@@ -45,7 +45,8 @@ inline SpringEval evaluate_spring(const Spring3DParams& s, const SpringAnchor& a
   const Vec3 r = rotation_vector(b.q_WB * a.q_ref.conjugate());
   const Vec3 dw = b.w_W - a.w_ref_W;
   e.moment_on_body = -s.rotational_stiffness * r - s.rotational_damping * dw;
-  e.potential = 0.5 * s.stiffness * dp.squaredNorm() + 0.5 * s.rotational_stiffness * r.squaredNorm();
+  e.potential =
+      0.5 * s.stiffness * dp.squaredNorm() + 0.5 * s.rotational_stiffness * r.squaredNorm();
   e.damping_power = s.damping * dv.squaredNorm() + s.rotational_damping * dw.squaredNorm();
   e.anchor_power = e.force_on_body.dot(a.v_W) + e.moment_on_body.dot(a.w_ref_W);
   return e;

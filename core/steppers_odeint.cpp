@@ -231,8 +231,9 @@ class DenseOutputStepper final : public Stepper {
 class Rosenbrock4Stepper final : public Stepper {
  public:
   Rosenbrock4Stepper(ScaledSystem& sys, const IntegratorSettings& s)
-      : core_(make_rosenbrock4(s.abs_tol, s.rel_tol, s.max_step,
-                               [&sys](const state_t& z, state_t& dz, double t) { sys(z, dz, t); })) {}
+      : core_(
+            make_rosenbrock4(s.abs_tol, s.rel_tol, s.max_step,
+                             [&sys](const state_t& z, state_t& dz, double t) { sys(z, dz, t); })) {}
   void reset(const state_t& z, double t, double dt) override {
     core_->initialize(z, t, dt);
     z_now = z;
@@ -241,7 +242,8 @@ class Rosenbrock4Stepper final : public Stepper {
   void step(double t_limit) override {
     z_prev = z_now;
     t_prev = t_now;
-    if (t_now + core_->current_time_step() > t_limit) core_->initialize(z_now, t_now, t_limit - t_now);
+    if (t_now + core_->current_time_step() > t_limit)
+      core_->initialize(z_now, t_now, t_limit - t_now);
     t_now = core_->do_step().second;
     core_->current_state(z_now);
     ++accepted;

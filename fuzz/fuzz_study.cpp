@@ -4,9 +4,10 @@
 // AddressSanitizer or UndefinedBehaviorSanitizer report, a timeout) is a bug.
 //
 // Built only with clang and -DRODEND_FUZZ=ON (README "Fuzzing"):
-//   CXX=clang++-14 CC=clang-14 cmake -S . -B build-fuzz -DRODEND_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo
-//   cmake --build build-fuzz --target fuzz_study -j2
-//   build-fuzz/fuzz/fuzz_study -max_total_time=600 -dict=fuzz/study.dict fuzz/corpus-work fuzz/corpus
+//   CXX=clang++-14 CC=clang-14 cmake -S . -B build-fuzz -DRODEND_FUZZ=ON
+//   -DCMAKE_BUILD_TYPE=RelWithDebInfo cmake --build build-fuzz --target fuzz_study -j2
+//   build-fuzz/fuzz/fuzz_study -max_total_time=600 -dict=fuzz/study.dict fuzz/corpus-work
+//   fuzz/corpus
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>

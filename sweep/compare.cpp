@@ -51,8 +51,10 @@ class Report {
   void diff(const std::string& where, const std::string& what) {
     ++count_;
     int& n = per_case_[where];
-    if (++n <= cap_) out_ << "  DIFF " << where << ": " << what << "\n";
-    else if (n == cap_ + 1) out_ << "  DIFF " << where << ": ... (more differences not shown)\n";
+    if (++n <= cap_)
+      out_ << "  DIFF " << where << ": " << what << "\n";
+    else if (n == cap_ + 1)
+      out_ << "  DIFF " << where << ": ... (more differences not shown)\n";
   }
   int count() const { return count_; }
 
@@ -69,8 +71,8 @@ void compare_signal(const std::string& where, const std::string& name, const Sig
                     const CompareSettings& s, Report& rep) {
   if (a.width != b.width || a.samples != b.samples) {
     rep.diff(where, "signal " + name + " has shape " + std::to_string(b.samples) + "x" +
-                        std::to_string(b.width) + ", reference " + std::to_string(a.samples) +
-                        "x" + std::to_string(a.width));
+                        std::to_string(b.width) + ", reference " + std::to_string(a.samples) + "x" +
+                        std::to_string(a.width));
     return;
   }
   for (int c = 0; c < a.width; ++c) {
@@ -88,8 +90,8 @@ void compare_signal(const std::string& where, const std::string& name, const Sig
       if (!(t > t_event)) {
         if (!close_enough(va, vb, s.history, range)) {
           rep.diff(where, label + " at t = " + fmt(t) + " s: " + fmt(vb) + ", reference " +
-                              fmt(va) + " (pointwise before the first impact; band " +
-                              fmt(band) + ")");
+                              fmt(va) + " (pointwise before the first impact; band " + fmt(band) +
+                              ")");
           break;
         }
         continue;
@@ -165,7 +167,8 @@ CompareSettings load_tolerances(const fs::path& file) {
       for (auto m = it->begin(); m != it->end(); ++m) {
         if (m.key() == "default") continue;
         const auto cat = metric_catalogue();
-        if (std::none_of(cat.begin(), cat.end(), [&](const MetricSpec& sp) { return sp.name == m.key(); }))
+        if (std::none_of(cat.begin(), cat.end(),
+                         [&](const MetricSpec& sp) { return sp.name == m.key(); }))
           throw InputError("metrics." + m.key(), "unknown metric name (see `rodend metrics`)", f);
         s.metric[m.key()] = read_tolerance(*m, s.metric_default, "metrics." + m.key(), f);
       }
@@ -263,11 +266,13 @@ int compare_studies(const fs::path& a, const fs::path& b, const CompareSettings&
     // histories
     const fs::path fa = a / "cases" / (p.id_a + ".h5"), fb = b / "cases" / (p.id_b + ".h5");
     if (!fs::exists(fa) || !fs::exists(fb)) {
-      rep.diff(where, std::string("case file missing in ") + (fs::exists(fa) ? "B" : "the reference"));
+      rep.diff(where,
+               std::string("case file missing in ") + (fs::exists(fa) ? "B" : "the reference"));
       continue;
     }
     const auto sig_a = list_signals(fa), sig_b = list_signals(fb);
-    const std::set<std::string> set_a(sig_a.begin(), sig_a.end()), set_b(sig_b.begin(), sig_b.end());
+    const std::set<std::string> set_a(sig_a.begin(), sig_a.end()),
+        set_b(sig_b.begin(), sig_b.end());
     for (const auto& n : set_a)
       if (!set_b.count(n)) rep.diff(where, "signal " + n + " missing");
     for (const auto& n : set_b)
@@ -282,7 +287,8 @@ int compare_studies(const fs::path& a, const fs::path& b, const CompareSettings&
       continue;
     }
     double t_event = INFINITY;
-    if (ra.numbers.count("first_contact_time") && std::isfinite(ra.numbers.at("first_contact_time")[i]))
+    if (ra.numbers.count("first_contact_time") &&
+        std::isfinite(ra.numbers.at("first_contact_time")[i]))
       t_event = ra.numbers.at("first_contact_time")[i];
     for (const auto& n : sig_a) {
       if (n == "time" || !set_b.count(n)) continue;

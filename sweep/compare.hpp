@@ -36,8 +36,9 @@ CompareSettings load_tolerances(const std::filesystem::path& file);
 /// Compares study results `a` (reference) and `b`; writes a readable report. Returns 0 when
 /// equal within tolerance, 1 when different. Cases are paired by id, else by grid position
 /// (same case_index and grid coordinates: the id changes with any parameter added to a scene),
-/// with a note; metrics newer than the reference (absent from it) are noted, not compared. Throws std::runtime_error when a folder is not a
-/// study or a file cannot be read (the CLI turns that into exit code 2).
+/// with a note; metrics newer than the reference (absent from it) are noted, not compared. Throws
+/// std::runtime_error when a folder is not a study or a file cannot be read (the CLI turns that
+/// into exit code 2).
 int compare_studies(const std::filesystem::path& a, const std::filesystem::path& b,
                     const CompareSettings& settings, std::ostream& report);
 

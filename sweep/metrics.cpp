@@ -21,11 +21,15 @@ bool provides(const Scene& s, T id) {
   return std::find(sig.begin(), sig.end(), id) != sig.end();
 }
 
-double& at(MetricValues& v, MetricId id) { return v[static_cast<std::size_t>(id)]; }
+double& at(MetricValues& v, MetricId id) {
+  return v[static_cast<std::size_t>(id)];
+}
 
 }  // namespace
 
-std::span<const MetricSpec> metric_catalogue() { return kMetrics; }
+std::span<const MetricSpec> metric_catalogue() {
+  return kMetrics;
+}
 
 MetricsAccumulator::MetricsAccumulator(const Scene& scene, const MetricsSettings& settings)
     : settings_(settings),
@@ -113,16 +117,19 @@ void MetricsAccumulator::on_step(const SignalFrame& f) {
   if (has_surface_) {
     const double a = f.get(SignalId::surface_angle);
     at(v_, MetricId::final_surface_angle) = a;
-    at(v_, MetricId::min_surface_angle) =
-        std::isnan(at(v_, MetricId::min_surface_angle)) ? a : std::min(at(v_, MetricId::min_surface_angle), a);
-    at(v_, MetricId::max_surface_angle) =
-        std::isnan(at(v_, MetricId::max_surface_angle)) ? a : std::max(at(v_, MetricId::max_surface_angle), a);
+    at(v_, MetricId::min_surface_angle) = std::isnan(at(v_, MetricId::min_surface_angle))
+                                              ? a
+                                              : std::min(at(v_, MetricId::min_surface_angle), a);
+    at(v_, MetricId::max_surface_angle) = std::isnan(at(v_, MetricId::max_surface_angle))
+                                              ? a
+                                              : std::max(at(v_, MetricId::max_surface_angle), a);
     if (std::isnan(at(v_, MetricId::surface_motion_onset_time)) &&
         std::abs(a) > settings_.surface_motion_threshold)
       at(v_, MetricId::surface_motion_onset_time) = t;
   }
   if (has_chambers_) {
-    const double p = std::max(f.get(SignalId::chamber_pressures, 0), f.get(SignalId::chamber_pressures, 1));
+    const double p =
+        std::max(f.get(SignalId::chamber_pressures, 0), f.get(SignalId::chamber_pressures, 1));
     double& m = at(v_, MetricId::max_chamber_pressure);
     m = std::isnan(m) ? p : std::max(m, p);
   }
@@ -156,7 +163,8 @@ MetricValues MetricsAccumulator::finish(const RunStats& stats) const {
     if (episode_ >= 1) at(v, MetricId::eccentricity_ptp_after_first_contact) = ecc_max_ - ecc_min_;
     if (std::isinf(at(v, MetricId::max_penetration))) at(v, MetricId::max_penetration) = kNaN;
   }
-  if (has_energy_) at(v, MetricId::energy_residual) = max_flow_ > 0.0 ? max_residual_ / max_flow_ : 0.0;
+  if (has_energy_)
+    at(v, MetricId::energy_residual) = max_flow_ > 0.0 ? max_residual_ / max_flow_ : 0.0;
   at(v, MetricId::max_penetration_fraction) = stats.max_penetration_fraction;
   at(v, MetricId::max_quaternion_norm_error) = stats.max_quaternion_norm_error;
   return v;

@@ -29,8 +29,8 @@ using MetricValues = std::array<double, metric_count>;
 
 /// Settings of the metrics (study key "metrics").
 struct MetricsSettings {
-  double post_impact_window = 0.05;          ///< [s] window for the eccentricity oscillation
-  double surface_motion_threshold = 1e-3;    ///< [rad] surface counts as moving beyond this
+  double post_impact_window = 0.05;        ///< [s] window for the eccentricity oscillation
+  double surface_motion_threshold = 1e-3;  ///< [rad] surface counts as moving beyond this
 };
 
 /// Accumulates the metrics from step frames.
@@ -51,8 +51,8 @@ class MetricsAccumulator {
   double t_prev_ = 0.0, force_prev_ = 0.0, wear_prev_ = 0.0;
   bool first_step_ = true;
   MetricValues v_{};
-  int episode_ = 0;          // contact episodes seen
-  int onsets_ = 0;           // onsets latched by the driver
+  int episode_ = 0;  // contact episodes seen
+  int onsets_ = 0;   // onsets latched by the driver
   bool in_contact_ = false;
   double ecc_min_ = 0.0, ecc_max_ = 0.0;
   double first_onset_ = 0.0;        // [s] onset of the first episode (its duration)

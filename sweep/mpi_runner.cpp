@@ -41,14 +41,16 @@ namespace {
 constexpr int kTagRequest = 1;
 constexpr int kTagWork = 2;
 constexpr int kNone = -1, kOk = 0, kFailed = 1;  // request payload
-constexpr int kNoMoreWork = -1;                   // reply payload
+constexpr int kNoMoreWork = -1;                  // reply payload
 
 /// Serialises every MPI call made while threads run (MPI_THREAD_SERIALIZED).
 std::mutex g_mpi;
 /// The library gave MPI_THREAD_SERIALIZED or better; without it, one thread per rank.
 bool g_threads_ok = false;
 
-void sleep_us(int us) { std::this_thread::sleep_for(std::chrono::microseconds(us)); }
+void sleep_us(int us) {
+  std::this_thread::sleep_for(std::chrono::microseconds(us));
+}
 
 /// Completes `req` by polling (see the file comment).
 void wait_polled(MPI_Request& req, int poll_us = 1000) {
@@ -129,8 +131,7 @@ void manage(WorkQueue& queue, Progress& progress) {
       int last = kNone;
       {
         std::lock_guard lock(g_mpi);
-        MPI_Recv(&last, 1, MPI_INT, st.MPI_SOURCE, kTagRequest, MPI_COMM_WORLD,
-                 MPI_STATUS_IGNORE);
+        MPI_Recv(&last, 1, MPI_INT, st.MPI_SOURCE, kTagRequest, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
       }
       if (last != kNone) progress.case_done(last != kOk);
       int next = queue.take(st.MPI_SOURCE);
@@ -250,7 +251,9 @@ std::string fingerprint(const Study& s) {
 
 }  // namespace
 
-bool built_in() { return true; }
+bool built_in() {
+  return true;
+}
 
 bool launched() {
   for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
@@ -300,8 +303,9 @@ int run_study_mpi(const Session& session, const fs::path& study_file, const fs::
 
   if (!g_threads_ok && opt.threads > 1) {
     if (rank == 0)
-      std::fprintf(stderr, "rodend: warning: the MPI library does not allow calls from several "
-                           "threads; running one case at a time per rank\n");
+      std::fprintf(stderr,
+                   "rodend: warning: the MPI library does not allow calls from several "
+                   "threads; running one case at a time per rank\n");
     opt.threads = 1;
   }
   const int threads = std::max(opt.threads, 1);
@@ -387,8 +391,12 @@ int run_study_mpi(const Session& session, const fs::path& study_file, const fs::
 
 namespace rodend::mpi {
 
-bool built_in() { return false; }
-bool launched() { return false; }
+bool built_in() {
+  return false;
+}
+bool launched() {
+  return false;
+}
 Session::Session(bool) {}
 Session::~Session() = default;
 int run_study_mpi(const Session&, const std::filesystem::path&, const std::filesystem::path&,

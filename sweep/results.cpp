@@ -801,15 +801,16 @@ std::string read_dataset_unit(const Context& cx, hid_t d) {
 
 SummaryTable read_summary(const fs::path& dir) {
   const fs::path path = dir / "summary.h5";
-  if (!fs::exists(path)) throw std::runtime_error(dir.string() + " is not a rodend study: no summary.h5");
+  if (!fs::exists(path))
+    throw std::runtime_error(dir.string() + " is not a rodend study: no summary.h5");
   Hdf5Lock lock;
   const Context cx(path, "cannot read summary");
   Handle file =
       cx.own(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, "cannot open the file");
   SummaryTable t;
   {
-    const Handle g = cx.own(H5Gopen2(file.get(), "/summary", H5P_DEFAULT), H5Gclose,
-                            "no /summary group");
+    const Handle g =
+        cx.own(H5Gopen2(file.get(), "/summary", H5P_DEFAULT), H5Gclose, "no /summary group");
     const Json cols = Json::parse(read_attr_string(cx, g.get(), "columns"));
     for (const Json& c : cols) t.columns.push_back(c.get<std::string>());
     for (const std::string& name : t.columns) {
@@ -823,7 +824,8 @@ SummaryTable read_summary(const fs::path& dir) {
       if (H5Tget_class(ft.get()) == H5T_STRING) {
         const Handle mt = utf8_string_type(cx);
         std::vector<char*> raw(n, nullptr);
-        if (n > 0) cx.ok(H5Dread(d.get(), mt.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, raw.data()), what);
+        if (n > 0)
+          cx.ok(H5Dread(d.get(), mt.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, raw.data()), what);
         auto& out = t.texts[name];
         for (char* s : raw) {
           out.emplace_back(s ? s : "");
@@ -833,7 +835,8 @@ SummaryTable read_summary(const fs::path& dir) {
         auto& out = t.numbers[name];
         out.resize(n);
         if (n > 0)
-          cx.ok(H5Dread(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()), what);
+          cx.ok(H5Dread(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()),
+                what);
       }
     }
   }
@@ -865,8 +868,8 @@ SignalData read_signal(const fs::path& case_file, const std::string& name) {
   SignalData s;
   {
     const std::string what = "cannot read signal " + name;
-    const Handle d = cx.own(H5Dopen2(file.get(), ("/signals/" + name).c_str(), H5P_DEFAULT),
-                            H5Dclose, what);
+    const Handle d =
+        cx.own(H5Dopen2(file.get(), ("/signals/" + name).c_str(), H5P_DEFAULT), H5Dclose, what);
     const Handle space = cx.own(H5Dget_space(d.get()), H5Sclose, what);
     const int rank = H5Sget_simple_extent_ndims(space.get());
     hsize_t dims[2] = {0, 1};

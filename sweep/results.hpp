@@ -35,10 +35,10 @@ struct CaseRecord {
   std::string id;
   long index = 0;
   Json coordinates = Json::object();
-  std::string status;        ///< "ok" or a RunStatus name
-  std::string message;       ///< empty when ok
-  double t_reached = 0.0;    ///< [s]
-  double wall_time = 0.0;    ///< [s]
+  std::string status;      ///< "ok" or a RunStatus name
+  std::string message;     ///< empty when ok
+  double t_reached = 0.0;  ///< [s]
+  double wall_time = 0.0;  ///< [s]
   long long steps_accepted = 0, steps_rejected = 0, rhs_calls = 0;
   std::string started_utc, finished_utc;  ///< ISO 8601
   MetricValues metrics{};
@@ -46,10 +46,10 @@ struct CaseRecord {
 
 /// A summary table read back from summary.h5.
 struct SummaryTable {
-  std::vector<std::string> columns;                            ///< in table order
-  std::map<std::string, std::vector<double>> numbers;          ///< numeric columns
-  std::map<std::string, std::vector<std::string>> texts;       ///< text columns
-  std::map<std::string, std::string> units;                    ///< unit of each column
+  std::vector<std::string> columns;                       ///< in table order
+  std::map<std::string, std::vector<double>> numbers;     ///< numeric columns
+  std::map<std::string, std::vector<std::string>> texts;  ///< text columns
+  std::map<std::string, std::string> units;               ///< unit of each column
   std::size_t rows = 0;
   bool is_text(const std::string& c) const { return texts.count(c) > 0; }
 };
@@ -63,7 +63,9 @@ struct SignalData {
   std::size_t samples = 0;
   int width = 1;
   std::string unit;
-  double at(std::size_t i, int c = 0) const { return values[i * static_cast<std::size_t>(width) + static_cast<std::size_t>(c)]; }
+  double at(std::size_t i, int c = 0) const {
+    return values[i * static_cast<std::size_t>(width) + static_cast<std::size_t>(c)];
+  }
 };
 /// Names of the signals in a case file (sorted); throws std::runtime_error.
 std::vector<std::string> list_signals(const std::filesystem::path& case_file);

@@ -5,8 +5,8 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -40,8 +40,8 @@ class CaseObserver final : public RunObserver {
     h.signals = spec.signals;
     h.values.assign(spec.signals.size(), {});
     h.samples = 0;
-    const auto n = static_cast<std::size_t>(
-        std::floor(spec.time.end / spec.time.sample_interval + 1e-9) + 1);
+    const auto n =
+        static_cast<std::size_t>(std::floor(spec.time.end / spec.time.sample_interval + 1e-9) + 1);
     for (std::size_t i = 0; i < spec.signals.size(); ++i)
       h.values[i].reserve(n * static_cast<std::size_t>(signal_spec(spec.signals[i]).width));
   }
@@ -101,11 +101,15 @@ void write_text_atomically(const fs::path& path, const std::string& text) {
 }  // namespace
 
 Progress::Progress(bool enabled, long total, long already)
-    : enabled_(enabled), tty_(isatty(fileno(stderr)) != 0), total_(total), done_(already),
-      start_(std::chrono::steady_clock::now()), already_(already) {
+    : enabled_(enabled),
+      tty_(isatty(fileno(stderr)) != 0),
+      total_(total),
+      done_(already),
+      start_(std::chrono::steady_clock::now()),
+      already_(already) {
   if (enabled_ && already > 0)
-    std::fprintf(stderr, "rodend: %ld of %ld cases already complete, %ld to run\n", already,
-                 total, total - already);
+    std::fprintf(stderr, "rodend: %ld of %ld cases already complete, %ld to run\n", already, total,
+                 total - already);
 }
 
 void Progress::case_done(bool failed) {
@@ -116,7 +120,8 @@ void Progress::case_done(bool failed) {
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const long ran = done_ - already_;
-  const double eta = ran > 0 ? elapsed / static_cast<double>(ran) * static_cast<double>(total_ - done_) : 0.0;
+  const double eta =
+      ran > 0 ? elapsed / static_cast<double>(ran) * static_cast<double>(total_ - done_) : 0.0;
   if (tty_) {
     std::fprintf(stderr, "\r[%ld/%ld] %ld failed, elapsed %s, ETA %s   ", done_, total_, failed_,
                  format_duration(elapsed).c_str(), format_duration(eta).c_str());
@@ -169,23 +174,23 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
   std::error_code ec;
   fs::create_directories(plan.cases_dir, ec);
   if (ec)
-    throw InputError("output", "cannot create the results directory " +
-                                   plan.cases_dir.string() + ": " + ec.message(),
-                     study.file.string());
+    throw InputError(
+        "output",
+        "cannot create the results directory " + plan.cases_dir.string() + ": " + ec.message(),
+        study.file.string());
   // both directories take files (cases; study.json and the summary): checked before anything
   // runs, so a read-only results folder fails at once, not after the cases
   for (const fs::path& d : {plan.cases_dir, plan.dir})
     if (::access(d.c_str(), W_OK) != 0)
-      throw InputError("output",
-                       "the results directory " + d.string() + " is not writable (" +
-                           std::strerror(errno) + ")",
-                       study.file.string());
+      throw InputError(
+          "output",
+          "the results directory " + d.string() + " is not writable (" + std::strerror(errno) + ")",
+          study.file.string());
   plan.provenance = provenance(study);
   // a shard writes its own summary; `rodend merge` assembles the study's
-  plan.summary_dir = opt.shard_count > 1
-                         ? plan.dir / ("shard-" + std::to_string(opt.shard_index) + "-of-" +
-                                       std::to_string(opt.shard_count))
-                         : plan.dir;
+  plan.summary_dir = opt.shard_count > 1 ? plan.dir / ("shard-" + std::to_string(opt.shard_index) +
+                                                       "-of-" + std::to_string(opt.shard_count))
+                                         : plan.dir;
 
   // what is complete already (resume): a case file under its final name is complete. One that
   // cannot be read (truncated, corrupt, locked, another case's or another schema's) is never

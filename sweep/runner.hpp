@@ -56,10 +56,10 @@ struct RunPlan {
   std::filesystem::path cases_dir;    ///< dir/cases
   std::filesystem::path summary_dir;  ///< dir, or dir/shard-K-of-N for a shard
   Json provenance;
-  std::vector<CaseRecord> records;    ///< by case index; valid where have[i]
-  std::vector<char> have;             ///< case i has a complete file that is kept
-  std::vector<std::size_t> todo;      ///< case indices to run, in grid order
-  long in_scope = 0;                  ///< cases of this shard (all cases without shards)
+  std::vector<CaseRecord> records;  ///< by case index; valid where have[i]
+  std::vector<char> have;           ///< case i has a complete file that is kept
+  std::vector<std::size_t> todo;    ///< case indices to run, in grid order
+  long in_scope = 0;                ///< cases of this shard (all cases without shards)
 };
 
 /// Creates the results directories, writes study.json, and reads the case files present: a

@@ -16,11 +16,11 @@ namespace rodend {
 
 /// One fully resolved case of a study.
 struct CaseSpec {
-  std::string id;            ///< 16 hex digits: FNV-1a 64 of canonical() (see case_id)
-  long index = 0;            ///< position in the expanded grid, 0-based
+  std::string id;                     ///< 16 hex digits: FNV-1a 64 of canonical() (see case_id)
+  long index = 0;                     ///< position in the expanded grid, 0-based
   Json coordinates = Json::object();  ///< grid key -> value for this case (empty without a grid)
   std::string scene;
-  ParameterSet parameters;   ///< defaults plus study overrides plus grid values
+  ParameterSet parameters;  ///< defaults plus study overrides plus grid values
   IntegratorSettings integrator;
   TimeSettings time;
   HealthLimits health;
@@ -35,14 +35,14 @@ struct CaseSpec {
 
 /// A loaded study.
 struct Study {
-  std::filesystem::path file;          ///< the study file
-  std::string name;                    ///< "name" key, else the file stem
+  std::filesystem::path file;  ///< the study file
+  std::string name;            ///< "name" key, else the file stem
   std::string description;
   std::string scene;
   std::filesystem::path output_dir;    ///< "output" key, else results/<name>
   std::vector<std::string> axis_keys;  ///< grid coordinate keys, in axis order
   std::vector<CaseSpec> cases;
-  Json source;                         ///< the study file as parsed
+  Json source;  ///< the study file as parsed
 };
 
 /// FNV-1a 64-bit hash of a string, as 16 lowercase hex digits.

@@ -48,8 +48,8 @@ inline IntegratorSettings rk4(double step) {
 }
 
 // --- tolerances ---------------------------------------------------------------------------------
-// Every bound is a relative (...Rel) or an absolute (...Abs) error, in the unit named. "measured" is the
-// worst error seen on this machine (Release, gcc 12) when the bound was set.
+// Every bound is a relative (...Rel) or an absolute (...Abs) error, in the unit named. "measured"
+// is the worst error seen on this machine (Release, gcc 12) when the bound was set.
 
 /// Free body, constant inputs: the translation is a quadratic in t, which dopri5 integrates
 /// exactly, so only round-off of ~1e3 steps on O(10) m remains. measured 2.7e-15 (rel).
@@ -159,7 +159,9 @@ class Track {
     for (SignalId id : ids_)
       for (int k = 0; k < signal_spec(id).width; ++k) data_.push_back(f.get(id, k));
   }
-  std::size_t size() const { return width_ == 0 ? 0 : data_.size() / static_cast<std::size_t>(width_); }
+  std::size_t size() const {
+    return width_ == 0 ? 0 : data_.size() / static_cast<std::size_t>(width_);
+  }
   bool empty() const { return size() == 0; }
   double time(std::size_t i) const { return data_[i * static_cast<std::size_t>(width_)]; }
   double get(std::size_t i, SignalId id, int component = 0) const {
@@ -183,7 +185,8 @@ class Track {
 class Recorder final : public RunObserver {
  public:
   explicit Recorder(std::initializer_list<SignalId> ids, bool record_steps = false)
-      : samples(std::vector<SignalId>(ids)), steps(std::vector<SignalId>(ids)),
+      : samples(std::vector<SignalId>(ids)),
+        steps(std::vector<SignalId>(ids)),
         record_steps_(record_steps) {}
   void on_sample(const SignalFrame& f) override { samples.add(f); }
   void on_step(const SignalFrame& f) override { steps.add(f); }

@@ -89,9 +89,9 @@ struct ConstantMomentRun {
   std::size_t frames_after = 0;   ///< step frames after the settling time
   std::size_t open_after = 0;     ///< of which out of contact (force or penetration <= 0)
   double first_open_after = NAN;  ///< first such frame [s]
-  double min_force_after = INFINITY;  ///< smallest contact force after the settling time [N]
-  double min_force_reversal = INFINITY;  ///< ... within 0.1 s either side of the reversal [N]
-  double max_penetration = -INFINITY;    ///< over the whole run [m]
+  double min_force_after = INFINITY;         ///< smallest contact force after the settling time [N]
+  double min_force_reversal = INFINITY;      ///< ... within 0.1 s either side of the reversal [N]
+  double max_penetration = -INFINITY;        ///< over the whole run [m]
   double max_penetration_after = -INFINITY;  ///< after the settling time [m]
   double min_pressure = INFINITY, max_pressure = -INFINITY;  ///< both chambers [Pa]
 };
@@ -113,8 +113,7 @@ const ConstantMomentRun& constant_moment_run(double M0) {
   p.set("hinge.kind", "constant");
   p.set("hinge.constant_moment", M0);
   p.set("hinge.step_time", 0.0);
-  Recorder rec({SignalId::contact_force, SignalId::penetration, SignalId::chamber_pressures},
-               true);
+  Recorder rec({SignalId::contact_force, SignalId::penetration, SignalId::chamber_pressures}, true);
   run("rod-end-actuator", p, dopri5(1e-6), cycle_end(p, "motion"), rec);
   const double t_rev = p.number("motion.start_time") + p.number("motion.extension_time") +
                        p.number("motion.hold_time");
@@ -145,7 +144,8 @@ const ConstantMomentRun& constant_moment_run(double M0) {
 
 }  // namespace
 
-// --- 1. closed loop without the rod-end -----------------------------------------------------------
+// --- 1. closed loop without the rod-end
+// -----------------------------------------------------------
 
 TEST_CASE("servo-actuator: the calibrated step response settles with micrometre error",
           "[actuator]") {
@@ -159,9 +159,8 @@ TEST_CASE("servo-actuator: the calibrated step response settles with micrometre 
 
   // dopri5 at 1e-8: ~3.9k accepted steps, a few ms. The response metrics are converged: the
   // end-of-hold error is -2.5492e-6 m at every tolerance from 1e-6 to 1e-9.
-  Recorder rec({SignalId::actuator_command, SignalId::actuator_position,
-                SignalId::chamber_pressures},
-               true);
+  Recorder rec(
+      {SignalId::actuator_command, SignalId::actuator_position, SignalId::chamber_pressures}, true);
   run("servo-actuator", p, dopri5(1e-8), cycle_end(p, "command"), rec);
   const Track& st = rec.steps;
   REQUIRE(st.size() > 1000);
@@ -232,7 +231,8 @@ TEST_CASE("servo-actuator: the calibrated step response settles with micrometre 
   CHECK(std::abs(st.back(SignalId::actuator_position)) < 0.02 * A);
 }
 
-// --- 2. hydraulic energy consistency --------------------------------------------------------------
+// --- 2. hydraulic energy consistency
+// --------------------------------------------------------------
 
 TEST_CASE("servo-actuator: the hydraulic energy audit closes", "[actuator]") {
   // The input work is the hydraulic power by the long route: net supply power less orifice,
@@ -297,7 +297,8 @@ TEST_CASE("rod-end-actuator: the energy audit closes", "[actuator]") {
   CHECK(pmax <= 1.01 * Ps);
 }
 
-// --- 3. thesis §6.3 comparisons ---------------------------------------------------------------------
+// --- 3. thesis §6.3 comparisons
+// ---------------------------------------------------------------------
 
 TEST_CASE("rod-end-actuator: the actuator damps the first-contact oscillation (thesis §6.3)",
           "[actuator]") {
@@ -306,9 +307,9 @@ TEST_CASE("rod-end-actuator: the actuator damps the first-contact oscillation (t
   // eccentricity oscillates less. Window: 50 ms from the first step frame in contact.
   const ParameterSet pk = ParameterSet::defaults_for("rod-end-kinematic");
   const ParameterSet pa = ParameterSet::defaults_for("rod-end-actuator");
-  for (const char* k : {"motion.shape", "motion.extension", "motion.retraction",
-                        "motion.extension_time", "motion.retraction_time", "motion.hold_time",
-                        "motion.start_time", "motion.cycles"}) {
+  for (const char* k :
+       {"motion.shape", "motion.extension", "motion.retraction", "motion.extension_time",
+        "motion.retraction_time", "motion.hold_time", "motion.start_time", "motion.cycles"}) {
     INFO(k);
     if (std::string(k) == "motion.shape")
       REQUIRE(pk.text(k) == pa.text(k));
@@ -339,9 +340,10 @@ TEST_CASE("rod-end-actuator: the actuator damps the first-contact oscillation (t
   CHECK(pp[1] < pp[0]);
 }
 
-TEST_CASE("rod-end-actuator: a constant opposing hinge moment keeps the contact closed "
-          "through the reversal (thesis §6.3.2)",
-          "[actuator]") {
+TEST_CASE(
+    "rod-end-actuator: a constant opposing hinge moment keeps the contact closed "
+    "through the reversal (thesis §6.3.2)",
+    "[actuator]") {
   // -20 N m (clockwise, opposing extension) as a step at t = 0. Thesis fig. 6.24: contact from
   // the start to the end, reversal included, because the moment outweighs the inertia that
   // would separate the spheres when the motion reverses (at 1.2 s).
@@ -357,8 +359,8 @@ TEST_CASE("rod-end-actuator: a constant opposing hinge moment keeps the contact 
   // rod load of 20 N m on the 0.11 m crank, ~180 N: the inertia is small beside it)
   measured("§6.3.2 -20 N m: open step frames after 0.1 s", static_cast<double>(r.open_after), 0);
   measured("§6.3.2 -20 N m: min contact force after 0.1 s [N]", r.min_force_after, 0.0);
-  measured("§6.3.2 -20 N m: min contact force at the reversal +-0.1 s [N]",
-           r.min_force_reversal, 0.0);
+  measured("§6.3.2 -20 N m: min contact force at the reversal +-0.1 s [N]", r.min_force_reversal,
+           0.0);
   CHECK(r.open_after == 0);
   CHECK(r.min_force_reversal > 0.0);
 }
@@ -377,9 +379,9 @@ TEST_CASE("rod-end-actuator: a larger constant moment, a deeper penetration (the
   double last = -INFINITY, last_after = -INFINITY;
   for (double M0 : {-5.0, -10.0, -20.0}) {
     const ConstantMomentRun& r = constant_moment_run(M0);
-    INFO("M0 = " << M0 << " N m: max penetration " << r.max_penetration << " m (previous "
-                 << last << "), after " << kSettled << " s " << r.max_penetration_after
-                 << " m (previous " << last_after << ")");
+    INFO("M0 = " << M0 << " N m: max penetration " << r.max_penetration << " m (previous " << last
+                 << "), after " << kSettled << " s " << r.max_penetration_after << " m (previous "
+                 << last_after << ")");
     measured("§6.3.2 max penetration, whole cycle, M0 = " + std::to_string(M0) + " N m [m]",
              r.max_penetration, last);
     measured("§6.3.2 max penetration, after 0.1 s,  M0 = " + std::to_string(M0) + " N m [m]",
@@ -398,9 +400,10 @@ TEST_CASE("rod-end-actuator: a larger constant moment, a deeper penetration (the
   CHECK(last_after > 0.0);
 }
 
-TEST_CASE("rod-end-actuator: a moment proportional to the angle moves the contact to the other "
-          "half of the socket when the angle changes sign (thesis §6.3.2)",
-          "[actuator]") {
+TEST_CASE(
+    "rod-end-actuator: a moment proportional to the angle moves the contact to the other "
+    "half of the socket when the angle changes sign (thesis §6.3.2)",
+    "[actuator]") {
   // M = -k theta with k = 50 N m/rad, and a command retracting to -0.05 m so the surface swings
   // from about +27 deg to about -26 deg. While theta > 0 the moment is clockwise and the rod
   // pushes (compression): the ball sits on the far side of the socket from the actuator base;
@@ -453,7 +456,8 @@ TEST_CASE("rod-end-actuator: a moment proportional to the angle moves the contac
   CHECK(std::abs(mean_neg) * kDeg < 90.0);
 }
 
-// --- 4. bad input ----------------------------------------------------------------------------------
+// --- 4. bad input
+// ----------------------------------------------------------------------------------
 
 TEST_CASE("actuator scenes reject non-physical hydraulics and out-of-stroke commands by name",
           "[actuator]") {
@@ -500,7 +504,8 @@ TEST_CASE("actuator scenes reject non-physical hydraulics and out-of-stroke comm
   }
 }
 
-// --- 5. equivalent mass provenance ----------------------------------------------------------------
+// --- 5. equivalent mass provenance
+// ----------------------------------------------------------------
 
 TEST_CASE("servo-actuator: the equivalent mass is the mechanism's, referred to the rod",
           "[actuator]") {
@@ -514,8 +519,7 @@ TEST_CASE("servo-actuator: the equivalent mass is the mechanism's, referred to t
   const double rbar = 0.12 / (g.ideal_crank_angle(l0 + 0.06) - g.ideal_crank_angle(l0 - 0.06));
   const double J = k.number("surface.mass") * (s / 3.0) * (s / 3.0) + k.number("surface.inertia");
   const double expected = J / (rbar * rbar) + k.number("ball.mass") + k.number("socket.mass");
-  const double stored =
-      ParameterSet::defaults_for("servo-actuator").number("load.equivalent_mass");
+  const double stored = ParameterSet::defaults_for("servo-actuator").number("load.equivalent_mass");
   CAPTURE(rbar, J, expected, stored);
   // measured: rbar 0.103986 m/rad, J 0.026722 kg m^2, expected 2.971304 kg, stored 2.9713 kg
   // (rounded to 4 decimals: at most 5e-5 kg, 1.7e-5 relative); 1e-3 is the brief's bound, and a

@@ -59,8 +59,7 @@ TEST_CASE("rotation vector: exact at zero, exact for a quarter turn", "[math]") 
   Quat minus_identity(-1.0, 0.0, 0.0, 0.0);
   CHECK(rotation_vector(minus_identity) == Vec3::Zero());
 
-  const Vec3 axis = GENERATE(Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1),
-                             Vec3(1, 2, -2) / 3.0);
+  const Vec3 axis = GENERATE(Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), Vec3(1, 2, -2) / 3.0);
   const Quat q(Eigen::AngleAxisd(kPi / 2, axis));
   const Vec3 rv = rotation_vector(q);
   CHECK((rv - (kPi / 2) * axis).norm() <= kUlps * kPi);
@@ -140,8 +139,8 @@ TEST_CASE("no force across a gap", "[contact]") {
   const ClearanceContactModel m = steel_model(0.75);
   const BodyKinematics socket = BodyKinematics::fixed(Vec3::Zero());
   for (double pen : {-1e-4, -1e-12, 0.0}) {
-    const ContactEval e = evaluate_contact(m, ball_at(m, pen, 1.0, Vec3(0, 0.5, 0)), socket,
-                                           ContactLatch{true, 1.0});
+    const ContactEval e =
+        evaluate_contact(m, ball_at(m, pen, 1.0, Vec3(0, 0.5, 0)), socket, ContactLatch{true, 1.0});
     CHECK(e.normal_force == 0.0);
     CHECK(e.force_on_ball() == Vec3::Zero());
     CHECK(e.potential == 0.0);
@@ -157,7 +156,8 @@ TEST_CASE("hysteresis factors chi(c_r) of the normal laws (model-notes §3)", "[
   CAPTURE(cr);
   const NormalLaw* ln = find_normal_law("lankarani-nikravesh");
   REQUIRE(ln);
-  CHECK(ln->hysteresis_factor(cr) == Approx(3.0 * (1 - cr * cr) / 4.0).epsilon(1e-15).margin(1e-300));
+  CHECK(ln->hysteresis_factor(cr) ==
+        Approx(3.0 * (1 - cr * cr) / 4.0).epsilon(1e-15).margin(1e-300));
   CHECK(find_normal_law("hertz")->hysteresis_factor(cr) == 0.0);
   CHECK(find_normal_law("hunt-crossley")->hysteresis_factor(cr) ==
         Approx(3.0 * (1 - cr) / 2.0).epsilon(1e-15).margin(1e-300));
@@ -262,8 +262,7 @@ TEST_CASE("friction opposes the slip with mu F_n", "[friction]") {
   // moment r x F_t with each sphere's own radius (model-notes §1): about -z... r = R n = +x,
   // F_t along -y, so r x F_t is along -z with magnitude R |F_t|
   CHECK(e.moment_on_ball.z() == Approx(-m.ball_radius * 0.1 * e.normal_force).epsilon(1e-12));
-  CHECK(e.moment_on_socket.z() ==
-        Approx(m.socket_radius() * 0.1 * e.normal_force).epsilon(1e-12));
+  CHECK(e.moment_on_socket.z() == Approx(m.socket_radius() * 0.1 * e.normal_force).epsilon(1e-12));
   // a spin that cancels the slip at the contact point: no friction (thesis 3.12-3.13)
   BodyKinematics rolling = ball_at(m, 1e-6, 0.0, Vec3(0.0, 0.1, 0.0));
   rolling.w_W = Vec3(0.0, 0.0, -0.1 / m.ball_radius);  // w x (R n) = -0.1 y
@@ -312,9 +311,8 @@ TEST_CASE("every friction law: mu(0) = 0, continuous, its limits", "[friction]")
     REQUIRE(law == nullptr);
     ClearanceContactModel m = steel_model(0.0);
     m.friction = nullptr;
-    const ContactEval e = evaluate_contact(
-        m, ball_at(m, 1e-6, 0.0, Vec3(0.0, 0.1, 0.0)), BodyKinematics::fixed(Vec3::Zero()),
-        {true, 1e-3});
+    const ContactEval e = evaluate_contact(m, ball_at(m, 1e-6, 0.0, Vec3(0.0, 0.1, 0.0)),
+                                           BodyKinematics::fixed(Vec3::Zero()), {true, 1e-3});
     REQUIRE(e.normal_force > 0.0);
     CHECK(e.friction_on_ball == Vec3::Zero());
     CHECK(e.friction_power == 0.0);
@@ -328,9 +326,9 @@ TEST_CASE("every friction law: mu(0) = 0, continuous, its limits", "[friction]")
   // Lipschitz: no jump anywhere on [0, 4 v_dyn]; slope bounds by hand: thesis 1.5 x the
   // steepest blend (rise / width), Ambrosio c_f / (v1 - v0), Coulomb mu / v_eps (tanh' <= 1)
   const double slope =
-      name == "thesis" ? 1.5 * std::max(2 * f.static_coefficient / (2 * f.static_speed),
-                                        (f.static_coefficient - f.dynamic_coefficient) /
-                                            (f.dynamic_speed - f.static_speed))
+      name == "thesis"     ? 1.5 * std::max(2 * f.static_coefficient / (2 * f.static_speed),
+                                            (f.static_coefficient - f.dynamic_coefficient) /
+                                                (f.dynamic_speed - f.static_speed))
       : name == "ambrosio" ? f.dynamic_coefficient / (f.dynamic_speed - f.static_speed)
                            : f.dynamic_coefficient / f.static_speed;
   const double h = 1e-7;
@@ -378,10 +376,9 @@ TEST_CASE("the contact and friction laws are selectable per study", "[friction][
     }
   }
   // through a study file, as a grid axis
-  const Json doc = {
-      {"scene", "impact-pair"},
-      {"time", {{"end", 1e-4}, {"sample_interval", 1e-5}}},
-      {"grid", {{{"key", "parameters.friction.law"}, {"values", friction}}}}};
+  const Json doc = {{"scene", "impact-pair"},
+                    {"time", {{"end", 1e-4}, {"sample_interval", 1e-5}}},
+                    {"grid", {{{"key", "parameters.friction.law"}, {"values", friction}}}}};
   const Study study = parse_study(doc, "friction-laws.json");
   REQUIRE(study.cases.size() == friction.size());
   for (std::size_t i = 0; i < friction.size(); ++i)

@@ -12,8 +12,8 @@
 //    state or output ends the run before the frame reaches the observer.
 //
 // Runtime (Release, 2 cores): ~2 s, most of it the 1 um clearance run.
-#include <catch2/catch.hpp>
 #include <array>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -187,8 +187,7 @@ TEST_CASE("extremes: misalignment 1.1 x clearance starts against the ball, prelo
   }
 }
 
-TEST_CASE("extremes: c_r = 0.05 with every law: finite, never pulling, settles",
-          "[extremes]") {
+TEST_CASE("extremes: c_r = 0.05 with every law: finite, never pulling, settles", "[extremes]") {
   const double weight = kMass * kG;
   const double delta_static = std::pow(weight / hertz_stiffness(kClearance), 2.0 / 3.0);
   int laws = 0;
@@ -264,8 +263,7 @@ TEST_CASE("extremes: an actuator that cannot follow fails (actuator_saturation)"
     HealthLimits h;
     h.tracking_window = 0.5;
     FiniteObserver obs2(all_signals(*scene));
-    CHECK(simulate(*scene, dopri5(1e-6), TimeSettings{1.0, 1e-4}, obs2, h).status ==
-          RunStatus::ok);
+    CHECK(simulate(*scene, dopri5(1e-6), TimeSettings{1.0, 1e-4}, obs2, h).status == RunStatus::ok);
   }
   SECTION("a load beyond the 10.5 kN stall force pushes the piston back") {
     ParameterSet p = ParameterSet::defaults_for("servo-actuator");

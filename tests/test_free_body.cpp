@@ -62,10 +62,10 @@ double max_entry_difference(const std::array<std::array<double, 3>, 3>& a,
 struct RotationReference {
   std::array<double, 3> inertia;
   std::array<double, 3> amplitude;
-  bool sine;             // sine (else ramp)
-  double frequency;      // [Hz]
-  double ramp_time;      // [s]
-  bool body_frame;       // moment given in the body frame (else inertial)
+  bool sine;         // sine (else ramp)
+  double frequency;  // [Hz]
+  double ramp_time;  // [s]
+  bool body_frame;   // moment given in the body frame (else inertial)
 
   using State = std::array<double, 7>;  // w (3), q (w, x, y, z)
 
@@ -133,8 +133,7 @@ ParameterSet zero_loads() {
 
 }  // namespace
 
-TEST_CASE("free body: constant force and principal moment match the closed forms",
-          "[free-body]") {
+TEST_CASE("free body: constant force and principal moment match the closed forms", "[free-body]") {
   // F = [3, 6, 9] N inertial (thesis §3.3) on m = 1 kg; M = [0, 0, 0.09] N m about the body z
   // axis, I_z = 0.3 kg m^2: yaw psi = M t^2 / (2 I_z) = 0.15 t^2, 2.4 rad at 4 s (no wrap).
   ParameterSet p = ParameterSet::defaults_for("free-body");
@@ -264,19 +263,18 @@ TEST_CASE("free body: sine and ramp loads match closed forms and an independent 
     pos_peak = std::max(pos_peak, x.norm());
     vel_peak = std::max(vel_peak, v.norm());
   }
-  measured("loads " + kind + ": position error rel to peak", pos_err / pos_peak, kLoadClosedFormRel);
-  measured("loads " + kind + ": velocity error rel to peak", vel_err / vel_peak, kLoadClosedFormRel);
+  measured("loads " + kind + ": position error rel to peak", pos_err / pos_peak,
+           kLoadClosedFormRel);
+  measured("loads " + kind + ": velocity error rel to peak", vel_err / vel_peak,
+           kLoadClosedFormRel);
   CHECK(pos_err <= kLoadClosedFormRel * pos_peak);
   CHECK(vel_err <= kLoadClosedFormRel * vel_peak);
 
   // rotation: against the hand-written RK4 at h = 2e-5 s
   const Vec3 I = p.vec3("body.inertia"), M = p.vec3("moment.amplitude");
-  const RotationReference ref{{I.x(), I.y(), I.z()},
-                              {M.x(), M.y(), M.z()},
-                              kind == "sine",
-                              p.number("moment.frequency"),
-                              p.number("moment.ramp_time"),
-                              moment_frame == "body"};
+  const RotationReference ref{
+      {I.x(), I.y(), I.z()},        {M.x(), M.y(), M.z()},        kind == "sine",
+      p.number("moment.frequency"), p.number("moment.ramp_time"), moment_frame == "body"};
   std::vector<double> times;
   for (std::size_t i = 0; i < s.size(); ++i) times.push_back(s.time(i));
   const auto sol = ref.solve(times, 2e-5);
@@ -287,8 +285,8 @@ TEST_CASE("free body: sine and ramp loads match closed forms and an independent 
     w_peak = std::max(w_peak, w_ref.norm());
     const double qn = std::sqrt(sol[i][3] * sol[i][3] + sol[i][4] * sol[i][4] +
                                 sol[i][5] * sol[i][5] + sol[i][6] * sol[i][6]);
-    const auto R_ref = matrix_from_quaternion(
-        {sol[i][3] / qn, sol[i][4] / qn, sol[i][5] / qn, sol[i][6] / qn});
+    const auto R_ref =
+        matrix_from_quaternion({sol[i][3] / qn, sol[i][4] / qn, sol[i][5] / qn, sol[i][6] / qn});
     const Vec3 e = s.get3(i, SignalId::body_euler_321);
     R_err = std::max(R_err, max_entry_difference(matrix_from_euler321(e.x(), e.y(), e.z()), R_ref));
   }
@@ -327,7 +325,8 @@ TEST_CASE("free body: a rotation through 90 deg pitch stays regular", "[free-bod
     const double a = kPi * t / 2;
     const std::array<std::array<double, 3>, 3> R_exact{
         {{std::cos(a), 0, std::sin(a)}, {0, 1, 0}, {-std::sin(a), 0, std::cos(a)}}};
-    R_err = std::max(R_err, max_entry_difference(matrix_from_euler321(e.x(), e.y(), e.z()), R_exact));
+    R_err =
+        std::max(R_err, max_entry_difference(matrix_from_euler321(e.x(), e.y(), e.z()), R_exact));
     CHECK(s.get3(i, SignalId::body_angular_velocity) == Vec3(0.0, kPi / 2, 0.0));
     CHECK(s.get(i, SignalId::quaternion_norm_error) <= kQuaternionNormAbs);
   }

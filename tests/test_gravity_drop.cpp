@@ -15,11 +15,11 @@ using namespace rodend::test;
 namespace {
 
 // the defaults, restated so that the test does not take them from the code it checks
-constexpr double kMass = 0.2;           // [kg] thesis §3.3
-constexpr double kG = 9.81;             // [m/s^2]
-constexpr double kClearance = 0.5e-3;   // [m] thesis §3.3
-constexpr double kBallRadius = 0.01;    // [m] assumed in the parameter file
-constexpr double kE = 206e9, kNu = 0.3; // [Pa], [-] steel on steel
+constexpr double kMass = 0.2;            // [kg] thesis §3.3
+constexpr double kG = 9.81;              // [m/s^2]
+constexpr double kClearance = 0.5e-3;    // [m] thesis §3.3
+constexpr double kBallRadius = 0.01;     // [m] assumed in the parameter file
+constexpr double kE = 206e9, kNu = 0.3;  // [Pa], [-] steel on steel
 
 /// Hertz stiffness of a ball in a conformal socket, model-notes §1, computed here by hand:
 /// K = 4/3 E* sqrt(R*), R* = R_b R_s / (R_s - R_b), 1/E* = 2 (1 - nu^2) / E.
@@ -101,11 +101,13 @@ TEST_CASE("gravity drop: the ball settles on the static Hertz penetration", "[gr
   CHECK(pen == Approx(delta_static).epsilon(kStaticPenetrationRel));
   // the ball hangs at y = -(c + delta)
   CHECK(s.back(SignalId::ball_position, 1) ==
-        Approx(-(kClearance + delta_static)).epsilon(kStaticPenetrationRel * delta_static / kClearance));
+        Approx(-(kClearance + delta_static))
+            .epsilon(kStaticPenetrationRel * delta_static / kClearance));
 
   // (c) the normal force carries the weight, along +y; friction is zero (no slip)
   const double fn = s.back(SignalId::contact_force);
-  measured("gravity drop: static normal force rel error", std::abs(fn / weight - 1), kStaticForceRel);
+  measured("gravity drop: static normal force rel error", std::abs(fn / weight - 1),
+           kStaticForceRel);
   CHECK(fn == Approx(weight).epsilon(kStaticForceRel));
   CHECK(s.back(SignalId::contact_force_vector, 1) == Approx(weight).epsilon(kStaticForceRel));
   double friction = 0.0;
@@ -214,8 +216,7 @@ TEST_CASE("gravity drop: the integrators agree on the history", "[gravity-drop]"
                                    ref.samples.get(i, SignalId::ball_position, 1)));
     if (ref.samples.get(i, SignalId::penetration) > 0.0) ++in_contact;
   }
-  measured("integrator agreement, max |dy| / c: " + c.name, diff / kClearance,
-           c.bound);
+  measured("integrator agreement, max |dy| / c: " + c.name, diff / kClearance, c.bound);
   CHECK(diff <= c.bound * kClearance);
   // the window covers both free flight and contact, and the ball has rebounded by its end
   CHECK(in_contact > 0);

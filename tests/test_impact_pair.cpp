@@ -19,14 +19,16 @@ using namespace rodend::test;
 namespace {
 
 // the defaults, restated so that the test does not take them from the code it checks
-constexpr double kBallMass = 0.2;       // [kg] thesis §3.3
-constexpr double kOuterMass = 0.3;      // [kg] assumed in the parameter file
-constexpr double kClearance = 0.5e-3;   // [m]
-constexpr double kBallRadius = 0.01;    // [m]
-constexpr double kE = 206e9, kNu = 0.3; // [Pa], [-] steel on steel
+constexpr double kBallMass = 0.2;        // [kg] thesis §3.3
+constexpr double kOuterMass = 0.3;       // [kg] assumed in the parameter file
+constexpr double kClearance = 0.5e-3;    // [m]
+constexpr double kBallRadius = 0.01;     // [m]
+constexpr double kE = 206e9, kNu = 0.3;  // [Pa], [-] steel on steel
 constexpr double kPi = std::numbers::pi;
 
-double effective_modulus_by_hand() { return kE / (2.0 * (1.0 - kNu * kNu)); }
+double effective_modulus_by_hand() {
+  return kE / (2.0 * (1.0 - kNu * kNu));
+}
 
 /// Hertz stiffness of the default ball in its socket, by hand (model-notes §1).
 double hertz_stiffness() {
@@ -37,7 +39,9 @@ double hertz_stiffness() {
 /// Integrator of these tests: dopri5 at 1e-10 on the scaled state (lengths on the impact's
 /// penetration scale, speeds on the approach speed), steps of at most 1 us (the contacts last
 /// 80-500 us). Errors measured with it are quoted at each bound.
-IntegratorSettings impact_integrator() { return dopri5(1e-10, 1e-6); }
+IntegratorSettings impact_integrator() {
+  return dopri5(1e-10, 1e-6);
+}
 
 /// Runs the scene and accumulates the summary metrics as the runner does (steps and onsets).
 struct ImpactRun {
@@ -52,8 +56,8 @@ class MetricsObserver final : public RunObserver {
   explicit MetricsObserver(const Scene& scene)
       : metrics(scene, MetricsSettings{}),
         steps({SignalId::penetration, SignalId::penetration_rate, SignalId::contact_force,
-               SignalId::kinetic_energy, SignalId::dissipated_energy,
-               SignalId::energy_residual, SignalId::ball_velocity, SignalId::socket_velocity}) {}
+               SignalId::kinetic_energy, SignalId::dissipated_energy, SignalId::energy_residual,
+               SignalId::ball_velocity, SignalId::socket_velocity}) {}
   void on_step(const SignalFrame& f) override {
     metrics.on_step(f);
     steps.add(f);
@@ -196,8 +200,7 @@ TEST_CASE("impact pair: Hertz peak force, penetration and duration match the clo
   const std::string outer = GENERATE(as<std::string>{}, "fixed", "free");
   const double v = GENERATE(0.01, 0.1, 1.0);
   CAPTURE(outer, v);
-  const double m =
-      outer == "free" ? kBallMass * kOuterMass / (kBallMass + kOuterMass) : kBallMass;
+  const double m = outer == "free" ? kBallMass * kOuterMass / (kBallMass + kOuterMass) : kBallMass;
   const double K = hertz_stiffness();
   const double d_max = std::pow(5.0 * m * v * v / (4.0 * K), 0.4);
   const double F_max = K * std::pow(d_max, 1.5);
@@ -311,8 +314,7 @@ TEST_CASE("impact pair: the energy lost is the kinetic energy lost", "[impact]")
   CAPTURE(outer);
   const double v = 0.3;
   const ImpactRun r = impact(impact_params("lankarani-nikravesh", 0.5, v, outer));
-  const double m =
-      outer == "free" ? kBallMass * kOuterMass / (kBallMass + kOuterMass) : kBallMass;
+  const double m = outer == "free" ? kBallMass * kOuterMass / (kBallMass + kOuterMass) : kBallMass;
   const double e = r.metric(MetricId::first_impact_restitution);
   const double lost = 0.5 * m * v * v * (1.0 - e * e);
   const double err = std::abs(r.metric(MetricId::first_impact_dissipated_energy) / lost - 1.0);

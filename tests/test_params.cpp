@@ -103,8 +103,8 @@ TEST_CASE("the parser rejects malformed leaves with their key path", "[params]")
 
 TEST_CASE("an unknown key is an InputError naming the key", "[params]") {
   ParameterSet p = ParameterSet::defaults_for("gravity-drop");
-  for (const std::string key : {"contact.clearence", "nonsense", "ball.mass.value", "ball",
-                                "contact.clearance.extra"}) {
+  for (const std::string key :
+       {"contact.clearence", "nonsense", "ball.mass.value", "ball", "contact.clearance.extra"}) {
     CAPTURE(key);
     const InputError e = thrown_input_error([&] { p.set(key, 1.0); });
     CHECK(e.key_path() == key);
@@ -147,19 +147,16 @@ TEST_CASE("non-physical values are rejected when the scene is built", "[params]"
     std::string scene, key;
     double value;
   };
-  const auto b = GENERATE(Bad{"gravity-drop", "ball.mass", 0.0},
-                          Bad{"gravity-drop", "ball.mass", -0.2},
-                          Bad{"gravity-drop", "contact.clearance", 0.0},
-                          Bad{"gravity-drop", "contact.clearance", -1e-4},
-                          Bad{"gravity-drop", "contact.ball_radius", 0.0},
-                          Bad{"gravity-drop", "contact.restitution", 1.5},
-                          Bad{"gravity-drop", "contact.ball_poisson_ratio", 0.5},
-                          Bad{"gravity-drop", "contact.min_impact_speed", 0.0},
-                          Bad{"spring-contact", "ball.mass", 0.0},
-                          Bad{"spring-contact", "socket.mass", -1.0},
-                          Bad{"spring-contact", "contact.clearance", 0.0},
-                          Bad{"spring-contact", "tether.stiffness", -1.0},
-                          Bad{"free-body", "body.mass", 0.0});
+  const auto b = GENERATE(
+      Bad{"gravity-drop", "ball.mass", 0.0}, Bad{"gravity-drop", "ball.mass", -0.2},
+      Bad{"gravity-drop", "contact.clearance", 0.0},
+      Bad{"gravity-drop", "contact.clearance", -1e-4},
+      Bad{"gravity-drop", "contact.ball_radius", 0.0},
+      Bad{"gravity-drop", "contact.restitution", 1.5},
+      Bad{"gravity-drop", "contact.ball_poisson_ratio", 0.5},
+      Bad{"gravity-drop", "contact.min_impact_speed", 0.0}, Bad{"spring-contact", "ball.mass", 0.0},
+      Bad{"spring-contact", "socket.mass", -1.0}, Bad{"spring-contact", "contact.clearance", 0.0},
+      Bad{"spring-contact", "tether.stiffness", -1.0}, Bad{"free-body", "body.mass", 0.0});
   CAPTURE(b.scene, b.key, b.value);
   ParameterSet p = ParameterSet::defaults_for(b.scene);
   REQUIRE_NOTHROW(make_scene(b.scene, p));

@@ -42,8 +42,8 @@ double first_contact_time(const Track& steps) {
 namespace {
 
 struct StillResult {
-  double moved = 0.0;   // largest |p_socket| before the first contact [m]
-  double speed = 0.0;   // largest |v_socket| before the first contact [m/s]
+  double moved = 0.0;  // largest |p_socket| before the first contact [m]
+  double speed = 0.0;  // largest |v_socket| before the first contact [m/s]
   std::size_t frames = 0;
   double t_contact = 0.0;
   double moved_after = 0.0;

@@ -14,7 +14,9 @@ Json base_doc() {
   })");
 }
 
-Study parse(const Json& doc) { return parse_study(doc, "test.json", "/tmp/rodend-results"); }
+Study parse(const Json& doc) {
+  return parse_study(doc, "test.json", "/tmp/rodend-results");
+}
 
 }  // namespace
 
@@ -34,7 +36,8 @@ TEST_CASE("grid axes combine as a cartesian product, last axis fastest", "[study
   ])");
   const Study s = parse(doc);
   REQUIRE(s.cases.size() == 6);
-  CHECK(s.axis_keys == std::vector<std::string>{"parameters.contact.clearance", "integrator.rel_tol"});
+  CHECK(s.axis_keys ==
+        std::vector<std::string>{"parameters.contact.clearance", "integrator.rel_tol"});
   CHECK(s.cases[1].coordinates["parameters.contact.clearance"] == 1e-4);
   CHECK(s.cases[1].coordinates["integrator.rel_tol"] == 1e-8);
   CHECK(s.cases[2].coordinates["parameters.contact.clearance"] == 2e-4);
@@ -81,7 +84,8 @@ TEST_CASE("case ids are canonical", "[study]") {
   const std::string id = parse(base_doc()).cases[0].id;
   SECTION("the same case written differently has the same id") {
     Json doc = base_doc();
-    doc["parameters"] = Json::parse(R"({"ball": {"mass": 0.2}})");  // the default, nested, as a float
+    doc["parameters"] =
+        Json::parse(R"({"ball": {"mass": 0.2}})");  // the default, nested, as a float
     CHECK(parse(doc).cases[0].id == id);
     Json doc2 = base_doc();
     doc2["parameters"] = Json::parse(R"({"contact.restitution": 0.8})");  // the default, dotted

@@ -60,7 +60,9 @@ constexpr std::array<std::string_view, 4> kNames{"thesis", "ambrosio", "coulomb"
 
 }  // namespace
 
-std::span<const std::string_view> friction_law_names() { return kNames; }
+std::span<const std::string_view> friction_law_names() {
+  return kNames;
+}
 
 std::unique_ptr<FrictionLaw> make_friction_law(const FrictionParams& p) {
   if (p.law == "thesis") return std::make_unique<ThesisFriction>(p);

@@ -71,8 +71,7 @@ ActuatorMotion read_motion(const ParameterSet& p, const std::string& prefix) {
   else if (s == "step")
     m.shape = ActuatorMotion::Shape::step;
   else
-    throw InputError(prefix + ".shape",
-                     "expected \"raised-cosine\", \"minimum-jerk\" or \"step\"");
+    throw InputError(prefix + ".shape", "expected \"raised-cosine\", \"minimum-jerk\" or \"step\"");
   m.extension = read_positive(p, prefix + ".extension", true);
   m.retraction = read_positive(p, prefix + ".retraction", true);
   m.extension_time = read_positive(p, prefix + ".extension_time");
@@ -89,9 +88,14 @@ ActuatorMotion read_motion(const ParameterSet& p, const std::string& prefix) {
 double HingeMoment::at(double t, double theta) const {
   double m = sine_amplitude * std::sin(kTwoPi * sine_frequency * t);
   switch (kind) {
-    case Kind::none: break;
-    case Kind::constant: m += t >= step_time ? constant_moment : 0.0; break;
-    case Kind::proportional: m -= stiffness * theta; break;
+    case Kind::none:
+      break;
+    case Kind::constant:
+      m += t >= step_time ? constant_moment : 0.0;
+      break;
+    case Kind::proportional:
+      m -= stiffness * theta;
+      break;
   }
   return m;
 }

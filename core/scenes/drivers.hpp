@@ -18,12 +18,12 @@ struct ActuatorMotion {
   /// step: the position jumps at the start of each stroke (a command only: the actuator scenes
   /// accept it, the kinematic scene, which needs a velocity, rejects it)
   enum class Shape { raised_cosine, minimum_jerk, step } shape = Shape::raised_cosine;
-  double extension = 0.05;        ///< extended position [m]
-  double retraction = 0.0;        ///< retracted position is -retraction [m]
-  double extension_time = 1.0;    ///< [s]
-  double retraction_time = 1.0;   ///< [s]
-  double hold_time = 0.2;         ///< hold after each stroke [s]
-  double start_time = 0.0;        ///< [s]
+  double extension = 0.05;       ///< extended position [m]
+  double retraction = 0.0;       ///< retracted position is -retraction [m]
+  double extension_time = 1.0;   ///< [s]
+  double retraction_time = 1.0;  ///< [s]
+  double hold_time = 0.2;        ///< hold after each stroke [s]
+  double start_time = 0.0;       ///< [s]
   int cycles = 1;
 
   /// Position [m], velocity [m/s] and acceleration [m/s^2] at time t.

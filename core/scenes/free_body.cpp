@@ -14,11 +14,17 @@ constexpr int kBody = 0;
 constexpr int kWork = BodyStateLayout::size;
 constexpr int kStates = kWork + 1;
 
-constexpr std::array kSignals{
-    SignalId::time,           SignalId::body_position,     SignalId::body_velocity,
-    SignalId::body_euler_321, SignalId::body_angular_velocity, SignalId::body_angular_momentum,
-    SignalId::mechanical_energy, SignalId::input_work,     SignalId::dissipated_energy,
-    SignalId::energy_residual, SignalId::quaternion_norm_error};
+constexpr std::array kSignals{SignalId::time,
+                              SignalId::body_position,
+                              SignalId::body_velocity,
+                              SignalId::body_euler_321,
+                              SignalId::body_angular_velocity,
+                              SignalId::body_angular_momentum,
+                              SignalId::mechanical_energy,
+                              SignalId::input_work,
+                              SignalId::dissipated_energy,
+                              SignalId::energy_residual,
+                              SignalId::quaternion_norm_error};
 constexpr std::array kQuaternions{kBody + BodyStateLayout::q};
 constexpr std::array kAudit{kWork};
 
@@ -53,8 +59,7 @@ class FreeBodyScene final : public Scene {
     if (moment_.body_frame) M_W = k.R_WB * M_W;
   }
 
-  void derivatives(double t, const double* x, const DiscreteState&,
-                   double* dxdt) const override {
+  void derivatives(double t, const double* x, const DiscreteState&, double* dxdt) const override {
     const BodyKinematics k = BodyKinematics::from_state(x + kBody);
     Vec3 F, M;
     loads(t, k, F, M);
@@ -67,8 +72,7 @@ class FreeBodyScene final : public Scene {
     const BodyKinematics k = BodyKinematics::from_state(x + kBody);
     return {kinetic_energy(body_, k), x[kWork], 0.0};
   }
-  void outputs(double t, const double* x, const DiscreteState& d,
-               SignalFrame& f) const override {
+  void outputs(double t, const double* x, const DiscreteState& d, SignalFrame& f) const override {
     const BodyKinematics k = BodyKinematics::from_state(x + kBody);
     f.set(SignalId::body_position, k.p_W);
     f.set(SignalId::body_velocity, k.v_W);

@@ -15,16 +15,30 @@ constexpr int kBall = 0;
 constexpr int kDissipated = BodyStateLayout::size;
 constexpr int kStates = kDissipated + 1;
 
-constexpr std::array kSignals{
-    SignalId::time,          SignalId::ball_position,      SignalId::ball_velocity,
-    SignalId::ball_angular_velocity, SignalId::socket_position, SignalId::eccentricity_vector,
-    SignalId::eccentricity,  SignalId::relative_position,  SignalId::penetration,
-    SignalId::penetration_rate, SignalId::impact_speed,    SignalId::contact_force_vector,
-    SignalId::contact_force, SignalId::friction_force_vector, SignalId::friction_force,
-    SignalId::slip_speed,    SignalId::wear_indicator,     SignalId::contact_angle,
-    SignalId::kinetic_energy, SignalId::mechanical_energy, SignalId::input_work,
-    SignalId::dissipated_energy,
-    SignalId::energy_residual, SignalId::quaternion_norm_error};
+constexpr std::array kSignals{SignalId::time,
+                              SignalId::ball_position,
+                              SignalId::ball_velocity,
+                              SignalId::ball_angular_velocity,
+                              SignalId::socket_position,
+                              SignalId::eccentricity_vector,
+                              SignalId::eccentricity,
+                              SignalId::relative_position,
+                              SignalId::penetration,
+                              SignalId::penetration_rate,
+                              SignalId::impact_speed,
+                              SignalId::contact_force_vector,
+                              SignalId::contact_force,
+                              SignalId::friction_force_vector,
+                              SignalId::friction_force,
+                              SignalId::slip_speed,
+                              SignalId::wear_indicator,
+                              SignalId::contact_angle,
+                              SignalId::kinetic_energy,
+                              SignalId::mechanical_energy,
+                              SignalId::input_work,
+                              SignalId::dissipated_energy,
+                              SignalId::energy_residual,
+                              SignalId::quaternion_norm_error};
 constexpr std::array kQuaternions{kBall + BodyStateLayout::q};
 constexpr std::array kAudit{kDissipated};
 
@@ -42,8 +56,8 @@ class GravityDropScene final : public Scene {
     if (offset_.norm() > contact_.clearance * (1.0 + 1e-12))
       throw InputError("ball.initial_offset",
                        "the ball would start inside the socket wall: |offset| = " +
-                           format_number(offset_.norm()) + " m exceeds contact.clearance = " +
-                           format_number(contact_.clearance) +
+                           format_number(offset_.norm()) +
+                           " m exceeds contact.clearance = " + format_number(contact_.clearance) +
                            " m; expected |offset| <= the clearance (at most resting on the wall)");
   }
 
@@ -73,8 +87,7 @@ class GravityDropScene final : public Scene {
     return rodend::contact_gap(contact_, BodyKinematics::from_state(x + kBall), socket_);
   }
 
-  void derivatives(double, const double* x, const DiscreteState& d,
-                   double* dxdt) const override {
+  void derivatives(double, const double* x, const DiscreteState& d, double* dxdt) const override {
     const BodyKinematics ball = BodyKinematics::from_state(x + kBall);
     const ContactEval c = evaluate_contact(contact_, ball, socket_, d.contacts[0]);
     const Vec3 F = ball_.mass * gravity_ + c.force_on_ball();
@@ -89,8 +102,7 @@ class GravityDropScene final : public Scene {
     return {kinetic_energy(ball_, ball) - ball_.mass * gravity_.dot(ball.p_W) + c.potential, 0.0,
             x[kDissipated]};
   }
-  void outputs(double t, const double* x, const DiscreteState& d,
-               SignalFrame& f) const override {
+  void outputs(double t, const double* x, const DiscreteState& d, SignalFrame& f) const override {
     const BodyKinematics ball = BodyKinematics::from_state(x + kBall);
     const ContactEval c = evaluate_contact(contact_, ball, socket_, d.contacts[0]);
     f.set(SignalId::ball_position, ball.p_W);

@@ -34,16 +34,33 @@ constexpr int kBall = 0;
 /// 1e-9 c / v (5e-11 s at 1 cm/s): nothing else changes.
 constexpr double kInitialGapFraction = 1e-9;
 
-constexpr std::array kSignals{
-    SignalId::time,           SignalId::ball_position,       SignalId::ball_velocity,
-    SignalId::ball_angular_velocity, SignalId::socket_position, SignalId::socket_velocity,
-    SignalId::socket_angular_velocity, SignalId::eccentricity_vector, SignalId::eccentricity,
-    SignalId::relative_position, SignalId::relative_velocity, SignalId::penetration,
-    SignalId::penetration_rate, SignalId::impact_speed,      SignalId::contact_force_vector,
-    SignalId::contact_force,  SignalId::friction_force_vector, SignalId::friction_force,
-    SignalId::slip_speed,     SignalId::wear_indicator,      SignalId::contact_angle,
-    SignalId::kinetic_energy, SignalId::mechanical_energy,   SignalId::input_work,
-    SignalId::dissipated_energy, SignalId::energy_residual,  SignalId::quaternion_norm_error};
+constexpr std::array kSignals{SignalId::time,
+                              SignalId::ball_position,
+                              SignalId::ball_velocity,
+                              SignalId::ball_angular_velocity,
+                              SignalId::socket_position,
+                              SignalId::socket_velocity,
+                              SignalId::socket_angular_velocity,
+                              SignalId::eccentricity_vector,
+                              SignalId::eccentricity,
+                              SignalId::relative_position,
+                              SignalId::relative_velocity,
+                              SignalId::penetration,
+                              SignalId::penetration_rate,
+                              SignalId::impact_speed,
+                              SignalId::contact_force_vector,
+                              SignalId::contact_force,
+                              SignalId::friction_force_vector,
+                              SignalId::friction_force,
+                              SignalId::slip_speed,
+                              SignalId::wear_indicator,
+                              SignalId::contact_angle,
+                              SignalId::kinetic_energy,
+                              SignalId::mechanical_energy,
+                              SignalId::input_work,
+                              SignalId::dissipated_energy,
+                              SignalId::energy_residual,
+                              SignalId::quaternion_norm_error};
 constexpr std::array kQuaternionsFixed{kBall + BodyStateLayout::q};
 constexpr std::array kQuaternionsFree{kBall + BodyStateLayout::q,
                                       BodyStateLayout::size + BodyStateLayout::q};
@@ -108,16 +125,15 @@ class ImpactPairScene final : public Scene {
     return rodend::contact_gap(contact_, BodyKinematics::from_state(x + kBall), outer(x));
   }
 
-  void derivatives(double, const double* x, const DiscreteState& d,
-                   double* dxdt) const override {
+  void derivatives(double, const double* x, const DiscreteState& d, double* dxdt) const override {
     const BodyKinematics ball = BodyKinematics::from_state(x + kBall);
     const BodyKinematics out = outer(x);
     const ContactEval c = evaluate_contact(contact_, ball, out, d.contacts[0]);
     body_derivatives(ball_, ball, ball_.mass * gravity_ + c.force_on_ball(), c.moment_on_ball,
                      x + kBall, dxdt + kBall);
     if (free_)
-      body_derivatives(outer_, out, outer_.mass * gravity_ - c.force_on_ball(),
-                       c.moment_on_socket, x + kOuter, dxdt + kOuter);
+      body_derivatives(outer_, out, outer_.mass * gravity_ - c.force_on_ball(), c.moment_on_socket,
+                       x + kOuter, dxdt + kOuter);
     dxdt[dissipated_] = c.damping_power + c.friction_power;
   }
 
@@ -130,8 +146,7 @@ class ImpactPairScene final : public Scene {
                 (free_ ? outer_.mass * gravity_.dot(out.p_W) : 0.0) + c.potential,
             0.0, x[dissipated_]};
   }
-  void outputs(double t, const double* x, const DiscreteState& d,
-               SignalFrame& f) const override {
+  void outputs(double t, const double* x, const DiscreteState& d, SignalFrame& f) const override {
     const BodyKinematics ball = BodyKinematics::from_state(x + kBall);
     const BodyKinematics out = outer(x);
     const ContactEval c = evaluate_contact(contact_, ball, out, d.contacts[0]);
@@ -167,8 +182,8 @@ class ImpactPairScene final : public Scene {
   }
   double initial_mechanical_energy() const {
     const double gap = kInitialGapFraction * contact_.clearance;
-    return 0.5 * ball_.mass * (approach_speed_ * approach_speed_ +
-                               tangential_speed_ * tangential_speed_) -
+    return 0.5 * ball_.mass *
+               (approach_speed_ * approach_speed_ + tangential_speed_ * tangential_speed_) -
            ball_.mass * gravity_.dot(Vec3(contact_.clearance - gap, 0.0, 0.0));
   }
 

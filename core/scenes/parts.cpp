@@ -15,8 +15,8 @@ std::string format_number(double v) {
 double read_positive(const ParameterSet& p, const std::string& path, bool allow_zero) {
   const double v = p.number(path);
   if (allow_zero ? !(v >= 0.0) : !(v > 0.0))
-    throw InputError(path, std::string("expected a value ") + (allow_zero ? ">= 0" : "> 0") +
-                               " [" + p.unit(path) + "], got " + format_number(v));
+    throw InputError(path, std::string("expected a value ") + (allow_zero ? ">= 0" : "> 0") + " [" +
+                               p.unit(path) + "], got " + format_number(v));
   return v;
 }
 
@@ -38,7 +38,8 @@ ClearanceContactModel read_clearance_contact(const ParameterSet& p, const std::s
   if (!(c > 0.0))
     throw InputError(prefix + ".clearance",
                      "expected a clearance > 0 [m] (the socket radius must exceed the ball "
-                     "radius), got " + format_number(c));
+                     "radius), got " +
+                         format_number(c));
   m.clearance = c;
   const double Eb = read_positive(p, prefix + ".ball_youngs_modulus");
   const double Es = read_positive(p, prefix + ".socket_youngs_modulus");
@@ -56,8 +57,8 @@ ClearanceContactModel read_clearance_contact(const ParameterSet& p, const std::s
     coefficient = sphere_in_sphere_stiffness(m.ball_radius, m.socket_radius(), Eb, nub, Es, nus);
   } else if (geometry == "cylinder") {
     m.geometry = ContactGeometry::cylinder;
-    coefficient = cylinder_in_cylinder_coefficient(read_positive(p, prefix + ".bearing_length"),
-                                                   Eb, nub, Es, nus);
+    coefficient = cylinder_in_cylinder_coefficient(read_positive(p, prefix + ".bearing_length"), Eb,
+                                                   nub, Es, nus);
   } else {
     throw InputError(prefix + ".geometry", "expected \"sphere\" or \"cylinder\"");
   }
@@ -126,21 +127,26 @@ LoadProfile read_load(const ParameterSet& p, const std::string& prefix) {
 
 Vec3 LoadProfile::at(double t) const {
   switch (kind) {
-    case Kind::constant: return amplitude;
-    case Kind::sine: return amplitude * std::sin(2.0 * std::numbers::pi * frequency * t);
-    case Kind::ramp: return amplitude * (t / ramp_time);
+    case Kind::constant:
+      return amplitude;
+    case Kind::sine:
+      return amplitude * std::sin(2.0 * std::numbers::pi * frequency * t);
+    case Kind::ramp:
+      return amplitude * (t / ramp_time);
   }
   return Vec3::Zero();
 }
 
 Vec3 LoadProfile::integral(double t) const {
   switch (kind) {
-    case Kind::constant: return amplitude * t;
+    case Kind::constant:
+      return amplitude * t;
     case Kind::sine: {
       const double w = 2.0 * std::numbers::pi * frequency;
       return w > 0.0 ? Vec3(amplitude * (1.0 - std::cos(w * t)) / w) : Vec3::Zero();
     }
-    case Kind::ramp: return amplitude * (0.5 * t * t / ramp_time);
+    case Kind::ramp:
+      return amplitude * (0.5 * t * t / ramp_time);
   }
   return Vec3::Zero();
 }
@@ -158,9 +164,9 @@ void write_energy_signals(SignalFrame& frame, const EnergyTerms& e, double initi
 }
 
 double quaternion_norm_error(const double* x, int o) {
-  return std::abs(std::sqrt(x[o] * x[o] + x[o + 1] * x[o + 1] + x[o + 2] * x[o + 2] +
-                            x[o + 3] * x[o + 3]) -
-                  1.0);
+  return std::abs(
+      std::sqrt(x[o] * x[o] + x[o + 1] * x[o + 1] + x[o + 2] * x[o + 2] + x[o + 3] * x[o + 3]) -
+      1.0);
 }
 
 }  // namespace rodend

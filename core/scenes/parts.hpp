@@ -43,8 +43,8 @@ double read_positive(const ParameterSet& p, const std::string& path, bool allow_
 struct LoadProfile {
   enum class Kind { constant, sine, ramp } kind = Kind::constant;
   Vec3 amplitude = Vec3::Zero();
-  double frequency = 0.0;  ///< [Hz]
-  double ramp_time = 1.0;  ///< [s]
+  double frequency = 0.0;   ///< [Hz]
+  double ramp_time = 1.0;   ///< [s]
   bool body_frame = false;  ///< the amplitude is in the body frame (else inertial)
   Vec3 at(double t) const;
   /// Time integral of at() from 0 to t (for closed forms in tests).

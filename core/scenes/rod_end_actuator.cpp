@@ -21,28 +21,58 @@ constexpr int kWork = kAct + ServoActuator::size;
 constexpr int kDissipated = kWork + 1;
 constexpr int kStates = kDissipated + 1;
 
-constexpr std::array kSignals{
-    SignalId::time,
-    SignalId::ball_position, SignalId::ball_velocity, SignalId::ball_angular_velocity,
-    SignalId::ball_euler_321, SignalId::socket_position, SignalId::socket_velocity,
-    SignalId::socket_angular_velocity, SignalId::socket_euler_321,
-    SignalId::eccentricity_vector, SignalId::eccentricity, SignalId::relative_position,
-    SignalId::penetration, SignalId::penetration_rate, SignalId::impact_speed,
-    SignalId::contact_force_vector, SignalId::contact_force, SignalId::friction_force_vector,
-    SignalId::friction_force, SignalId::slip_speed, SignalId::wear_indicator,
-    SignalId::contact_angle,
-    SignalId::actuator_position, SignalId::actuator_velocity, SignalId::rod_inclination,
-    SignalId::slider_end_position, SignalId::crank_end_position, SignalId::surface_angle,
-    SignalId::surface_rate, SignalId::surface_acceleration, SignalId::hinge_moment,
-    SignalId::slider_spring_force, SignalId::slider_spring_axial_force,
-    SignalId::slider_spring_moment, SignalId::crank_spring_force,
-    SignalId::crank_spring_axial_force, SignalId::crank_spring_moment,
-    SignalId::actuator_command, SignalId::lvdt_position, SignalId::controller_current,
-    SignalId::jet_pipe_position, SignalId::spool_position, SignalId::chamber_pressures,
-    SignalId::chamber_flows, SignalId::actuator_external_force, SignalId::hydraulic_power,
-    SignalId::kinetic_energy, SignalId::mechanical_energy, SignalId::input_work,
-    SignalId::dissipated_energy,
-    SignalId::energy_residual, SignalId::quaternion_norm_error};
+constexpr std::array kSignals{SignalId::time,
+                              SignalId::ball_position,
+                              SignalId::ball_velocity,
+                              SignalId::ball_angular_velocity,
+                              SignalId::ball_euler_321,
+                              SignalId::socket_position,
+                              SignalId::socket_velocity,
+                              SignalId::socket_angular_velocity,
+                              SignalId::socket_euler_321,
+                              SignalId::eccentricity_vector,
+                              SignalId::eccentricity,
+                              SignalId::relative_position,
+                              SignalId::penetration,
+                              SignalId::penetration_rate,
+                              SignalId::impact_speed,
+                              SignalId::contact_force_vector,
+                              SignalId::contact_force,
+                              SignalId::friction_force_vector,
+                              SignalId::friction_force,
+                              SignalId::slip_speed,
+                              SignalId::wear_indicator,
+                              SignalId::contact_angle,
+                              SignalId::actuator_position,
+                              SignalId::actuator_velocity,
+                              SignalId::rod_inclination,
+                              SignalId::slider_end_position,
+                              SignalId::crank_end_position,
+                              SignalId::surface_angle,
+                              SignalId::surface_rate,
+                              SignalId::surface_acceleration,
+                              SignalId::hinge_moment,
+                              SignalId::slider_spring_force,
+                              SignalId::slider_spring_axial_force,
+                              SignalId::slider_spring_moment,
+                              SignalId::crank_spring_force,
+                              SignalId::crank_spring_axial_force,
+                              SignalId::crank_spring_moment,
+                              SignalId::actuator_command,
+                              SignalId::lvdt_position,
+                              SignalId::controller_current,
+                              SignalId::jet_pipe_position,
+                              SignalId::spool_position,
+                              SignalId::chamber_pressures,
+                              SignalId::chamber_flows,
+                              SignalId::actuator_external_force,
+                              SignalId::hydraulic_power,
+                              SignalId::kinetic_energy,
+                              SignalId::mechanical_energy,
+                              SignalId::input_work,
+                              SignalId::dissipated_energy,
+                              SignalId::energy_residual,
+                              SignalId::quaternion_norm_error};
 constexpr std::array kQuaternions{kMech + Mech::kBall + BodyStateLayout::q,
                                   kMech + Mech::kSocket + BodyStateLayout::q};
 constexpr std::array kAudit{kWork, kDissipated};
@@ -87,15 +117,14 @@ class RodEndActuatorScene final : public Scene {
   };
   Eval evaluate(double t, const double* x, const ContactLatch& l) const {
     const double u = x[kAct + ServoActuator::kPos], u_dot = x[kAct + ServoActuator::kVel];
-    Eval e{mech_.evaluate(t, u, u_dot, x + kMech, l), act_.evaluate(command_.at(t).position, x + kAct),
-           0.0};
+    Eval e{mech_.evaluate(t, u, u_dot, x + kMech, l),
+           act_.evaluate(command_.at(t).position, x + kAct), 0.0};
     // the slider spring pulls the rod end with the opposite of its force on the socket
     e.external_force = -mech_.rod_axial_force(e.mech);
     return e;
   }
 
-  void derivatives(double t, const double* x, const DiscreteState& d,
-                   double* dxdt) const override {
+  void derivatives(double t, const double* x, const DiscreteState& d, double* dxdt) const override {
     const Eval e = evaluate(t, x, d.contacts[0]);
     mech_.derivatives(e.mech, x + kMech, dxdt + kMech);
     act_.derivatives(e.act, x + kAct, e.external_force, 0.0, dxdt + kAct);
@@ -119,8 +148,7 @@ class RodEndActuatorScene final : public Scene {
     return {mech_.mechanical_energy(e.mech) + act_.mechanical_energy(x + kAct, 0.0), x[kWork],
             x[kDissipated]};
   }
-  void outputs(double t, const double* x, const DiscreteState& d,
-               SignalFrame& f) const override {
+  void outputs(double t, const double* x, const DiscreteState& d, SignalFrame& f) const override {
     const Eval e = evaluate(t, x, d.contacts[0]);
     mech_.outputs(e.mech, x + kMech, f);
     write_contact_signals(f, e.mech.contact, e.mech.ball, e.mech.socket, d.contacts[0]);

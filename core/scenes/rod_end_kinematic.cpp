@@ -19,25 +19,49 @@ constexpr int kWork = Mech::size;
 constexpr int kDissipated = kWork + 1;
 constexpr int kStates = kDissipated + 1;
 
-constexpr std::array kSignals{
-    SignalId::time,
-    SignalId::ball_position, SignalId::ball_velocity, SignalId::ball_angular_velocity,
-    SignalId::ball_euler_321, SignalId::socket_position, SignalId::socket_velocity,
-    SignalId::socket_angular_velocity, SignalId::socket_euler_321,
-    SignalId::eccentricity_vector, SignalId::eccentricity, SignalId::relative_position,
-    SignalId::penetration, SignalId::penetration_rate, SignalId::impact_speed,
-    SignalId::contact_force_vector, SignalId::contact_force, SignalId::friction_force_vector,
-    SignalId::friction_force, SignalId::slip_speed, SignalId::wear_indicator,
-    SignalId::contact_angle,
-    SignalId::actuator_position, SignalId::actuator_velocity, SignalId::rod_inclination,
-    SignalId::slider_end_position, SignalId::crank_end_position, SignalId::surface_angle,
-    SignalId::surface_rate, SignalId::surface_acceleration, SignalId::hinge_moment,
-    SignalId::slider_spring_force, SignalId::slider_spring_axial_force,
-    SignalId::slider_spring_moment, SignalId::crank_spring_force,
-    SignalId::crank_spring_axial_force, SignalId::crank_spring_moment,
-    SignalId::kinetic_energy, SignalId::mechanical_energy, SignalId::input_work,
-    SignalId::dissipated_energy,
-    SignalId::energy_residual, SignalId::quaternion_norm_error};
+constexpr std::array kSignals{SignalId::time,
+                              SignalId::ball_position,
+                              SignalId::ball_velocity,
+                              SignalId::ball_angular_velocity,
+                              SignalId::ball_euler_321,
+                              SignalId::socket_position,
+                              SignalId::socket_velocity,
+                              SignalId::socket_angular_velocity,
+                              SignalId::socket_euler_321,
+                              SignalId::eccentricity_vector,
+                              SignalId::eccentricity,
+                              SignalId::relative_position,
+                              SignalId::penetration,
+                              SignalId::penetration_rate,
+                              SignalId::impact_speed,
+                              SignalId::contact_force_vector,
+                              SignalId::contact_force,
+                              SignalId::friction_force_vector,
+                              SignalId::friction_force,
+                              SignalId::slip_speed,
+                              SignalId::wear_indicator,
+                              SignalId::contact_angle,
+                              SignalId::actuator_position,
+                              SignalId::actuator_velocity,
+                              SignalId::rod_inclination,
+                              SignalId::slider_end_position,
+                              SignalId::crank_end_position,
+                              SignalId::surface_angle,
+                              SignalId::surface_rate,
+                              SignalId::surface_acceleration,
+                              SignalId::hinge_moment,
+                              SignalId::slider_spring_force,
+                              SignalId::slider_spring_axial_force,
+                              SignalId::slider_spring_moment,
+                              SignalId::crank_spring_force,
+                              SignalId::crank_spring_axial_force,
+                              SignalId::crank_spring_moment,
+                              SignalId::kinetic_energy,
+                              SignalId::mechanical_energy,
+                              SignalId::input_work,
+                              SignalId::dissipated_energy,
+                              SignalId::energy_residual,
+                              SignalId::quaternion_norm_error};
 constexpr std::array kQuaternions{kMech + Mech::kBall + BodyStateLayout::q,
                                   kMech + Mech::kSocket + BodyStateLayout::q};
 constexpr std::array kAudit{kWork, kDissipated};
@@ -77,8 +101,7 @@ class RodEndKinematicScene final : public Scene {
     return mech_.evaluate(t, m.position, m.velocity, x + kMech, l);
   }
 
-  void derivatives(double t, const double* x, const DiscreteState& d,
-                   double* dxdt) const override {
+  void derivatives(double t, const double* x, const DiscreteState& d, double* dxdt) const override {
     const Mech::Eval e = evaluate(t, x, d.contacts[0]);
     mech_.derivatives(e, x + kMech, dxdt + kMech);
     dxdt[kWork] = mech_.input_power(e);
@@ -89,8 +112,7 @@ class RodEndKinematicScene final : public Scene {
   EnergyTerms energy(double t, const double* x, const DiscreteState& d) const override {
     return {mech_.mechanical_energy(evaluate(t, x, d.contacts[0])), x[kWork], x[kDissipated]};
   }
-  void outputs(double t, const double* x, const DiscreteState& d,
-               SignalFrame& f) const override {
+  void outputs(double t, const double* x, const DiscreteState& d, SignalFrame& f) const override {
     const Mech::Eval e = evaluate(t, x, d.contacts[0]);
     mech_.outputs(e, x + kMech, f);
     write_contact_signals(f, e.contact, e.ball, e.socket, d.contacts[0]);

@@ -16,11 +16,14 @@ SliderCrank read_geometry(const ParameterSet& p) {
   try {
     return SliderCrank(s, t, l0);
   } catch (const std::invalid_argument& e) {
-    throw InputError("geometry.rod", std::string(e.what()) + ": need |frame - crank| < rod < frame + crank");
+    throw InputError("geometry.rod",
+                     std::string(e.what()) + ": need |frame - crank| < rod < frame + crank");
   }
 }
 
-Quat about_z(double angle) { return Quat(Eigen::AngleAxisd(angle, Vec3::UnitZ())); }
+Quat about_z(double angle) {
+  return Quat(Eigen::AngleAxisd(angle, Vec3::UnitZ()));
+}
 
 }  // namespace
 
@@ -60,8 +63,8 @@ void RodEndMechanism::check_closure(const ActuatorMotion& motion, const std::str
     const double margin = 1e-6 * geometry_.max_rod();
     if (l <= geometry_.min_rod() + margin || l >= geometry_.max_rod() - margin) {
       std::ostringstream m;
-      m << "the mechanism cannot close: rod length " << l << " m at t = " << t
-        << " s is outside (" << geometry_.min_rod() << ", " << geometry_.max_rod()
+      m << "the mechanism cannot close: rod length " << l << " m at t = " << t << " s is outside ("
+        << geometry_.min_rod() << ", " << geometry_.max_rod()
         << ") m = (|frame - crank|, frame + crank)";
       const bool too_short = l <= geometry_.min_rod() + margin;
       throw InputError(too_short && !short_key.empty() ? short_key : key, m.str());
@@ -140,7 +143,8 @@ RodEndMechanism::Eval RodEndMechanism::evaluate(double t, double u, double u_dot
 }
 
 void RodEndMechanism::derivatives(const Eval& e, const double* x, double* dxdt) const {
-  const Vec3 F_ball = ball_.mass * gravity_ + e.contact.force_on_ball() + e.crank_spring.force_on_body;
+  const Vec3 F_ball =
+      ball_.mass * gravity_ + e.contact.force_on_ball() + e.crank_spring.force_on_body;
   const Vec3 M_ball = e.contact.moment_on_ball + e.crank_spring.moment_on_body;
   const Vec3 F_socket =
       socket_.mass * gravity_ - e.contact.force_on_ball() + e.slider_spring.force_on_body;

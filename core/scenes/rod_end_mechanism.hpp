@@ -81,7 +81,7 @@ class RodEndMechanism {
   double surface_damping_ = 0.0;  ///< c [N m s/rad]
   HingeMoment hinge_;
   Vec3 gravity_;
-  double misalignment_z_ = 0.0;   ///< socket offset along z [m]
+  double misalignment_z_ = 0.0;  ///< socket offset along z [m]
 };
 
 }  // namespace rodend

@@ -9,7 +9,9 @@ namespace rodend {
 namespace {
 
 /// Smooth opening of a metering edge: x for x >> e, e/2 at x = 0, -> 0 for x << -e.
-double opening(double x, double e) { return 0.5 * (x + std::sqrt(x * x + e * e)); }
+double opening(double x, double e) {
+  return 0.5 * (x + std::sqrt(x * x + e * e));
+}
 
 }  // namespace
 
@@ -139,9 +141,9 @@ void ServoActuator::derivatives(const Eval& e, const double* x, double external_
   // pressure), feedback wire, flow forces, viscous friction
   const double dps = dP_range * std::tanh(p_.jet_pressure_gain * xj / dP_range);
   dxdt[kSpool] = vs;
-  dxdt[kSpoolRate] = (p_.spool_area * dps - p_.wire_stiffness * (xs + xj) + e.flow_force -
-                      p_.spool_damping * vs) /
-                     p_.spool_mass;
+  dxdt[kSpoolRate] =
+      (p_.spool_area * dps - p_.wire_stiffness * (xs + xj) + e.flow_force - p_.spool_damping * vs) /
+      p_.spool_mass;
   // chambers (eq. 6.11-6.12 with the leakages)
   const double A = p_.piston_area, beta = p_.bulk_modulus;
   dxdt[kP1] = beta / e.v1 * (e.q1 - A * v - e.internal_leak - e.external_leak_1);
@@ -161,11 +163,11 @@ void ServoActuator::initial_state(double* x, double position) const {
 }
 
 void ServoActuator::state_scale(double* s) const {
-  s[kLvdt] = 1e-4;        // piston positions to a fraction of the rod-end clearance
-  s[kIntegral] = 1e-5;    // [m s]
-  s[kJet] = 1e-6;         // jet deflections are micrometres
+  s[kLvdt] = 1e-4;      // piston positions to a fraction of the rod-end clearance
+  s[kIntegral] = 1e-5;  // [m s]
+  s[kJet] = 1e-6;       // jet deflections are micrometres
   s[kJetRate] = 1e-3;
-  s[kSpool] = 1e-5;       // spool strokes are tenths of a millimetre
+  s[kSpool] = 1e-5;  // spool strokes are tenths of a millimetre
   s[kSpoolRate] = 1e-2;
   s[kP1] = s[kP2] = 1e5;  // pressures to 0.1 bar
   s[kPos] = 1e-4;
@@ -174,7 +176,8 @@ void ServoActuator::state_scale(double* s) const {
 
 double ServoActuator::hydraulic_net_power(const Eval& e) const {
   return p_.supply_pressure * (e.supply_flow_1 + e.supply_flow_2) -
-         p_.return_pressure * (e.tank_flow_1 + e.tank_flow_2 + e.external_leak_1 + e.external_leak_2);
+         p_.return_pressure *
+             (e.tank_flow_1 + e.tank_flow_2 + e.external_leak_1 + e.external_leak_2);
 }
 
 double ServoActuator::orifice_loss(const Eval& e, const double* x) const {

@@ -18,16 +18,16 @@ namespace rodend {
 
 struct ServoActuatorParams {
   // controller and sensor
-  double kp = 2.0;             ///< proportional gain [A/m] (thesis §6.2)
-  double ki = 0.02;            ///< integral gain [A/(m s)] (thesis §6.2)
-  double current_limit = 0.01; ///< rated current, smooth saturation [A]
+  double kp = 2.0;                   ///< proportional gain [A/m] (thesis §6.2)
+  double ki = 0.02;                  ///< integral gain [A/(m s)] (thesis §6.2)
+  double current_limit = 0.01;       ///< rated current, smooth saturation [A]
   double lvdt_time_constant = 1e-3;  ///< [s]
   // torque motor and jet pipe (6.1-6.2), referred to the nozzle
-  double motor_gain = 12.5;    ///< force per current at the nozzle [N/A]
-  double jet_mass = 5e-4;      ///< [kg]
-  double jet_stiffness = 2000; ///< armature centring stiffness [N/m]
-  double jet_damping = 2.0;    ///< [N s/m]
-  double wire_stiffness = 500; ///< feedback-wire stiffness [N/m]
+  double motor_gain = 12.5;         ///< force per current at the nozzle [N/A]
+  double jet_mass = 5e-4;           ///< [kg]
+  double jet_stiffness = 2000;      ///< armature centring stiffness [N/m]
+  double jet_damping = 2.0;         ///< [N s/m]
+  double wire_stiffness = 500;      ///< feedback-wire stiffness [N/m]
   double jet_pressure_gain = 4e10;  ///< spool-end pressure difference per jet deflection [Pa/m]
   // spool (6.3)
   double spool_mass = 0.02;    ///< [kg]
@@ -36,23 +36,23 @@ struct ServoActuatorParams {
   double port_width = 8.6e-3;  ///< area gradient of each metering edge [m]
   double leak_opening = 1e-6;  ///< radial-clearance equivalent opening of a closed edge [m]
   double discharge_coefficient = 0.61;  ///< C_d [-]
-  double jet_angle = 1.2043;   ///< flow-force jet angle, 69 deg [rad]
-  double transition_pressure = 1e5;  ///< laminar-turbulent regularisation of eq. 6.6 [Pa]
+  double jet_angle = 1.2043;            ///< flow-force jet angle, 69 deg [rad]
+  double transition_pressure = 1e5;     ///< laminar-turbulent regularisation of eq. 6.6 [Pa]
   // fluid and supply
-  double supply_pressure = 21e6;  ///< P_s [Pa]
-  double return_pressure = 0.3e6; ///< P_r [Pa]
-  double density = 850;           ///< [kg/m^3]
-  double bulk_modulus = 1.2e9;    ///< effective, with hoses [Pa]
+  double supply_pressure = 21e6;   ///< P_s [Pa]
+  double return_pressure = 0.3e6;  ///< P_r [Pa]
+  double density = 850;            ///< [kg/m^3]
+  double bulk_modulus = 1.2e9;     ///< effective, with hoses [Pa]
   // cylinder and piston (6.7-6.13)
-  double piston_area = 5e-4;      ///< A_c, both sides [m^2]
-  double half_stroke = 0.065;     ///< end stops at +-half_stroke [m]
-  double dead_volume = 2e-5;      ///< each chamber's volume at its end of stroke [m^3]
+  double piston_area = 5e-4;        ///< A_c, both sides [m^2]
+  double half_stroke = 0.065;       ///< end stops at +-half_stroke [m]
+  double dead_volume = 2e-5;        ///< each chamber's volume at its end of stroke [m^3]
   double internal_leakage = 2e-13;  ///< across the piston seal [m^3/(s Pa)]
   double external_leakage = 1e-14;  ///< from each chamber to return [m^3/(s Pa)]
-  double piston_mass = 1.5;       ///< piston and rod [kg]
-  double piston_friction = 1000;  ///< viscous friction gamma [N s/m]
-  double stop_stiffness = 1e8;    ///< end-stop contact stiffness [N/m]
-  double stop_damping = 1e4;      ///< end-stop damping [N s/m]
+  double piston_mass = 1.5;         ///< piston and rod [kg]
+  double piston_friction = 1000;    ///< viscous friction gamma [N s/m]
+  double stop_stiffness = 1e8;      ///< end-stop contact stiffness [N/m]
+  double stop_damping = 1e4;        ///< end-stop damping [N s/m]
 };
 
 /// Reads `<prefix>.*`; throws InputError for supply <= return pressure, dead volume <= 0, bulk
@@ -67,8 +67,8 @@ void check_command_within_stroke(const ActuatorMotion& m, const ServoActuatorPar
 
 class ServoActuator {
  public:
-  static constexpr int kLvdt = 0, kIntegral = 1, kJet = 2, kJetRate = 3, kSpool = 4,
-                       kSpoolRate = 5, kP1 = 6, kP2 = 7, kPos = 8, kVel = 9;
+  static constexpr int kLvdt = 0, kIntegral = 1, kJet = 2, kJetRate = 3, kSpool = 4, kSpoolRate = 5,
+                       kP1 = 6, kP2 = 7, kPos = 8, kVel = 9;
   static constexpr int size = 10;
 
   explicit ServoActuator(const ServoActuatorParams& p) : p_(p) {}
@@ -79,11 +79,11 @@ class ServoActuator {
     double command = 0.0, error = 0.0, current = 0.0;
     double supply_flow_1 = 0.0, tank_flow_1 = 0.0;  ///< supply->1, 1->tank [m^3/s]
     double supply_flow_2 = 0.0, tank_flow_2 = 0.0;  ///< supply->2, 2->tank [m^3/s]
-    double q1 = 0.0, q2 = 0.0;       ///< valve flow into 1 and out of 2 (6.4-6.5) [m^3/s]
+    double q1 = 0.0, q2 = 0.0;  ///< valve flow into 1 and out of 2 (6.4-6.5) [m^3/s]
     double internal_leak = 0.0, external_leak_1 = 0.0, external_leak_2 = 0.0;  ///< [m^3/s]
-    double flow_force = 0.0;         ///< on the spool [N]
-    double stop_force = 0.0;         ///< end stops on the piston [N]
-    double v1 = 0.0, v2 = 0.0;       ///< chamber volumes [m^3]
+    double flow_force = 0.0;                                                   ///< on the spool [N]
+    double stop_force = 0.0;    ///< end stops on the piston [N]
+    double v1 = 0.0, v2 = 0.0;  ///< chamber volumes [m^3]
   };
   Eval evaluate(double command, const double* x) const;
 

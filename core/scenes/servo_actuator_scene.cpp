@@ -17,14 +17,23 @@ constexpr int kWork = ServoActuator::size;
 constexpr int kDissipated = kWork + 1;
 constexpr int kStates = kDissipated + 1;
 
-constexpr std::array kSignals{
-    SignalId::time, SignalId::actuator_command, SignalId::actuator_position,
-    SignalId::actuator_velocity, SignalId::lvdt_position, SignalId::controller_current,
-    SignalId::jet_pipe_position, SignalId::spool_position, SignalId::chamber_pressures,
-    SignalId::chamber_flows, SignalId::actuator_external_force, SignalId::hydraulic_power,
-    SignalId::kinetic_energy, SignalId::mechanical_energy, SignalId::input_work,
-    SignalId::dissipated_energy,
-    SignalId::energy_residual};
+constexpr std::array kSignals{SignalId::time,
+                              SignalId::actuator_command,
+                              SignalId::actuator_position,
+                              SignalId::actuator_velocity,
+                              SignalId::lvdt_position,
+                              SignalId::controller_current,
+                              SignalId::jet_pipe_position,
+                              SignalId::spool_position,
+                              SignalId::chamber_pressures,
+                              SignalId::chamber_flows,
+                              SignalId::actuator_external_force,
+                              SignalId::hydraulic_power,
+                              SignalId::kinetic_energy,
+                              SignalId::mechanical_energy,
+                              SignalId::input_work,
+                              SignalId::dissipated_energy,
+                              SignalId::energy_residual};
 constexpr std::array kAudit{kWork, kDissipated};
 
 class ServoActuatorScene final : public Scene {
@@ -49,8 +58,7 @@ class ServoActuatorScene final : public Scene {
   }
   std::span<const int> audit_offsets() const override { return kAudit; }
 
-  void derivatives(double t, const double* x, const DiscreteState&,
-                   double* dxdt) const override {
+  void derivatives(double t, const double* x, const DiscreteState&, double* dxdt) const override {
     const auto e = act_.evaluate(motion_.at(t).position, x + kAct);
     act_.derivatives(e, x + kAct, load_force_, load_mass_, dxdt + kAct);
     // input: what the hydraulics deliver to the piston, by the long route (net supply power
@@ -65,8 +73,7 @@ class ServoActuatorScene final : public Scene {
   EnergyTerms energy(double, const double* x, const DiscreteState&) const override {
     return {act_.mechanical_energy(x + kAct, load_mass_), x[kWork], x[kDissipated]};
   }
-  void outputs(double t, const double* x, const DiscreteState& d,
-               SignalFrame& f) const override {
+  void outputs(double t, const double* x, const DiscreteState& d, SignalFrame& f) const override {
     const auto e = act_.evaluate(motion_.at(t).position, x + kAct);
     act_.outputs(e, x + kAct, load_force_, f);
     const double v = x[kAct + ServoActuator::kVel];

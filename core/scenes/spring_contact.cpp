@@ -17,18 +17,35 @@ constexpr int kWork = 2 * BodyStateLayout::size;
 constexpr int kDissipated = kWork + 1;
 constexpr int kStates = kDissipated + 1;
 
-constexpr std::array kSignals{
-    SignalId::time,          SignalId::ball_position,      SignalId::ball_velocity,
-    SignalId::ball_angular_velocity, SignalId::ball_euler_321, SignalId::socket_position,
-    SignalId::socket_velocity, SignalId::socket_angular_velocity, SignalId::socket_euler_321,
-    SignalId::eccentricity_vector, SignalId::eccentricity, SignalId::relative_position,
-    SignalId::penetration,   SignalId::penetration_rate,   SignalId::impact_speed,
-    SignalId::contact_force_vector, SignalId::contact_force, SignalId::friction_force_vector,
-    SignalId::friction_force, SignalId::slip_speed,        SignalId::wear_indicator,
-    SignalId::contact_angle, SignalId::drive_anchor_position, SignalId::kinetic_energy,
-    SignalId::mechanical_energy,
-    SignalId::input_work,    SignalId::dissipated_energy,  SignalId::energy_residual,
-    SignalId::quaternion_norm_error};
+constexpr std::array kSignals{SignalId::time,
+                              SignalId::ball_position,
+                              SignalId::ball_velocity,
+                              SignalId::ball_angular_velocity,
+                              SignalId::ball_euler_321,
+                              SignalId::socket_position,
+                              SignalId::socket_velocity,
+                              SignalId::socket_angular_velocity,
+                              SignalId::socket_euler_321,
+                              SignalId::eccentricity_vector,
+                              SignalId::eccentricity,
+                              SignalId::relative_position,
+                              SignalId::penetration,
+                              SignalId::penetration_rate,
+                              SignalId::impact_speed,
+                              SignalId::contact_force_vector,
+                              SignalId::contact_force,
+                              SignalId::friction_force_vector,
+                              SignalId::friction_force,
+                              SignalId::slip_speed,
+                              SignalId::wear_indicator,
+                              SignalId::contact_angle,
+                              SignalId::drive_anchor_position,
+                              SignalId::kinetic_energy,
+                              SignalId::mechanical_energy,
+                              SignalId::input_work,
+                              SignalId::dissipated_energy,
+                              SignalId::energy_residual,
+                              SignalId::quaternion_norm_error};
 constexpr std::array kQuaternions{kBall + BodyStateLayout::q, kSocket + BodyStateLayout::q};
 constexpr std::array kAudit{kWork, kDissipated};
 
@@ -94,8 +111,7 @@ class SpringContactScene final : public Scene {
             evaluate_spring(drive_, drive_anchor(t), ball)};
   }
 
-  void derivatives(double t, const double* x, const DiscreteState& d,
-                   double* dxdt) const override {
+  void derivatives(double t, const double* x, const DiscreteState& d, double* dxdt) const override {
     const BodyKinematics ball = BodyKinematics::from_state(x + kBall);
     const BodyKinematics socket = BodyKinematics::from_state(x + kSocket);
     const Forces f = forces(t, ball, socket, d);
@@ -122,8 +138,7 @@ class SpringContactScene final : public Scene {
                         f.tether.potential + f.drive.potential;
     return {mech, x[kWork], x[kDissipated]};
   }
-  void outputs(double t, const double* x, const DiscreteState& d,
-               SignalFrame& out) const override {
+  void outputs(double t, const double* x, const DiscreteState& d, SignalFrame& out) const override {
     const BodyKinematics ball = BodyKinematics::from_state(x + kBall);
     const BodyKinematics socket = BodyKinematics::from_state(x + kSocket);
     const Forces f = forces(t, ball, socket, d);
@@ -137,7 +152,8 @@ class SpringContactScene final : public Scene {
     out.set(SignalId::socket_euler_321, euler321(socket.R_WB));
     write_contact_signals(out, f.contact, ball, socket, d.contacts[0]);
     out.set(SignalId::drive_anchor_position, drive_anchor(t).p_W);
-    out.set(SignalId::kinetic_energy, kinetic_energy(ball_, ball) + kinetic_energy(socket_, socket));
+    out.set(SignalId::kinetic_energy,
+            kinetic_energy(ball_, ball) + kinetic_energy(socket_, socket));
     write_energy_signals(out, energy(t, x, d), 0.0);
     out.set(SignalId::quaternion_norm_error,
             std::max(quaternion_norm_error(x, kBall + BodyStateLayout::q),
