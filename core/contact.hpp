@@ -27,6 +27,7 @@
 
 #include "core/math.hpp"
 #include "core/rigid_body.hpp"
+#include "core/wear.hpp"
 
 namespace rodend {
 
@@ -102,6 +103,10 @@ struct ClearanceContactModel {
   double hysteresis = 0.0;                      ///< chi [-]
   double min_impact_speed = 1e-3;               ///< guard on delta'^- [m/s]
   std::shared_ptr<const FrictionLaw> friction;  ///< null: frictionless
+  /// Worn surfaces (core/wear.hpp), fixed for a run; null: as manufactured. With them the
+  /// penetration is |e| - c(n), c(n) the local clearance in the contact direction n, and the
+  /// normal force acts along the gradient of that penetration (see evaluate_contact).
+  std::shared_ptr<const WornSurfaces> worn;
 
   double socket_radius() const { return ball_radius + clearance; }
 };
@@ -141,6 +146,7 @@ struct ContactEval {
   double potential = 0.0;       ///< elastic energy, the integral of F_el over delta [J]
   double damping_power = 0.0;   ///< power dissipated by hysteresis damping [W], >= 0
   double friction_power = 0.0;  ///< power dissipated by friction [W], >= 0
+  double local_clearance = 0.0;  ///< clearance in the contact direction, worn surfaces included [m]
 
   Vec3 force_on_ball() const { return normal_force_on_ball + friction_on_ball; }
 };

@@ -127,6 +127,7 @@ class Driver {
     checks_tracking_ =
         provides(SignalId::actuator_command) && provides(SignalId::actuator_position);
     signals_.assign(sig.begin(), sig.end());
+    wears_ = scene.wear_model() != nullptr && obs.wants_wear();
     n_samples_ = static_cast<long long>(std::floor(time.end / time.sample_interval + 1e-9)) + 1;
   }
 
@@ -155,6 +156,10 @@ class Driver {
     if (stepper_) {
       stats_.steps_accepted = stepper_->accepted;
       stats_.steps_rejected = stepper_->rejected;
+      if (all_finite(stepper_->z_now)) {
+        result.final_state.resize(n_);
+        for (std::size_t i = 0; i < n_; ++i) result.final_state[i] = stepper_->z_now[i] * scale_[i];
+      }
     }
     result.stats = stats_;
     return result;
@@ -332,6 +337,30 @@ class Driver {
     return changed;
   }
 
+  /// Wear of the accepted step just taken, by 3-point Gauss-Legendre on its interpolant (exact
+  /// for polynomials of degree 5, the dense output's order; the sliding power is smooth within
+  /// a step, whose ends the driver places at contact onsets).
+  void deposit_wear() {
+    if (!wears_) return;
+    const double t0 = stepper_->t_prev, t1 = stepper_->t_now, h = t1 - t0;
+    if (!(h > 0.0)) return;
+    static const double r = std::sqrt(0.6);
+    static constexpr double w[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
+    const double node[3] = {-r, 0.0, r};
+    for (int k = 0; k < 3; ++k) {
+      const double t = t0 + 0.5 * h * (1.0 + node[k]);
+      stepper_->interpolate(t, z_tmp_);
+      unscale(z_tmp_, x_);
+      const WearSource src = scene_.wear_source(t, x_.data(), discrete_);
+      if (!std::isfinite(src.sliding_power)) {
+        std::ostringstream m;
+        m << "non-finite sliding power at t = " << t << " s";
+        throw RunFailure{RunStatus::non_finite_state, m.str()};
+      }
+      obs_.on_wear(src, 0.5 * h * w[k]);
+    }
+  }
+
   /// Frame at time t inside the last step, from the interpolant.
   void frame_at(double t) {
     stepper_->interpolate(t, z_tmp_);
@@ -420,6 +449,7 @@ class Driver {
           stepper_->step(t_root);
           check_health_after_step();
           emit_samples_until(stepper_->t_now);
+          deposit_wear();
           // the re-take found the root a hair before t_root (a grazing approach): latch there;
           // stepping on from a root without re-initialising is CVODE's CV_ILL_INPUT ("root
           // found at and very near t")
@@ -458,6 +488,7 @@ class Driver {
             stepper_->step(t_event);
             check_health_after_step();
             emit_samples_until(stepper_->t_now);
+            deposit_wear();
           }
           const state_t z_event = stepper_->z_now;
           unscale(z_event, x_);
@@ -487,6 +518,7 @@ class Driver {
         }
       }
       emit_samples_until(stepper_->t_now);
+      deposit_wear();
       stats_.t_reached = stepper_->t_now;
 
       // discrete updates at the end of the accepted step
@@ -533,6 +565,7 @@ class Driver {
   RunStats stats_;
   bool provides_force_ = false;
   bool checks_energy_ = false, checks_tracking_ = false, has_kinetic_ = false;
+  bool wears_ = false;  ///< deposit wear (the scene models it and the observer wants it)
   std::vector<SignalId> signals_;  ///< the scene's signals (checked finite in every frame)
   double max_energy_flow_ = 0.0;   ///< largest |input work|, |dissipated|, kinetic at samples [J]
   double tracking_since_ = -1.0;   ///< first sample of the current tracking excess [s], or -1

@@ -80,6 +80,7 @@ struct RunResult {
   RunStatus status = RunStatus::ok;
   std::string message;  ///< empty when ok
   RunStats stats;
+  std::vector<double> final_state;  ///< state at the last accepted step (t_reached), unscaled
 };
 
 /// Receives what the driver produces. Frames are valid only during the call.
@@ -95,6 +96,12 @@ class RunObserver {
   virtual bool wants_steps() const { return false; }
   /// When a contact episode is latched: its onset time [s] and approach speed [m/s].
   virtual void on_contact_onset(double /*t*/, int /*contact*/, double /*impact_speed*/) {}
+  /// Wear (scenes with a wear model, when wants_wear() is true): the sliding power and where
+  /// it acts at one node of a 3-point Gauss-Legendre rule over every accepted step, on the
+  /// step's interpolant, with the node's weight [s]. Steps that are discarded (the step that
+  /// crossed a contact onset, re-taken up to it) deposit nothing.
+  virtual void on_wear(const WearSource& /*source*/, double /*weight*/) {}
+  virtual bool wants_wear() const { return false; }
 };
 
 /// Checks settings; throws InputError with a key path under "integrator." or "time.".

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -15,12 +16,21 @@
 #include "core/contact.hpp"
 #include "core/params.hpp"
 #include "core/signals.hpp"
+#include "core/wear.hpp"
 
 namespace rodend {
 
 /// State that changes only between accepted steps.
 struct DiscreteState {
   std::vector<ContactLatch> contacts;  ///< one per contact of the scene
+};
+
+/// Free play of a worn joint in one configuration (wear evolution).
+struct JointPlay {
+  double axial_clearance = 0.0;   ///< half the free play of the ball along the rod axis [m]
+  double max_clearance = 0.0;     ///< largest local clearance over the socket's directions [m]
+  double surface_backlash = 0.0;  ///< free play of the surface angle, the axial play over
+                                  ///< d(rod length)/d(surface angle) [rad]
 };
 
 /// Energy-audit terms at one instant [J]. `input_work` and `dissipated` are time integrals the
@@ -59,6 +69,24 @@ class Scene {
   virtual ContactGap contact_gap(int /*contact*/, const double* /*x*/) const { return {-1.0, 0.0}; }
   /// Clearance of a contact [m] (for penetration health checks).
   virtual double contact_clearance(int /*contact*/) const { return 0.0; }
+
+  // --- wear (core/wear.hpp; scenes whose clearance contact wears) -------------------------
+  /// The wear model of contact 0, or null when the scene does not model wear (wear.model
+  /// "none"): the driver then deposits nothing and the state holds no wear integral.
+  virtual const WearModel* wear_model() const { return nullptr; }
+  /// Sliding power F_N v_slip and where it acts at (t, x) (scenes with a wear model).
+  virtual WearSource wear_source(double /*t*/, const double* /*x*/,
+                                 const DiscreteState& /*d*/) const {
+    return {};
+  }
+  /// The same scene on worn surfaces (null when the scene does not model wear).
+  virtual std::unique_ptr<Scene> with_worn_surfaces(std::shared_ptr<const WornSurfaces>) const {
+    return nullptr;
+  }
+  /// Free play of the joint, worn surfaces included, in the configuration (t, x).
+  virtual std::optional<JointPlay> joint_play(double /*t*/, const double* /*x*/) const {
+    return std::nullopt;
+  }
 
   // --- outputs ------------------------------------------------------------------------------
   /// The catalogue signals this scene provides (time is always provided).

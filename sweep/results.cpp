@@ -401,6 +401,33 @@ void write_case_signals(const Context& cx, hid_t root, const History& h) {
     write_signal(cx, g.get(), signal_spec(h.signals[i]), h.values[i], h.samples);
 }
 
+void write_case_arrays(const Context& cx, hid_t root, const History& h) {
+  std::map<std::string, Handle> groups;
+  for (const CaseArray& a : h.arrays) {
+    const std::string what = "cannot write " + a.group + "/" + a.name;
+    std::size_t n = 1;
+    for (std::size_t d : a.dims) n *= d;
+    if (a.dims.empty() || a.dims.size() > 2 || n != a.values.size()) cx.fail(what + ": bad shape");
+    for (double v : a.values)
+      if (!std::isfinite(v)) cx.fail(what + ": a value is not finite");
+    auto it = groups.find(a.group);
+    if (it == groups.end()) it = groups.emplace(a.group, create_group(cx, root, a.group)).first;
+    hsize_t dims[2] = {0, 0};
+    for (std::size_t k = 0; k < a.dims.size(); ++k) dims[k] = static_cast<hsize_t>(a.dims[k]);
+    const Handle space =
+        cx.own(H5Screate_simple(static_cast<int>(a.dims.size()), dims, nullptr), H5Sclose, what);
+    Handle d = cx.own(H5Dcreate2(it->second.get(), a.name.c_str(), H5T_IEEE_F64LE, space.get(),
+                                 H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                      H5Dclose, what);
+    if (n > 0)
+      cx.ok(H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, a.values.data()),
+            what);
+    attr_string(cx, d.get(), "unit", a.unit);
+    attr_string(cx, d.get(), "description", a.description);
+    cx.ok(d.close(), what);
+  }
+}
+
 void write_case_metrics(const Context& cx, hid_t root, const MetricValues& m) {
   const Handle g = create_group(cx, root, "metrics");
   Json units = Json::object();
@@ -733,6 +760,7 @@ void write_case_file(const fs::path& path, const CaseSpec& spec, const CaseRecor
       write_case_root(cx, root.get(), spec, record, prov);
       write_case_parameters(cx, root.get(), spec.parameters);
       write_case_signals(cx, root.get(), history);
+      write_case_arrays(cx, root.get(), history);
       write_case_metrics(cx, root.get(), record.metrics);
     }
     cx.ok(file.close(), "cannot close " + temp.string());

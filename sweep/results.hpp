@@ -23,11 +23,20 @@ namespace rodend {
 /// Layout version of the results files; bumped on any incompatible change.
 inline constexpr int kResultsSchemaVersion = 1;
 
+/// A per-case array that is not a time history (wear maps, wear-evolution histories): written
+/// as dataset `group/name` with its unit and description as attributes.
+struct CaseArray {
+  std::string group, name, unit, description;
+  std::vector<std::size_t> dims;  ///< row-major
+  std::vector<double> values;
+};
+
 /// Sampled histories of one case: for each recorded signal, n_samples x width values, row-major.
 struct History {
   std::vector<SignalId> signals;
   std::vector<std::vector<double>> values;  ///< one per signal
   long long samples = 0;
+  std::vector<CaseArray> arrays;  ///< wear maps and the like (docs/results.md)
 };
 
 /// What one case produced, and what the summary keeps of it.

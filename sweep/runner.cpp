@@ -17,11 +17,10 @@
 #include <ostream>
 
 #include "core/scene.hpp"
+#include "sweep/case_observer.hpp"
 
 namespace rodend {
 namespace fs = std::filesystem;
-
-namespace {
 
 std::string utc_now() {
   const std::time_t t = std::time(nullptr);
@@ -32,36 +31,7 @@ std::string utc_now() {
   return buf;
 }
 
-/// Collects the sampled histories of the recorded signals and the metrics of every step.
-class CaseObserver final : public RunObserver {
- public:
-  CaseObserver(const Scene& scene, const CaseSpec& spec, History& h)
-      : history_(h), metrics_(scene, spec.metrics) {
-    h.signals = spec.signals;
-    h.values.assign(spec.signals.size(), {});
-    h.samples = 0;
-    const auto n =
-        static_cast<std::size_t>(std::floor(spec.time.end / spec.time.sample_interval + 1e-9) + 1);
-    for (std::size_t i = 0; i < spec.signals.size(); ++i)
-      h.values[i].reserve(n * static_cast<std::size_t>(signal_spec(spec.signals[i]).width));
-  }
-  void on_sample(const SignalFrame& f) override {
-    for (std::size_t i = 0; i < history_.signals.size(); ++i) {
-      const SignalId id = history_.signals[i];
-      const double* v = f.data(id);
-      history_.values[i].insert(history_.values[i].end(), v, v + signal_spec(id).width);
-    }
-    ++history_.samples;
-  }
-  void on_step(const SignalFrame& f) override { metrics_.on_step(f); }
-  bool wants_steps() const override { return true; }
-  void on_contact_onset(double t, int, double v) override { metrics_.on_contact_onset(t, v); }
-  MetricValues finish(const RunStats& s) const { return metrics_.finish(s); }
-
- private:
-  History& history_;
-  MetricsAccumulator metrics_;
-};
+namespace {
 
 std::string format_duration(double s) {
   char buf[32];
@@ -139,6 +109,7 @@ bool in_shard(const CaseSpec& c, const RunOptions& o) {
 }
 
 CaseRecord run_case(const CaseSpec& spec, History& history) {
+  if (spec.wear_evolution.enabled) return run_wear_evolution(spec, history);
   CaseRecord rec;
   rec.id = spec.id;
   rec.index = spec.index;
@@ -146,7 +117,7 @@ CaseRecord run_case(const CaseSpec& spec, History& history) {
   rec.started_utc = utc_now();
   const auto t0 = std::chrono::steady_clock::now();
   const auto scene = make_scene(spec.scene, spec.parameters);
-  CaseObserver obs(*scene, spec, history);
+  CaseObserver obs(*scene, spec, &history);
   RunResult r;
   try {
     r = simulate(*scene, spec.integrator, spec.time, obs, spec.health);
@@ -164,6 +135,7 @@ CaseRecord run_case(const CaseSpec& spec, History& history) {
   rec.steps_rejected = r.stats.steps_rejected;
   rec.rhs_calls = r.stats.rhs_calls;
   rec.metrics = obs.finish(r.stats);
+  obs.record_wear(rec.metrics, history);
   return rec;
 }
 

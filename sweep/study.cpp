@@ -61,6 +61,21 @@ Json to_json(const IntegratorSettings& s) {
 Json CaseSpec::canonical() const {
   Json sig = Json::array();
   for (SignalId id : signals) sig.push_back(std::string(signal_spec(id).name));
+  Json c = canonical_run(sig);
+  // only when enabled: the ids of ordinary cases do not change
+  if (wear_evolution.enabled) {
+    const auto& w = wear_evolution;
+    c["wear_evolution"] = {{"cycles_per_update", w.cycles_per_update},
+                           {"max_depth_change", w.max_depth_change},
+                           {"max_cycles", w.max_cycles},
+                           {"clearance_limit", w.clearance_limit},
+                           {"backlash_limit", w.backlash_limit},
+                           {"max_updates", static_cast<double>(w.max_updates)}};
+  }
+  return c;
+}
+
+Json CaseSpec::canonical_run(const Json& sig) const {
   return {{"scene", scene},
           {"parameters", as_doubles(parameters.values())},
           {"integrator", to_json(integrator)},
@@ -142,6 +157,7 @@ struct Draft {
   TimeSettings time;
   HealthLimits health;
   MetricsSettings metrics;
+  WearEvolutionSettings wear_evolution;
 };
 
 /// Applies one setting addressed by a full key path (parameters.*, integrator.*, time.*,
@@ -236,8 +252,40 @@ void apply(Draft& d, const std::string& key, const Json& v) {
       throw InputError(key, "expected a finite number >= 0");
     return;
   }
+  if (section == "wear_evolution") {
+    auto& w = d.wear_evolution;
+    w.enabled = true;
+    auto number = [&](double lo, bool open) {
+      const double x = need_number(v, key);
+      if (!std::isfinite(x) || (open ? !(x > lo) : !(x >= lo)))
+        throw InputError(key, std::string("expected a finite number ") + (open ? "> " : ">= ") +
+                                  std::to_string(static_cast<int>(lo)));
+      return x;
+    };
+    if (field == "cycles_per_update")
+      w.cycles_per_update = number(0.0, true);
+    else if (field == "max_depth_change")
+      w.max_depth_change = number(0.0, false);
+    else if (field == "max_cycles")
+      w.max_cycles = number(0.0, true);
+    else if (field == "clearance_limit")
+      w.clearance_limit = number(0.0, false);
+    else if (field == "backlash_limit")
+      w.backlash_limit = number(0.0, false);
+    else if (field == "max_updates") {
+      w.max_updates = need_integer(v, key);
+      if (w.max_updates < 1 || w.max_updates > 100000)
+        throw InputError(key, "expected an integer from 1 to 100000");
+    } else
+      throw InputError(key,
+                       "unknown wear_evolution setting; expected one of cycles_per_update, "
+                       "max_depth_change, max_cycles, clearance_limit, backlash_limit, "
+                       "max_updates");
+    return;
+  }
   throw InputError(key, "unknown section '" + section +
-                            "'; expected parameters, integrator, time, health or metrics");
+                            "'; expected parameters, integrator, time, health, metrics or "
+                            "wear_evolution");
 }
 
 /// A case's histories are held in memory until its file is written: refuse sizes that cannot be.
@@ -388,13 +436,13 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
                                " levels; a study needs a few");
     static const std::vector<std::string> kKeys{
         "name",    "description", "scene",   "parameters", "integrator", "time",
-        "signals", "health",      "metrics", "grid",       "output"};
+        "signals", "health",      "metrics", "grid",       "output", "wear_evolution"};
     for (auto it = doc.begin(); it != doc.end(); ++it)
       if (std::find(kKeys.begin(), kKeys.end(), it.key()) == kKeys.end())
         throw InputError(it.key(),
                          "unknown key; expected one of name, description, scene, "
                          "parameters, integrator, time, signals, health, metrics, "
-                         "grid, output");
+                         "grid, output, wear_evolution");
     Study study;
     study.file = file;
     study.source = doc;
@@ -416,7 +464,8 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
     base.integrator = *preset_settings(study.scene, kDefaultPreset);  // overridden below
     if (!doc.contains("time"))
       throw InputError("time", "missing: {\"end\": ..., \"sample_interval\": ...}");
-    for (const char* section : {"parameters", "integrator", "time", "health", "metrics"})
+    for (const char* section :
+         {"parameters", "integrator", "time", "health", "metrics", "wear_evolution"})
       apply_section(base, doc, section);
     if (!doc["time"].contains("end")) throw InputError("time.end", "missing: the end time [s]");
     if (!doc["time"].contains("sample_interval"))
@@ -492,7 +541,18 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
         validate(d.integrator);
         validate(d.time);
         check_history_size(d.time, signals);
-        (void)build_checked(d.scene, d.parameters);  // the scene's own physical checks
+        {
+          const auto scene = build_checked(d.scene, d.parameters);  // the scene's own checks
+          if (d.wear_evolution.enabled && !scene->wear_model())
+            throw InputError("parameters.wear.model",
+                             "a wear_evolution study needs a scene with a wear model and "
+                             "wear.model \"archard\"");
+          if (d.wear_evolution.enabled && d.wear_evolution.clearance_limit == 0.0 &&
+              d.wear_evolution.backlash_limit == 0.0 && d.wear_evolution.max_cycles >= 1e8)
+            throw InputError("wear_evolution",
+                             "needs a clearance_limit, a backlash_limit or a max_cycles below "
+                             "1e8 to stop at");
+        }
       } catch (const InputError& e) {
         if (axes.empty()) throw;
         std::string where = e.key_path();
@@ -506,6 +566,7 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
       c.time = d.time;
       c.health = d.health;
       c.metrics = d.metrics;
+      c.wear_evolution = d.wear_evolution;
       c.signals = signals;
       c.id = case_id(c);
       study.cases.push_back(std::move(c));

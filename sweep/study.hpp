@@ -14,6 +14,22 @@
 
 namespace rodend {
 
+/// Wear evolution (study key "wear_evolution"; issue 11): a case becomes a loop of duty
+/// cycles. Each update simulates one duty cycle (the whole run, time.end) on the worn surfaces
+/// so far, scales its wear maps by the cycles the update stands for, and adds them; it stops at
+/// a clearance or backlash limit, at max_cycles or after max_updates.
+struct WearEvolutionSettings {
+  bool enabled = false;
+  double cycles_per_update = 1e4;  ///< duty cycles one update stands for [1]
+  /// adaptive rule: an update stands for fewer cycles when its deepest depth change would
+  /// exceed this [m]; 0 = fixed cycles_per_update
+  double max_depth_change = 0.0;
+  double max_cycles = 1e8;       ///< stop after this many cycles [1]
+  double clearance_limit = 0.0;  ///< axial clearance at which the joint is worn out [m]; 0: none
+  double backlash_limit = 0.0;   ///< surface backlash at which it is worn out [rad]; 0: none
+  long max_updates = 1000;       ///< bound on the number of updates [1]
+};
+
 /// One fully resolved case of a study.
 struct CaseSpec {
   std::string id;                     ///< 16 hex digits: FNV-1a 64 of canonical() (see case_id)
@@ -26,11 +42,15 @@ struct CaseSpec {
   HealthLimits health;
   MetricsSettings metrics;
   std::vector<SignalId> signals;  ///< recorded signals, catalogue order, time first
+  WearEvolutionSettings wear_evolution;
 
   /// The canonical resolved description: scene, every parameter value, integrator, time,
-  /// health, metrics settings and recorded signals. Its compact dump (sorted keys, shortest
+  /// health, metrics settings, recorded signals and (only when enabled) the wear evolution. Its compact dump (sorted keys, shortest
   /// round-trip floats) is hashed into the id.
   Json canonical() const;
+
+ private:
+  Json canonical_run(const Json& signals) const;
 };
 
 /// A loaded study.

@@ -4,6 +4,7 @@
 //
 // State: mechanism (28) | actuator (10) | input work [J] | dissipated [J].
 #include <array>
+#include <vector>
 
 #include "core/scene.hpp"
 #include "core/scenes/drivers.hpp"
@@ -19,6 +20,7 @@ constexpr int kMech = 0;
 constexpr int kAct = Mech::size;
 constexpr int kWork = kAct + ServoActuator::size;
 constexpr int kDissipated = kWork + 1;
+constexpr int kSliding = kDissipated + 1;  ///< sliding work [J], with wear.model archard only
 constexpr int kStates = kDissipated + 1;
 
 constexpr std::array kSignals{SignalId::time,
@@ -76,6 +78,7 @@ constexpr std::array kSignals{SignalId::time,
 constexpr std::array kQuaternions{kMech + Mech::kBall + BodyStateLayout::q,
                                   kMech + Mech::kSocket + BodyStateLayout::q};
 constexpr std::array kAudit{kWork, kDissipated};
+constexpr std::array kAuditWear{kWork, kDissipated, kSliding};
 
 class RodEndActuatorScene final : public Scene {
  public:
@@ -87,25 +90,31 @@ class RodEndActuatorScene final : public Scene {
     full.shape = ActuatorMotion::Shape::raised_cosine;
     full.extension = full.retraction = act_.params().half_stroke;
     mech_.check_closure(full, "actuator.half_stroke");
-    double x[kStates];
+    signals_with_wear_.assign(kSignals.begin(), kSignals.end());
+    signals_with_wear_.insert(signals_with_wear_.end(), {SignalId::sliding_work, SignalId::worn_volume});
+    double x[kStates + 1];
     initial_state(x);
     initial_energy_ = energy(0.0, x, DiscreteState{{ContactLatch{}}}).mechanical;
   }
 
   std::string_view name() const override { return "rod-end-actuator"; }
-  int state_size() const override { return kStates; }
+  int state_size() const override { return kStates + (wears() ? 1 : 0); }
   void initial_state(double* x) const override {
     mech_.initial_state(x + kMech);
     act_.initial_state(x + kAct);
     x[kWork] = x[kDissipated] = 0.0;
+    if (wears()) x[kSliding] = 0.0;
   }
   void state_scale(double* s) const override {
     mech_.state_scale(s + kMech);
     act_.state_scale(s + kAct);
     s[kWork] = s[kDissipated] = 1.0;
+    if (wears()) s[kSliding] = 1.0;
   }
   std::span<const int> quaternion_offsets() const override { return kQuaternions; }
-  std::span<const int> audit_offsets() const override { return kAudit; }
+  std::span<const int> audit_offsets() const override {
+    return wears() ? std::span<const int>(kAuditWear) : std::span<const int>(kAudit);
+  }
   int contact_count() const override { return 1; }
   double contact_clearance(int) const override { return mech_.contact().clearance; }
   ContactGap contact_gap(int, const double* x) const override { return mech_.gap(x + kMech); }
@@ -140,9 +149,27 @@ class RodEndActuatorScene final : public Scene {
         e.mech.slider_spring.anchor_power - mech_.rod_axial_force(e.mech) * u_dot;
     dxdt[kWork] = hydraulic + constraint + e.mech.hinge_moment * e.mech.theta_dot;
     dxdt[kDissipated] = mech_.dissipated_power(e.mech) + act_.dissipated_power(e.act, xa);
+    if (wears()) dxdt[kSliding] = e.mech.contact.normal_force * e.mech.contact.slip_speed;
   }
 
-  std::span<const SignalId> signals() const override { return kSignals; }
+  std::span<const SignalId> signals() const override {
+    return wears() ? std::span<const SignalId>(signals_with_wear_) : std::span<const SignalId>(kSignals);
+  }
+
+  // wear: the mechanism's model; the state's sliding work gives the worn-volume signal
+  const WearModel* wear_model() const override { return mech_.wear_model(); }
+  WearSource wear_source(double t, const double* x, const DiscreteState& d) const override {
+    return mech_.wear_source(evaluate(t, x, d.contacts[0]).mech);
+  }
+  std::unique_ptr<Scene> with_worn_surfaces(std::shared_ptr<const WornSurfaces> w) const override {
+    if (!wears()) return nullptr;
+    auto copy = std::make_unique<RodEndActuatorScene>(*this);
+    copy->mech_.set_worn_surfaces(std::move(w));
+    return copy;
+  }
+  std::optional<JointPlay> joint_play(double t, const double* x) const override {
+    return mech_.joint_play(evaluate(t, x, ContactLatch{}).mech);
+  }
   EnergyTerms energy(double t, const double* x, const DiscreteState& d) const override {
     const Eval e = evaluate(t, x, d.contacts[0]);
     return {mech_.mechanical_energy(e.mech) + act_.mechanical_energy(x + kAct, 0.0), x[kWork],
@@ -157,13 +184,22 @@ class RodEndActuatorScene final : public Scene {
     f.set(SignalId::kinetic_energy,
           mech_.kinetic_energy(e.mech) + 0.5 * act_.params().piston_mass * v * v);
     write_energy_signals(f, energy(t, x, d), initial_energy_);
+    write_wear_signals(x, f);
   }
 
  private:
+  bool wears() const { return mech_.wear_model() != nullptr; }
+  void write_wear_signals(const double* x, SignalFrame& f) const {
+    if (!wears()) return;
+    f.set(SignalId::sliding_work, x[kSliding]);
+    f.set(SignalId::worn_volume, mech_.worn_volume_per_work() * x[kSliding]);
+  }
+
   Mech mech_;
   ServoActuator act_;
   ActuatorMotion command_;
   double initial_energy_ = 0.0;
+  std::vector<SignalId> signals_with_wear_;
 };
 
 }  // namespace

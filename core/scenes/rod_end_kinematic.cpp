@@ -4,6 +4,7 @@
 //
 // State: mechanism (28: ball, socket, crank angle and rate) | input work [J] | dissipated [J].
 #include <array>
+#include <vector>
 
 #include "core/scene.hpp"
 #include "core/scenes/drivers.hpp"
@@ -17,6 +18,7 @@ using Mech = RodEndMechanism;
 constexpr int kMech = 0;
 constexpr int kWork = Mech::size;
 constexpr int kDissipated = kWork + 1;
+constexpr int kSliding = kDissipated + 1;  ///< sliding work [J], with wear.model archard only
 constexpr int kStates = kDissipated + 1;
 
 constexpr std::array kSignals{SignalId::time,
@@ -65,6 +67,7 @@ constexpr std::array kSignals{SignalId::time,
 constexpr std::array kQuaternions{kMech + Mech::kBall + BodyStateLayout::q,
                                   kMech + Mech::kSocket + BodyStateLayout::q};
 constexpr std::array kAudit{kWork, kDissipated};
+constexpr std::array kAuditWear{kWork, kDissipated, kSliding};
 
 class RodEndKinematicScene final : public Scene {
  public:
@@ -75,23 +78,29 @@ class RodEndKinematicScene final : public Scene {
                        "a step has no velocity: the prescribed rod motion needs \"raised-cosine\" "
                        "or \"minimum-jerk\" (steps are for the actuator scenes' command)");
     mech_.check_closure(motion_, "motion.extension", "motion.retraction");
-    double x[kStates];
+    signals_with_wear_.assign(kSignals.begin(), kSignals.end());
+    signals_with_wear_.insert(signals_with_wear_.end(), {SignalId::sliding_work, SignalId::worn_volume});
+    double x[kStates + 1];
     initial_state(x);
     initial_energy_ = mech_.mechanical_energy(evaluate(0.0, x, ContactLatch{}));
   }
 
   std::string_view name() const override { return "rod-end-kinematic"; }
-  int state_size() const override { return kStates; }
+  int state_size() const override { return kStates + (wears() ? 1 : 0); }
   void initial_state(double* x) const override {
     mech_.initial_state(x + kMech);
     x[kWork] = x[kDissipated] = 0.0;
+    if (wears()) x[kSliding] = 0.0;
   }
   void state_scale(double* s) const override {
     mech_.state_scale(s + kMech);
     s[kWork] = s[kDissipated] = 1.0;
+    if (wears()) s[kSliding] = 1.0;
   }
   std::span<const int> quaternion_offsets() const override { return kQuaternions; }
-  std::span<const int> audit_offsets() const override { return kAudit; }
+  std::span<const int> audit_offsets() const override {
+    return wears() ? std::span<const int>(kAuditWear) : std::span<const int>(kAudit);
+  }
   int contact_count() const override { return 1; }
   double contact_clearance(int) const override { return mech_.contact().clearance; }
   ContactGap contact_gap(int, const double* x) const override { return mech_.gap(x + kMech); }
@@ -106,9 +115,27 @@ class RodEndKinematicScene final : public Scene {
     mech_.derivatives(e, x + kMech, dxdt + kMech);
     dxdt[kWork] = mech_.input_power(e);
     dxdt[kDissipated] = mech_.dissipated_power(e);
+    if (wears()) dxdt[kSliding] = e.contact.normal_force * e.contact.slip_speed;
   }
 
-  std::span<const SignalId> signals() const override { return kSignals; }
+  std::span<const SignalId> signals() const override {
+    return wears() ? std::span<const SignalId>(signals_with_wear_) : std::span<const SignalId>(kSignals);
+  }
+
+  // wear: the mechanism's model; the state's sliding work gives the worn-volume signal
+  const WearModel* wear_model() const override { return mech_.wear_model(); }
+  WearSource wear_source(double t, const double* x, const DiscreteState& d) const override {
+    return mech_.wear_source(evaluate(t, x, d.contacts[0]));
+  }
+  std::unique_ptr<Scene> with_worn_surfaces(std::shared_ptr<const WornSurfaces> w) const override {
+    if (!wears()) return nullptr;
+    auto copy = std::make_unique<RodEndKinematicScene>(*this);
+    copy->mech_.set_worn_surfaces(std::move(w));
+    return copy;
+  }
+  std::optional<JointPlay> joint_play(double t, const double* x) const override {
+    return mech_.joint_play(evaluate(t, x, ContactLatch{}));
+  }
   EnergyTerms energy(double t, const double* x, const DiscreteState& d) const override {
     return {mech_.mechanical_energy(evaluate(t, x, d.contacts[0])), x[kWork], x[kDissipated]};
   }
@@ -121,12 +148,21 @@ class RodEndKinematicScene final : public Scene {
     f.set(SignalId::actuator_velocity, m.velocity);
     write_energy_signals(f, {mech_.mechanical_energy(e), x[kWork], x[kDissipated]},
                          initial_energy_);
+    write_wear_signals(x, f);
   }
 
  private:
+  bool wears() const { return mech_.wear_model() != nullptr; }
+  void write_wear_signals(const double* x, SignalFrame& f) const {
+    if (!wears()) return;
+    f.set(SignalId::sliding_work, x[kSliding]);
+    f.set(SignalId::worn_volume, mech_.worn_volume_per_work() * x[kSliding]);
+  }
+
   Mech mech_;
   ActuatorMotion motion_;
   double initial_energy_ = 0.0;
+  std::vector<SignalId> signals_with_wear_;
 };
 
 }  // namespace

@@ -21,6 +21,26 @@ SliderCrank read_geometry(const ParameterSet& p) {
   }
 }
 
+std::optional<WearModel> read_wear(const ParameterSet& p) {
+  const std::string model = p.text("wear.model");
+  if (model == "none") return std::nullopt;
+  if (model != "archard") throw InputError("wear.model", "expected \"none\" or \"archard\"");
+  WearModel w;
+  w.ball = {read_positive(p, "wear.ball_coefficient", true), read_positive(p, "wear.ball_hardness")};
+  w.socket = {read_positive(p, "wear.socket_coefficient", true),
+              read_positive(p, "wear.socket_hardness")};
+  auto cells = [&](const char* key, int lo) {
+    const double v = p.number(key);
+    if (!(v >= lo && v <= 4096 && v == std::floor(v)))
+      throw InputError(key, "expected a whole number of cells from " + std::to_string(lo) +
+                                " to 4096, got " + format_number(v));
+    return static_cast<int>(v);
+  };
+  w.n_longitude = cells("wear.map_longitude_cells", 4);
+  w.n_latitude = cells("wear.map_latitude_cells", 2);
+  return w;
+}
+
 Quat about_z(double angle) {
   return Quat(Eigen::AngleAxisd(angle, Vec3::UnitZ()));
 }
@@ -36,7 +56,8 @@ RodEndMechanism::RodEndMechanism(const ParameterSet& p)
       crank_spring_(read_spring(p, "crank_spring")),
       hinge_(read_hinge(p, "hinge")),
       gravity_(p.vec3("gravity")),
-      misalignment_z_(p.number("socket.misalignment_z")) {
+      misalignment_z_(p.number("socket.misalignment_z")),
+      wear_(read_wear(p)) {
   const double m = read_positive(p, "surface.mass", true);
   const double I = read_positive(p, "surface.inertia", true);
   const double s = geometry_.crank();
@@ -44,6 +65,10 @@ RodEndMechanism::RodEndMechanism(const ParameterSet& p)
   if (!(surface_inertia_ > 0.0))
     throw InputError("surface.inertia", "the surface needs a mass or an inertia > 0");
   surface_damping_ = read_positive(p, "surface.damping", true);
+  if (wear_) {
+    wear_->ball_radius = contact_.ball_radius;
+    wear_->socket_radius = contact_.socket_radius();
+  }
 }
 
 void RodEndMechanism::check_closure(const ActuatorMotion& motion, const std::string& key,
@@ -99,6 +124,59 @@ void RodEndMechanism::state_scale(double* s) const {
   }
   s[kTheta] = 1e-3;
   s[kThetaDot] = V / geometry_.crank();
+}
+
+double RodEndMechanism::worn_volume_per_work() const {
+  return wear_ ? wear_->ball.rate() + wear_->socket.rate() : 0.0;
+}
+
+WearSource RodEndMechanism::wear_source(const Eval& e) const {
+  WearSource w;
+  const ContactEval& c = e.contact;
+  if (!(c.normal_force > 0.0)) return w;
+  w.sliding_power = c.normal_force * c.slip_speed;
+  // the contact point lies along n from both centres: the same world direction, read in each
+  // body's frame
+  w.direction_ball_B = e.ball.R_WB.transpose() * c.normal;
+  w.direction_socket_B = e.socket.R_WB.transpose() * c.normal;
+  // Hertz contact radius a = sqrt(R* delta), R* = R_b R_s / (R_s - R_b) of the nominal
+  // surfaces (model-notes §1): wear deepens the race by micrometres, it does not change its
+  // curvature at the scale of the patch. For a cylinder the same relation is used for the
+  // half-width (the patch then spreads the wear over the same angular width).
+  const double Rb = contact_.ball_radius, Rs = contact_.socket_radius();
+  w.patch_radius = std::sqrt(Rb * Rs / (Rs - Rb) * std::max(c.penetration, 0.0));
+  return w;
+}
+
+void RodEndMechanism::set_worn_surfaces(std::shared_ptr<const WornSurfaces> worn) {
+  contact_.worn = std::move(worn);
+}
+
+JointPlay RodEndMechanism::joint_play(const Eval& e) const {
+  JointPlay j;
+  auto local = [&](const Vec3& n) {
+    return contact_.clearance +
+           (contact_.worn ? contact_.worn->extra_clearance(n, e.ball.R_WB, e.socket.R_WB) : 0.0);
+  };
+  // the ball can move along the rod from contact on one side to contact on the other
+  const double play = local(e.rod_direction) + local(-e.rod_direction);
+  j.axial_clearance = 0.5 * play;
+  // the surface turns by the play over d(rod length)/d(theta) of the ideal mechanism
+  const double l = e.rod_length, h = 1e-6 * geometry_.max_rod();
+  const double dtheta_dl =
+      (geometry_.ideal_crank_angle(l + h) - geometry_.ideal_crank_angle(l - h)) / (2.0 * h);
+  j.surface_backlash = play * std::abs(dtheta_dl);
+  j.max_clearance = contact_.clearance;
+  if (contact_.worn && !contact_.worn->socket.empty()) {
+    const WearMap& m = contact_.worn->socket;
+    for (int jj = 0; jj < m.n_latitude(); ++jj)
+      for (int i = 0; i < m.n_longitude(); ++i) {
+        const double la = m.latitude(jj), lo = m.longitude(i);
+        const Vec3 n_S(std::cos(la) * std::cos(lo), std::cos(la) * std::sin(lo), std::sin(la));
+        j.max_clearance = std::max(j.max_clearance, local(e.socket.R_WB * n_S));
+      }
+  }
+  return j;
 }
 
 ContactGap RodEndMechanism::gap(const double* x) const {

@@ -7,8 +7,12 @@
 // States (28, from the part's offset): ball (13) | socket (13) | theta [rad] | theta' [rad/s].
 #pragma once
 
+#include <memory>
+#include <optional>
+
 #include "core/contact.hpp"
 #include "core/params.hpp"
+#include "core/scene.hpp"
 #include "core/rigid_body.hpp"
 #include "core/scenes/drivers.hpp"
 #include "core/scenes/slider_crank.hpp"
@@ -26,7 +30,7 @@ class RodEndMechanism {
   static constexpr int size = kThetaDot + 1;
 
   /// Reads geometry.*, ball.*, socket.*, contact.*, friction.*, slider_spring.*,
-  /// crank_spring.*, surface.*, hinge.*, gravity. Throws InputError.
+  /// crank_spring.*, surface.*, hinge.*, gravity, wear.*. Throws InputError.
   explicit RodEndMechanism(const ParameterSet& p);
 
   /// Everything the mechanism computes at one instant, for rod extension u and rate u'.
@@ -62,6 +66,16 @@ class RodEndMechanism {
   void outputs(const Eval& e, const double* x, SignalFrame& f) const;
 
   ContactGap gap(const double* x) const;
+
+  // wear (core/wear.hpp): null / nothing when wear.model is "none"
+  const WearModel* wear_model() const { return wear_ ? &*wear_ : nullptr; }
+  /// Worn volume per joule of sliding work, k_b/H_b + k_s/H_s [m^3/J].
+  double worn_volume_per_work() const;
+  WearSource wear_source(const Eval& e) const;
+  /// Uses `worn` as the contact's surfaces from now on (a scene calls this on its own copy).
+  void set_worn_surfaces(std::shared_ptr<const WornSurfaces> worn);
+  /// Free play along the rod axis and at the surface in the configuration of `e`.
+  JointPlay joint_play(const Eval& e) const;
   const ClearanceContactModel& contact() const { return contact_; }
   const SliderCrank& geometry() const { return geometry_; }
   double surface_inertia() const { return surface_inertia_; }
@@ -82,6 +96,7 @@ class RodEndMechanism {
   HingeMoment hinge_;
   Vec3 gravity_;
   double misalignment_z_ = 0.0;  ///< socket offset along z [m]
+  std::optional<WearModel> wear_;
 };
 
 }  // namespace rodend

@@ -1,0 +1,58 @@
+// What one case collects while it runs: sampled histories, the metrics of every step, and the
+// wear maps of a scene that models wear. Shared by run_case and the wear evolution.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "core/integrator.hpp"
+#include "core/scene.hpp"
+#include "core/wear.hpp"
+#include "sweep/metrics.hpp"
+#include "sweep/results.hpp"
+#include "sweep/study.hpp"
+
+namespace rodend {
+
+/// Current UTC time, ISO 8601.
+std::string utc_now();
+
+/// Collects the sampled histories of the recorded signals (when given a History), the metrics
+/// of every step, and the wear the driver deposits.
+class CaseObserver final : public RunObserver {
+ public:
+  /// `history` null: no histories and no step metrics (the later duty cycles of a wear
+  /// evolution need only their wear).
+  CaseObserver(const Scene& scene, const CaseSpec& spec, History* history);
+  void on_sample(const SignalFrame& f) override;
+  void on_step(const SignalFrame& f) override { metrics_.on_step(f); }
+  bool wants_steps() const override { return history_ != nullptr; }
+  void on_contact_onset(double t, int, double v) override { metrics_.on_contact_onset(t, v); }
+  void on_wear(const WearSource& s, double weight) override { wear_->add(s, weight); }
+  bool wants_wear() const override { return wear_.has_value(); }
+
+  MetricValues finish(const RunStats& s) const { return metrics_.finish(s); }
+  /// The wear accumulated by the run (null when the scene does not model wear).
+  const WearAccumulator* wear() const { return wear_ ? &*wear_ : nullptr; }
+  /// Sliding work of the state at the last sample [J] (NaN without wear).
+  double sliding_work() const { return sliding_work_; }
+  /// Adds the wear metrics and the maps (group "wear") of this run to a case's record.
+  void record_wear(MetricValues& m, History& h) const;
+
+ private:
+  History* history_;
+  MetricsAccumulator metrics_;
+  std::optional<WearAccumulator> wear_;
+  double sliding_work_;
+};
+
+/// Writes wear metrics for the maps `ball`, `socket` into `m` and the maps, with their axes,
+/// into `h.arrays` (group "wear").
+void record_wear_maps(const WearMap& ball, const WearMap& socket, MetricValues& m, History& h);
+
+/// Runs a case of a study with a wear_evolution section (see WearEvolutionSettings): the first
+/// duty cycle's histories and metrics, the evolution's histories (group "evolution"), the
+/// final worn maps and the evolution metrics.
+CaseRecord run_wear_evolution(const CaseSpec& spec, History& history);
+
+}  // namespace rodend
