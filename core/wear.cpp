@@ -10,17 +10,15 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-/// Catmull-Rom weights of the four taps around t in [0, 1), and their derivatives.
-void catmull_rom(double t, double w[4], double dw[4]) {
-  const double t2 = t * t, t3 = t2 * t;
-  w[0] = 0.5 * (-t3 + 2.0 * t2 - t);
-  w[1] = 0.5 * (3.0 * t3 - 5.0 * t2 + 2.0);
-  w[2] = 0.5 * (-3.0 * t3 + 4.0 * t2 + t);
-  w[3] = 0.5 * (t3 - t2);
-  dw[0] = 0.5 * (-3.0 * t2 + 4.0 * t - 1.0);
-  dw[1] = 0.5 * (9.0 * t2 - 10.0 * t);
-  dw[2] = 0.5 * (-9.0 * t2 + 8.0 * t + 1.0);
-  dw[3] = 0.5 * (3.0 * t2 - 2.0 * t);
+/// Quadratic B-spline weights of the three taps around the nearest node (t = offset from it,
+/// in [-1/2, 1/2]) and their derivatives: non-negative, summing to 1, C1 across cells.
+void quadratic_bspline(double t, double w[3], double dw[3]) {
+  w[0] = 0.5 * (0.5 - t) * (0.5 - t);
+  w[1] = 0.75 - t * t;
+  w[2] = 0.5 * (0.5 + t) * (0.5 + t);
+  dw[0] = -(0.5 - t);
+  dw[1] = -2.0 * t;
+  dw[2] = 0.5 + t;
 }
 
 }  // namespace
@@ -132,14 +130,14 @@ double WearMap::depth_at(const Vec3& dir_B, Vec3* gradient_B) const {
   const double lon = std::atan2(d.y(), d.x());
   const double u = lon / dlon_ + 0.5 * n_lon_ - 0.5;
   const double v = lat / dlat_ + 0.5 * n_lat_ - 0.5;
-  const int i0 = static_cast<int>(std::floor(u)), j0 = static_cast<int>(std::floor(v));
-  double wu[4], dwu[4], wv[4], dwv[4];
-  catmull_rom(u - i0, wu, dwu);
-  catmull_rom(v - j0, wv, dwv);
+  const int i0 = static_cast<int>(std::lround(u)), j0 = static_cast<int>(std::lround(v));
+  double wu[3], dwu[3], wv[3], dwv[3];
+  quadratic_bspline(u - i0, wu, dwu);
+  quadratic_bspline(v - j0, wv, dwv);
   double h = 0.0, h_lon = 0.0, h_lat = 0.0;
-  for (int b = 0; b < 4; ++b) {
+  for (int b = 0; b < 3; ++b) {
     const int j = std::clamp(j0 - 1 + b, 0, n_lat_ - 1);  // flat beyond the last rows
-    for (int a = 0; a < 4; ++a) {
+    for (int a = 0; a < 3; ++a) {
       const int i = (((i0 - 1 + a) % n_lon_) + n_lon_) % n_lon_;
       const double z = depth(i, j);
       h += wu[a] * wv[b] * z;

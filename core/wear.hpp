@@ -19,7 +19,8 @@
 // Geometry (WornSurfaces): the contact reads the local clearance in the contact direction n,
 //     c(n) = c0 + h_ball(R_ball^T n) + h_socket(R_socket^T n),
 // from maps that are fixed for a whole run (they change only between wear updates, so the
-// right-hand side is smooth: a C1 bicubic interpolation of each map). The maps used for the
+// right-hand side is smooth: each map is read through a C1 quadratic B-spline, whose weights are
+// non-negative, so a read depth is never negative and never overshoots the cells around it). The maps used for the
 // geometry are the accumulated wear of previous updates; the maps a run deposits into are
 // separate (WearAccumulator).
 #pragma once
@@ -73,7 +74,8 @@ class WearMap {
   /// are widened to one cell (the map cannot resolve them).
   void deposit(const Vec3& dir_B, double volume, double patch_angle);
 
-  /// Depth at the unit direction `dir_B` by C1 bicubic (Catmull-Rom) interpolation [m], and its
+  /// Depth at the unit direction `dir_B` by a C1 quadratic B-spline over the cells [m] (a
+  /// smoothing of the cell values, never below the smallest nor above the largest), and its
   /// gradient with respect to the direction, a tangent vector in the body frame [m/rad].
   double depth_at(const Vec3& dir_B, Vec3* gradient_B = nullptr) const;
 

@@ -187,6 +187,20 @@ class Case:
                     self._signals[n] = f["signals"][n][()]
         return [self._signals[n] for n in names]
 
+    # --- per-case arrays (wear maps, wear evolution) --------------------------------------
+    def array(self, group, name):
+        """Dataset group/name of the case file (wear/ball_depth, evolution/cycles, ...) as a
+        numpy array with its unit: (array, unit). KeyError if absent."""
+        with h5py.File(self.path, "r") as f:
+            if group not in f or name not in f[group]:
+                raise KeyError(f"{group}/{name} not in case {self.id}")
+            d = f[group][name]
+            return d[()], text(d.attrs.get("unit", ""))
+
+    def has_array(self, group, name):
+        with h5py.File(self.path, "r") as f:
+            return group in f and name in f[group]
+
     # --- parameters and labels ----------------------------------------------------------
     def parameter(self, key, default=None):
         """A resolved parameter value by its dotted key (contact.clearance)."""
