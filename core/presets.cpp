@@ -28,10 +28,12 @@ const std::array<Entry, 9>& table() {
       {"rod-end-kinematic", "balanced", adaptive("dopri5", 1e-8)},
       {"rod-end-kinematic", "reference", adaptive("dopri5", 1e-10)},
       // measured: README "Speed and accuracy", rod-end-actuator table (plots/work_precision.py
-      // --scene rod-end-actuator). balanced: the cheapest configuration with <= 1 % error on every
-      // metric (max 2.7e-3). fast = balanced: every looser dopri5 tolerance costs more RHS calls
-      // and more wall time here; the only configurations with fewer RHS calls (cvode_adams 1e-8,
-      // 1e-5) take 3.6-5x the wall time. reference: dopri5 1e-10 (5.5e-4 from dopri5 1e-11).
+      // --scene rod-end-actuator). balanced: the cheapest configuration in wall time with <= 1 %
+      // error on every metric (max 2.7e-3); by RHS calls only cvode_adams 1e-8 is cheaper (3 %
+      // fewer calls, 3.6x the wall time). fast = balanced: every looser dopri5 tolerance costs more
+      // RHS calls and more wall time here, and the only other configuration with fewer RHS calls
+      // (cvode_adams 1e-5, 1.0e-2) takes 5.2x the wall time. reference: dopri5 1e-10 (its measured
+      // 5.4e-3 is the study's floor: the two references differ by 5.7e-3 on the first-impact peak).
       {"rod-end-actuator", "fast", adaptive("dopri5", 1e-8)},
       {"rod-end-actuator", "balanced", adaptive("dopri5", 1e-8)},
       {"rod-end-actuator", "reference", adaptive("dopri5", 1e-10)},

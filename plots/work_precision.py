@@ -207,6 +207,21 @@ def main():
             worst = max(errs, key=lambda e: t.get(e, 0.0))
             f.write(f"| {name} | {t['method']} | {fmt_setting(t)} | {t['max_error']:.2g} | {worst[4:]} | "
                     f"{t['rhs_calls']:.3g} | {t['wall_s']:.3g} |\n")
+        # how far the two references are apart: the floor of the errors measured against them
+        gap = {}
+        for (c, method), r in refs.items():
+            other = refs.get((c, "dopri5" if method == "fehlberg78" else "fehlberg78"))
+            if method != "fehlberg78" or other is None:
+                continue
+            for m in METRICS:
+                if m == "final_surface_angle" or m not in r or not np.isfinite(float(other[m])):
+                    continue
+                if float(other[m]) != 0:
+                    gap[m] = max(gap.get(m, 0.0), abs(float(r[m]) - float(other[m])) / abs(float(other[m])))
+        if gap:
+            f.write("\nThe two references (fehlberg78 and dopri5 at 1e-11) differ by (largest relative "
+                    "difference over the cases): " +
+                    ", ".join(f"{m} {v:.2g}" for m, v in sorted(gap.items(), key=lambda kv: -kv[1])) + "\n")
 
     fig, axes = plt.subplots(1, 2, figsize=(12, 5))
     for method in sorted({t["method"] for t in table}):
