@@ -28,7 +28,7 @@ struct DiscreteState {
 /// Free play of a worn joint in one configuration (wear evolution).
 struct JointPlay {
   double axial_clearance = 0.0;   ///< half the free play of the ball along the rod axis [m]
-  double max_clearance = 0.0;     ///< largest reach of the ball centre in the mechanism plane [m]
+  double max_clearance = 0.0;     ///< largest local clearance in the mechanism plane [m]
   double surface_backlash = 0.0;  ///< free play of the surface angle, the axial play over
                                   ///< d(rod length)/d(surface angle) [rad]
 };

@@ -222,7 +222,7 @@ CaseRecord run_wear_evolution(const CaseSpec& spec, History& history) {
                                  "half the free play of the ball along the rod axis", {rows},
                                  axial_col));
   history.arrays.push_back(array(g, "max_clearance", "m",
-                                 "largest free travel of the ball centre over directions in the mechanism plane", {rows},
+                                 "largest local clearance over directions in the mechanism plane", {rows},
                                  max_col));
   history.arrays.push_back(array(g, "surface_backlash", "rad",
                                  "free play of the surface angle (backlash at the surface)", {rows},

@@ -154,47 +154,29 @@ void RodEndMechanism::set_worn_surfaces(std::shared_ptr<const WornSurfaces> worn
 }
 
 JointPlay RodEndMechanism::joint_play(const Eval& e) const {
-  // How far the ball centre can move from the socket centre along a unit direction d before
-  // the surfaces touch: at a displacement s d the penetration in a direction n is about
-  // s (d . n) - c(n), so the reach is min over n of c(n) / (d . n). A groove narrower than the
-  // surface it faces then adds nothing (the rims carry the contact), a wide worn band adds its
-  // depth. The minimum is taken over directions within 45 degrees of d (every 0.5 degree off
-  // d, every 10 degrees around it); outside that cone c(n)/(d . n) >= c0 / cos 45 = 1.41 c0,
-  // so the reach is exact while it stays below 1.41 x the nominal clearance.
-  const double c0 = contact_.clearance;
-  auto reach = [&](const Vec3& d) {
-    if (!contact_.worn) return c0;
-    const Vec3 a = std::abs(d.z()) < 0.9 ? Vec3::UnitZ() : Vec3::UnitX();
-    const Vec3 e1 = d.cross(a).normalized(), e2 = d.cross(e1);
-    double best = c0 + contact_.worn->extra_clearance(d, e.ball.R_WB, e.socket.R_WB);
-    for (int ib = 1; ib <= 90; ++ib) {
-      const double beta = ib * (0.5 * std::numbers::pi / 180.0);
-      const double cb = std::cos(beta), sb = std::sin(beta);
-      if (c0 / cb >= best) break;  // no direction further out can touch first
-      for (int ig = 0; ig < 36; ++ig) {
-        const double g = ig * (10.0 * std::numbers::pi / 180.0);
-        const Vec3 n = cb * d + sb * (std::cos(g) * e1 + std::sin(g) * e2);
-        best = std::min(best,
-                        (c0 + contact_.worn->extra_clearance(n, e.ball.R_WB, e.socket.R_WB)) / cb);
-      }
-    }
-    return best;
+  // The play as the contact model sees it: the ball centre, moved from the socket centre along
+  // a unit direction d, touches when its distance reaches the local clearance c(d) (contact.hpp:
+  // the contact direction is the direction of the eccentricity). A groove in that direction
+  // counts in full, however narrow (the local-clearance model; README "Wear").
+  auto local = [&](const Vec3& d) {
+    return contact_.clearance +
+           (contact_.worn ? contact_.worn->extra_clearance(d, e.ball.R_WB, e.socket.R_WB) : 0.0);
   };
   JointPlay j;
   // the ball can move along the rod from contact on one side to contact on the other
-  const double play = reach(e.rod_direction) + reach(-e.rod_direction);
+  const double play = local(e.rod_direction) + local(-e.rod_direction);
   j.axial_clearance = 0.5 * play;
   // the surface turns by the play over d(rod length)/d(theta) of the ideal mechanism
   const double l = e.rod_length, h = 1e-6 * geometry_.max_rod();
   const double dtheta_dl =
       (geometry_.ideal_crank_angle(l + h) - geometry_.ideal_crank_angle(l - h)) / (2.0 * h);
   j.surface_backlash = play * std::abs(dtheta_dl);
-  // the largest reach over directions in the mechanism plane, every 2.5 degrees
-  j.max_clearance = c0;
+  // the largest local clearance over directions in the mechanism plane, every 0.5 degree
+  j.max_clearance = contact_.clearance;
   if (contact_.worn)
-    for (int k = 0; k < 144; ++k) {
-      const double phi = k * (2.5 * std::numbers::pi / 180.0);
-      j.max_clearance = std::max(j.max_clearance, reach(Vec3(std::cos(phi), std::sin(phi), 0.0)));
+    for (int k = 0; k < 720; ++k) {
+      const double phi = k * (0.5 * std::numbers::pi / 180.0);
+      j.max_clearance = std::max(j.max_clearance, local(Vec3(std::cos(phi), std::sin(phi), 0.0)));
     }
   return j;
 }
