@@ -143,9 +143,9 @@ struct ContactEval {
   Vec3 moment_on_ball = Vec3::Zero();        ///< friction moment about ball centre [N m]
   Vec3 moment_on_socket = Vec3::Zero();      ///< friction moment about socket centre [N m]
   double slip_speed = 0.0;                   ///< |v_t| [m/s]
-  double potential = 0.0;       ///< elastic energy, the integral of F_el over delta [J]
-  double damping_power = 0.0;   ///< power dissipated by hysteresis damping [W], >= 0
-  double friction_power = 0.0;  ///< power dissipated by friction [W], >= 0
+  double potential = 0.0;        ///< elastic energy, the integral of F_el over delta [J]
+  double damping_power = 0.0;    ///< power dissipated by hysteresis damping [W], >= 0
+  double friction_power = 0.0;   ///< power dissipated by friction [W], >= 0
   double local_clearance = 0.0;  ///< clearance in the contact direction, worn surfaces included [m]
 
   Vec3 force_on_ball() const { return normal_force_on_ball + friction_on_ball; }

@@ -565,7 +565,7 @@ class Driver {
   RunStats stats_;
   bool provides_force_ = false;
   bool checks_energy_ = false, checks_tracking_ = false, has_kinetic_ = false;
-  bool wears_ = false;  ///< deposit wear (the scene models it and the observer wants it)
+  bool wears_ = false;             ///< deposit wear (the scene models it and the observer wants it)
   std::vector<SignalId> signals_;  ///< the scene's signals (checked finite in every frame)
   double max_energy_flow_ = 0.0;   ///< largest |input work|, |dissipated|, kinetic at samples [J]
   double tracking_since_ = -1.0;   ///< first sample of the current tracking excess [s], or -1

@@ -26,7 +26,8 @@ void quadratic_bspline(double t, double w[3], double dw[3]) {
 WearMap::WearMap(double radius, int n_longitude, int n_latitude)
     : radius_(radius), n_lon_(n_longitude), n_lat_(n_latitude) {
   if (!(radius > 0.0) || n_longitude < 4 || n_latitude < 2)
-    throw std::invalid_argument("wear map: need a radius > 0, >= 4 longitude and >= 2 latitude cells");
+    throw std::invalid_argument(
+        "wear map: need a radius > 0, >= 4 longitude and >= 2 latitude cells");
   dlon_ = 2.0 * kPi / n_lon_;
   dlat_ = kPi / n_lat_;
   depth_.assign(static_cast<std::size_t>(n_lon_) * static_cast<std::size_t>(n_lat_), 0.0);
@@ -76,12 +77,14 @@ void WearMap::deposit(const Vec3& dir_B, double volume, double patch_angle) {
   const double cos_alpha = std::cos(alpha);
   // rows within alpha of the centre; longitudes within the patch's half-width at lat0 (all of
   // them when the patch reaches a pole)
-  const int j_lo = std::max(0, static_cast<int>(std::floor((lat0 - alpha) / dlat_ + 0.5 * n_lat_)) - 1);
+  const int j_lo =
+      std::max(0, static_cast<int>(std::floor((lat0 - alpha) / dlat_ + 0.5 * n_lat_)) - 1);
   const int j_hi =
       std::min(n_lat_ - 1, static_cast<int>(std::floor((lat0 + alpha) / dlat_ + 0.5 * n_lat_)) + 1);
   int i_half = n_lon_;
   if (std::abs(lat0) + alpha < 0.5 * kPi - dlat_) {
-    const double half = std::asin(std::min(1.0, std::sin(alpha) / std::cos(std::abs(lat0) + alpha)));
+    const double half =
+        std::asin(std::min(1.0, std::sin(alpha) / std::cos(std::abs(lat0) + alpha)));
     i_half = std::min(n_lon_, static_cast<int>(std::ceil(half / dlon_)) + 1);
   }
   const int i_mid = static_cast<int>(std::floor(lon0 / dlon_ + 0.5 * n_lon_));
@@ -112,7 +115,8 @@ void WearMap::deposit(const Vec3& dir_B, double volume, double patch_angle) {
     }
   }
   if (!(total > 0.0)) {  // cannot happen with alpha >= one cell; kept so no volume is lost
-    const int j = std::clamp(static_cast<int>(std::floor(lat0 / dlat_ + 0.5 * n_lat_)), 0, n_lat_ - 1);
+    const int j =
+        std::clamp(static_cast<int>(std::floor(lat0 / dlat_ + 0.5 * n_lat_)), 0, n_lat_ - 1);
     const int i = ((i_mid % n_lon_) + n_lon_) % n_lon_;
     depth_[static_cast<std::size_t>(j * n_lon_ + i)] += volume / cell_area(j);
     return;

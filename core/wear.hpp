@@ -20,9 +20,9 @@
 //     c(n) = c0 + h_ball(R_ball^T n) + h_socket(R_socket^T n),
 // from maps that are fixed for a whole run (they change only between wear updates, so the
 // right-hand side is smooth: each map is read through a C1 quadratic B-spline, whose weights are
-// non-negative, so a read depth is never negative and never overshoots the cells around it). The maps used for the
-// geometry are the accumulated wear of previous updates; the maps a run deposits into are
-// separate (WearAccumulator).
+// non-negative, so a read depth is never negative and never overshoots the cells around it). The
+// maps used for the geometry are the accumulated wear of previous updates; the maps a run deposits
+// into are separate (WearAccumulator).
 #pragma once
 
 #include <memory>
@@ -34,8 +34,8 @@ namespace rodend {
 
 /// Archard constants of one body.
 struct WearMaterial {
-  double coefficient = 0.0;  ///< Archard wear coefficient k [-]
-  double hardness = 1.0;     ///< indentation hardness H [Pa]
+  double coefficient = 0.0;                               ///< Archard wear coefficient k [-]
+  double hardness = 1.0;                                  ///< indentation hardness H [Pa]
   double rate() const { return coefficient / hardness; }  ///< k/H [1/Pa = m^3/J]
 };
 
@@ -105,14 +105,14 @@ struct WornSurfaces {
 struct WearModel {
   WearMaterial ball, socket;
   double ball_radius = 0.0, socket_radius = 0.0;  ///< radii of the worn spheres [m]
-  int n_longitude = 144, n_latitude = 72;  ///< map grid [-]
+  int n_longitude = 144, n_latitude = 72;         ///< map grid [-]
   /// The worn geometry (null: as manufactured).
   std::shared_ptr<const WornSurfaces> worn;
 };
 
 /// What the contact wears at one instant: the sliding power and where it acts.
 struct WearSource {
-  double sliding_power = 0.0;  ///< F_N v_slip, the thesis's wear indicator [W]
+  double sliding_power = 0.0;               ///< F_N v_slip, the thesis's wear indicator [W]
   Vec3 direction_ball_B = Vec3::UnitX();    ///< contact direction in the ball's frame
   Vec3 direction_socket_B = Vec3::UnitX();  ///< contact direction in the socket's frame
   double patch_radius = 0.0;                ///< Hertz contact radius a [m]
@@ -138,9 +138,9 @@ class WearAccumulator {
 
  private:
   struct Lump {
-    double work = 0.0;  ///< [J]
-    Vec3 ball_sum = Vec3::Zero(), socket_sum = Vec3::Zero();  ///< work-weighted directions
-    double patch_sum = 0.0;                                   ///< work-weighted patch [J m]
+    double work = 0.0;                                              ///< [J]
+    Vec3 ball_sum = Vec3::Zero(), socket_sum = Vec3::Zero();        ///< work-weighted directions
+    double patch_sum = 0.0;                                         ///< work-weighted patch [J m]
     Vec3 ball_first = Vec3::UnitX(), socket_first = Vec3::UnitX();  ///< first directions
     double patch_first = 0.0;
   };

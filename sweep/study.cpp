@@ -436,7 +436,7 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
                                " levels; a study needs a few");
     static const std::vector<std::string> kKeys{
         "name",    "description", "scene",   "parameters", "integrator", "time",
-        "signals", "health",      "metrics", "grid",       "output", "wear_evolution"};
+        "signals", "health",      "metrics", "grid",       "output",     "wear_evolution"};
     for (auto it = doc.begin(); it != doc.end(); ++it)
       if (std::find(kKeys.begin(), kKeys.end(), it.key()) == kKeys.end())
         throw InputError(it.key(),

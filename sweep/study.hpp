@@ -45,8 +45,8 @@ struct CaseSpec {
   WearEvolutionSettings wear_evolution;
 
   /// The canonical resolved description: scene, every parameter value, integrator, time,
-  /// health, metrics settings, recorded signals and (only when enabled) the wear evolution. Its compact dump (sorted keys, shortest
-  /// round-trip floats) is hashed into the id.
+  /// health, metrics settings, recorded signals and (only when enabled) the wear evolution. Its
+  /// compact dump (sorted keys, shortest round-trip floats) is hashed into the id.
   Json canonical() const;
 
  private:

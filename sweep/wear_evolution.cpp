@@ -19,8 +19,8 @@ double& metric(MetricValues& m, MetricId id) {
 
 CaseArray array(std::string group, std::string name, std::string unit, std::string description,
                 std::vector<std::size_t> dims, std::vector<double> values) {
-  return {std::move(group), std::move(name), std::move(unit), std::move(description),
-          std::move(dims),  std::move(values)};
+  return {std::move(group),       std::move(name), std::move(unit),
+          std::move(description), std::move(dims), std::move(values)};
 }
 
 }  // namespace
@@ -80,8 +80,8 @@ void record_wear_maps(const WearMap& ball, const WearMap& socket, MetricValues& 
   const std::string g = "wear";
   h.arrays.push_back(array(g, "longitude", "rad",
                            "cell-centre longitude about the body's z axis, from +x", {nlon}, lon));
-  h.arrays.push_back(array(g, "latitude", "rad", "cell-centre latitude from the body's xy-plane",
-                           {nlat}, lat));
+  h.arrays.push_back(
+      array(g, "latitude", "rad", "cell-centre latitude from the body's xy-plane", {nlat}, lat));
   h.arrays.push_back(array(g, "ball_depth", "m",
                            "worn depth of the ball, latitude x longitude cells, ball frame",
                            {nlat, nlon}, ball.depths()));
@@ -91,8 +91,8 @@ void record_wear_maps(const WearMap& ball, const WearMap& socket, MetricValues& 
   h.arrays.push_back(array(g, "ball_cell_area", "m^2",
                            "area of a ball cell in each latitude row (depth x area = volume)",
                            {nlat}, area_b));
-  h.arrays.push_back(array(g, "socket_cell_area", "m^2", "area of a socket cell in each latitude row",
-                           {nlat}, area_s));
+  h.arrays.push_back(array(g, "socket_cell_area", "m^2",
+                           "area of a socket cell in each latitude row", {nlat}, area_s));
   h.arrays.push_back(array(g, "radius", "m", "radii of the ball and socket maps", {2},
                            {ball.radius(), socket.radius()}));
 }
@@ -172,7 +172,8 @@ CaseRecord run_wear_evolution(const CaseSpec& spec, History& history) {
                 std::to_string(cycles) + " cycles): " + r.message;
       break;
     }
-    if (updates == 1) add_row(0.0, 0.0, *base->joint_play(spec.time.end, r.final_state.data()), *worn);
+    if (updates == 1)
+      add_row(0.0, 0.0, *base->joint_play(spec.time.end, r.final_state.data()), *worn);
 
     const WearAccumulator& w = *obs.wear();
     const double depth = std::max(w.ball().max_depth().depth, w.socket().max_depth().depth);
@@ -214,7 +215,8 @@ CaseRecord run_wear_evolution(const CaseSpec& spec, History& history) {
   }
   const std::string g = "evolution";
   const std::size_t rows = cycles_col.size();
-  history.arrays.push_back(array(g, "cycles", "1", "duty cycles applied so far", {rows}, cycles_col));
+  history.arrays.push_back(
+      array(g, "cycles", "1", "duty cycles applied so far", {rows}, cycles_col));
   history.arrays.push_back(array(g, "cycles_per_update", "1",
                                  "duty cycles the update stands for (0 in row 0)", {rows},
                                  per_update_col));
@@ -222,8 +224,8 @@ CaseRecord run_wear_evolution(const CaseSpec& spec, History& history) {
                                  "half the free play of the ball along the rod axis", {rows},
                                  axial_col));
   history.arrays.push_back(array(g, "max_clearance", "m",
-                                 "largest local clearance over directions in the mechanism plane", {rows},
-                                 max_col));
+                                 "largest local clearance over directions in the mechanism plane",
+                                 {rows}, max_col));
   history.arrays.push_back(array(g, "surface_backlash", "rad",
                                  "free play of the surface angle (backlash at the surface)", {rows},
                                  backlash_col));

@@ -68,7 +68,7 @@ TEST_CASE("wear map: a deposit adds exactly its volume, anywhere on the sphere",
   // the equator, the longitude seam at +-180 deg, near a pole, and a patch wider than a cell
   const struct {
     double lon, lat, volume, patch;
-  } deposits[] = {{0.3, 0.0, 1e-12, 0.05},        {kPi - 1e-3, 0.2, 2e-12, 0.1},
+  } deposits[] = {{0.3, 0.0, 1e-12, 0.05},         {kPi - 1e-3, 0.2, 2e-12, 0.1},
                   {-kPi + 1e-3, -0.2, 3e-12, 0.1}, {1.0, 0.5 * kPi - 0.01, 4e-12, 0.2},
                   {-2.0, -1.2, 5e-12, 0.01},       {0.0, 0.0, 6e-12, 0.6}};
   for (const auto& d : deposits) {
@@ -84,7 +84,8 @@ TEST_CASE("wear map: a deposit adds exactly its volume, anywhere on the sphere",
   // reads never go below zero nor above the deepest cell (non-negative spline weights)
   const double deepest = m.max_depth().depth;
   for (int k = 0; k < 2000; ++k) {
-    const double h = m.depth_at(direction(0.0031 * k * 7.0, std::asin(std::fmod(0.37 * k, 2.0) - 1.0)));
+    const double h =
+        m.depth_at(direction(0.0031 * k * 7.0, std::asin(std::fmod(0.37 * k, 2.0) - 1.0)));
     CHECK(h >= 0.0);
     CHECK(h <= deepest * (1 + 1e-12));
   }
@@ -198,24 +199,26 @@ TEST_CASE("wear evolution: halving the update interval changes cycles-to-limit b
   // clearance) comes within a few updates; the adaptive rule sets the interval (at most 20 or
   // 10 um of new depth per update)
   auto study = [](double depth_change) {
-    Json doc = {{"name", "wear-test"},
-                {"scene", "rod-end-kinematic"},
-                {"parameters",
-                 {{"wear", {{"model", "archard"}, {"ball_coefficient", 1e-3}, {"socket_coefficient", 1e-3}}},
-                  {"hinge", {{"kind", "proportional"}, {"stiffness", 40.0}}},
-                  {"motion",
-                   {{"retraction", 0.05},
-                    {"extension_time", 0.3},
-                    {"retraction_time", 0.3},
-                    {"hold_time", 0.05}}}}},
-                {"integrator", {{"preset", "fast"}}},
-                {"time", {{"end", kCycleEnd}, {"sample_interval", 1e-2}}},
-                {"signals", Json::array({"contact_force"})},
-                {"wear_evolution",
-                 {{"cycles_per_update", 1e6},
-                  {"max_depth_change", depth_change},
-                  {"clearance_limit", 5.1e-4},
-                  {"max_updates", 200}}}};
+    Json doc = {
+        {"name", "wear-test"},
+        {"scene", "rod-end-kinematic"},
+        {"parameters",
+         {{"wear",
+           {{"model", "archard"}, {"ball_coefficient", 1e-3}, {"socket_coefficient", 1e-3}}},
+          {"hinge", {{"kind", "proportional"}, {"stiffness", 40.0}}},
+          {"motion",
+           {{"retraction", 0.05},
+            {"extension_time", 0.3},
+            {"retraction_time", 0.3},
+            {"hold_time", 0.05}}}}},
+        {"integrator", {{"preset", "fast"}}},
+        {"time", {{"end", kCycleEnd}, {"sample_interval", 1e-2}}},
+        {"signals", Json::array({"contact_force"})},
+        {"wear_evolution",
+         {{"cycles_per_update", 1e6},
+          {"max_depth_change", depth_change},
+          {"clearance_limit", 5.1e-4},
+          {"max_updates", 200}}}};
     return parse_study(doc, "wear-test.json", "/tmp/rodend-results");
   };
   auto cycles_to_limit = [](const Study& s, long& updates) {

@@ -91,7 +91,8 @@ class RodEndActuatorScene final : public Scene {
     full.extension = full.retraction = act_.params().half_stroke;
     mech_.check_closure(full, "actuator.half_stroke");
     signals_with_wear_.assign(kSignals.begin(), kSignals.end());
-    signals_with_wear_.insert(signals_with_wear_.end(), {SignalId::sliding_work, SignalId::worn_volume});
+    signals_with_wear_.insert(signals_with_wear_.end(),
+                              {SignalId::sliding_work, SignalId::worn_volume});
     double x[kStates + 1];
     initial_state(x);
     initial_energy_ = energy(0.0, x, DiscreteState{{ContactLatch{}}}).mechanical;
@@ -153,7 +154,8 @@ class RodEndActuatorScene final : public Scene {
   }
 
   std::span<const SignalId> signals() const override {
-    return wears() ? std::span<const SignalId>(signals_with_wear_) : std::span<const SignalId>(kSignals);
+    return wears() ? std::span<const SignalId>(signals_with_wear_)
+                   : std::span<const SignalId>(kSignals);
   }
 
   // wear: the mechanism's model; the state's sliding work gives the worn-volume signal

@@ -79,7 +79,8 @@ class RodEndKinematicScene final : public Scene {
                        "or \"minimum-jerk\" (steps are for the actuator scenes' command)");
     mech_.check_closure(motion_, "motion.extension", "motion.retraction");
     signals_with_wear_.assign(kSignals.begin(), kSignals.end());
-    signals_with_wear_.insert(signals_with_wear_.end(), {SignalId::sliding_work, SignalId::worn_volume});
+    signals_with_wear_.insert(signals_with_wear_.end(),
+                              {SignalId::sliding_work, SignalId::worn_volume});
     double x[kStates + 1];
     initial_state(x);
     initial_energy_ = mech_.mechanical_energy(evaluate(0.0, x, ContactLatch{}));
@@ -119,7 +120,8 @@ class RodEndKinematicScene final : public Scene {
   }
 
   std::span<const SignalId> signals() const override {
-    return wears() ? std::span<const SignalId>(signals_with_wear_) : std::span<const SignalId>(kSignals);
+    return wears() ? std::span<const SignalId>(signals_with_wear_)
+                   : std::span<const SignalId>(kSignals);
   }
 
   // wear: the mechanism's model; the state's sliding work gives the worn-volume signal

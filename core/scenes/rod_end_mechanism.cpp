@@ -27,7 +27,8 @@ std::optional<WearModel> read_wear(const ParameterSet& p) {
   if (model == "none") return std::nullopt;
   if (model != "archard") throw InputError("wear.model", "expected \"none\" or \"archard\"");
   WearModel w;
-  w.ball = {read_positive(p, "wear.ball_coefficient", true), read_positive(p, "wear.ball_hardness")};
+  w.ball = {read_positive(p, "wear.ball_coefficient", true),
+            read_positive(p, "wear.ball_hardness")};
   w.socket = {read_positive(p, "wear.socket_coefficient", true),
               read_positive(p, "wear.socket_hardness")};
   auto cells = [&](const char* key, int lo) {

@@ -12,8 +12,8 @@
 
 #include "core/contact.hpp"
 #include "core/params.hpp"
-#include "core/scene.hpp"
 #include "core/rigid_body.hpp"
+#include "core/scene.hpp"
 #include "core/scenes/drivers.hpp"
 #include "core/scenes/slider_crank.hpp"
 #include "core/signals.hpp"
