@@ -118,8 +118,9 @@ TEST_CASE("wear: the maps hold (k/H) times the sliding work the state integrates
   const WearModel& w = *scene->wear_model();
   const double vb = obs.wear().ball().volume(), vs = obs.wear().socket().volume();
   // the maps are filled by 3-point Gauss quadrature on each accepted step's interpolant, the
-  // state by the method's own stages: two quadratures of the same F_N v_slip, each to ~tol.
-  // measured 2e-9 (ball and socket alike)
+  // state by the method's own stages: two quadratures of the same F_N v_slip, each to ~tol
+  measured("wear map volume vs (k/H) x sliding-work state",
+           std::abs(vb / (w.ball.rate() * obs.sliding_work) - 1.0), 1e-6);
   CHECK(vb == Approx(w.ball.rate() * obs.sliding_work).epsilon(1e-6));
   CHECK(vs == Approx(w.socket.rate() * obs.sliding_work).epsilon(1e-6));
   // the accumulator's own sum of deposits, and the recorded worn-volume signal

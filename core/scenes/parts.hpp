@@ -66,6 +66,14 @@ double quaternion_norm_error(const double* x, int offset);
 
 namespace rodend {
 
+/// The signals write_contact_signals writes, in catalogue order.
+inline constexpr SignalId kContactSignals[] = {
+    SignalId::eccentricity_vector,  SignalId::eccentricity,     SignalId::relative_position,
+    SignalId::penetration,          SignalId::penetration_rate, SignalId::impact_speed,
+    SignalId::contact_force_vector, SignalId::contact_force,    SignalId::friction_force_vector,
+    SignalId::friction_force,       SignalId::slip_speed,       SignalId::wear_indicator,
+    SignalId::contact_angle};
+
 /// Writes the contact signals (eccentricity, penetration, forces, slip, wear indicator, ...).
 void write_contact_signals(SignalFrame& f, const ContactEval& c, const BodyKinematics& ball,
                            const BodyKinematics& socket, const ContactLatch& latch);

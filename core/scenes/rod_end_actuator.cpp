@@ -3,6 +3,8 @@
 // (thesis §6.3, fig. 6.11). The external force on the rod is the reaction of the slider spring.
 //
 // State: mechanism (28) | actuator (10) | input work [J] | dissipated [J].
+// With wear.model "archard" a last state integrates the sliding work F_N v_slip [J]
+// (core/wear.hpp).
 #include <array>
 #include <vector>
 
@@ -23,58 +25,11 @@ constexpr int kDissipated = kWork + 1;
 constexpr int kSliding = kDissipated + 1;  ///< sliding work [J], with wear.model archard only
 constexpr int kStates = kDissipated + 1;
 
-constexpr std::array kSignals{SignalId::time,
-                              SignalId::ball_position,
-                              SignalId::ball_velocity,
-                              SignalId::ball_angular_velocity,
-                              SignalId::ball_euler_321,
-                              SignalId::socket_position,
-                              SignalId::socket_velocity,
-                              SignalId::socket_angular_velocity,
-                              SignalId::socket_euler_321,
-                              SignalId::eccentricity_vector,
-                              SignalId::eccentricity,
-                              SignalId::relative_position,
-                              SignalId::penetration,
-                              SignalId::penetration_rate,
-                              SignalId::impact_speed,
-                              SignalId::contact_force_vector,
-                              SignalId::contact_force,
-                              SignalId::friction_force_vector,
-                              SignalId::friction_force,
-                              SignalId::slip_speed,
-                              SignalId::wear_indicator,
-                              SignalId::contact_angle,
-                              SignalId::actuator_position,
-                              SignalId::actuator_velocity,
-                              SignalId::rod_inclination,
-                              SignalId::slider_end_position,
-                              SignalId::crank_end_position,
-                              SignalId::surface_angle,
-                              SignalId::surface_rate,
-                              SignalId::surface_acceleration,
-                              SignalId::hinge_moment,
-                              SignalId::slider_spring_force,
-                              SignalId::slider_spring_axial_force,
-                              SignalId::slider_spring_moment,
-                              SignalId::crank_spring_force,
-                              SignalId::crank_spring_axial_force,
-                              SignalId::crank_spring_moment,
-                              SignalId::actuator_command,
-                              SignalId::lvdt_position,
-                              SignalId::controller_current,
-                              SignalId::jet_pipe_position,
-                              SignalId::spool_position,
-                              SignalId::chamber_pressures,
-                              SignalId::chamber_flows,
-                              SignalId::actuator_external_force,
-                              SignalId::hydraulic_power,
-                              SignalId::kinetic_energy,
-                              SignalId::mechanical_energy,
-                              SignalId::input_work,
-                              SignalId::dissipated_energy,
-                              SignalId::energy_residual,
-                              SignalId::quaternion_norm_error};
+/// What the actuator adds to the mechanism's signals.
+constexpr std::array kActuatorSignals{
+    SignalId::actuator_command,  SignalId::lvdt_position,           SignalId::controller_current,
+    SignalId::jet_pipe_position, SignalId::spool_position,          SignalId::chamber_pressures,
+    SignalId::chamber_flows,     SignalId::actuator_external_force, SignalId::hydraulic_power};
 constexpr std::array kQuaternions{kMech + Mech::kBall + BodyStateLayout::q,
                                   kMech + Mech::kSocket + BodyStateLayout::q};
 constexpr std::array kAudit{kWork, kDissipated};
@@ -90,9 +45,7 @@ class RodEndActuatorScene final : public Scene {
     full.shape = ActuatorMotion::Shape::raised_cosine;
     full.extension = full.retraction = act_.params().half_stroke;
     mech_.check_closure(full, "actuator.half_stroke");
-    signals_with_wear_.assign(kSignals.begin(), kSignals.end());
-    signals_with_wear_.insert(signals_with_wear_.end(),
-                              {SignalId::sliding_work, SignalId::worn_volume});
+    signals_ = mech_.scene_signals(kActuatorSignals);
     double x[kStates + 1];
     initial_state(x);
     initial_energy_ = energy(0.0, x, DiscreteState{{ContactLatch{}}}).mechanical;
@@ -150,13 +103,10 @@ class RodEndActuatorScene final : public Scene {
         e.mech.slider_spring.anchor_power - mech_.rod_axial_force(e.mech) * u_dot;
     dxdt[kWork] = hydraulic + constraint + e.mech.hinge_moment * e.mech.theta_dot;
     dxdt[kDissipated] = mech_.dissipated_power(e.mech) + act_.dissipated_power(e.act, xa);
-    if (wears()) dxdt[kSliding] = e.mech.contact.normal_force * e.mech.contact.slip_speed;
+    if (wears()) dxdt[kSliding] = Mech::sliding_power(e.mech);
   }
 
-  std::span<const SignalId> signals() const override {
-    return wears() ? std::span<const SignalId>(signals_with_wear_)
-                   : std::span<const SignalId>(kSignals);
-  }
+  std::span<const SignalId> signals() const override { return signals_; }
 
   // wear: the mechanism's model; the state's sliding work gives the worn-volume signal
   const WearModel* wear_model() const override { return mech_.wear_model(); }
@@ -186,22 +136,17 @@ class RodEndActuatorScene final : public Scene {
     f.set(SignalId::kinetic_energy,
           mech_.kinetic_energy(e.mech) + 0.5 * act_.params().piston_mass * v * v);
     write_energy_signals(f, energy(t, x, d), initial_energy_);
-    write_wear_signals(x, f);
+    if (wears()) mech_.write_wear_signals(x[kSliding], f);
   }
 
  private:
   bool wears() const { return mech_.wear_model() != nullptr; }
-  void write_wear_signals(const double* x, SignalFrame& f) const {
-    if (!wears()) return;
-    f.set(SignalId::sliding_work, x[kSliding]);
-    f.set(SignalId::worn_volume, mech_.worn_volume_per_work() * x[kSliding]);
-  }
 
   Mech mech_;
   ServoActuator act_;
   ActuatorMotion command_;
   double initial_energy_ = 0.0;
-  std::vector<SignalId> signals_with_wear_;
+  std::vector<SignalId> signals_;  ///< mech_.scene_signals(...)
 };
 
 }  // namespace

@@ -3,6 +3,8 @@
 // validated base model, without hydraulics.
 //
 // State: mechanism (28: ball, socket, crank angle and rate) | input work [J] | dissipated [J].
+// With wear.model "archard" a last state integrates the sliding work F_N v_slip [J]
+// (core/wear.hpp).
 #include <array>
 #include <vector>
 
@@ -21,49 +23,6 @@ constexpr int kDissipated = kWork + 1;
 constexpr int kSliding = kDissipated + 1;  ///< sliding work [J], with wear.model archard only
 constexpr int kStates = kDissipated + 1;
 
-constexpr std::array kSignals{SignalId::time,
-                              SignalId::ball_position,
-                              SignalId::ball_velocity,
-                              SignalId::ball_angular_velocity,
-                              SignalId::ball_euler_321,
-                              SignalId::socket_position,
-                              SignalId::socket_velocity,
-                              SignalId::socket_angular_velocity,
-                              SignalId::socket_euler_321,
-                              SignalId::eccentricity_vector,
-                              SignalId::eccentricity,
-                              SignalId::relative_position,
-                              SignalId::penetration,
-                              SignalId::penetration_rate,
-                              SignalId::impact_speed,
-                              SignalId::contact_force_vector,
-                              SignalId::contact_force,
-                              SignalId::friction_force_vector,
-                              SignalId::friction_force,
-                              SignalId::slip_speed,
-                              SignalId::wear_indicator,
-                              SignalId::contact_angle,
-                              SignalId::actuator_position,
-                              SignalId::actuator_velocity,
-                              SignalId::rod_inclination,
-                              SignalId::slider_end_position,
-                              SignalId::crank_end_position,
-                              SignalId::surface_angle,
-                              SignalId::surface_rate,
-                              SignalId::surface_acceleration,
-                              SignalId::hinge_moment,
-                              SignalId::slider_spring_force,
-                              SignalId::slider_spring_axial_force,
-                              SignalId::slider_spring_moment,
-                              SignalId::crank_spring_force,
-                              SignalId::crank_spring_axial_force,
-                              SignalId::crank_spring_moment,
-                              SignalId::kinetic_energy,
-                              SignalId::mechanical_energy,
-                              SignalId::input_work,
-                              SignalId::dissipated_energy,
-                              SignalId::energy_residual,
-                              SignalId::quaternion_norm_error};
 constexpr std::array kQuaternions{kMech + Mech::kBall + BodyStateLayout::q,
                                   kMech + Mech::kSocket + BodyStateLayout::q};
 constexpr std::array kAudit{kWork, kDissipated};
@@ -78,9 +37,7 @@ class RodEndKinematicScene final : public Scene {
                        "a step has no velocity: the prescribed rod motion needs \"raised-cosine\" "
                        "or \"minimum-jerk\" (steps are for the actuator scenes' command)");
     mech_.check_closure(motion_, "motion.extension", "motion.retraction");
-    signals_with_wear_.assign(kSignals.begin(), kSignals.end());
-    signals_with_wear_.insert(signals_with_wear_.end(),
-                              {SignalId::sliding_work, SignalId::worn_volume});
+    signals_ = mech_.scene_signals({});
     double x[kStates + 1];
     initial_state(x);
     initial_energy_ = mech_.mechanical_energy(evaluate(0.0, x, ContactLatch{}));
@@ -116,13 +73,10 @@ class RodEndKinematicScene final : public Scene {
     mech_.derivatives(e, x + kMech, dxdt + kMech);
     dxdt[kWork] = mech_.input_power(e);
     dxdt[kDissipated] = mech_.dissipated_power(e);
-    if (wears()) dxdt[kSliding] = e.contact.normal_force * e.contact.slip_speed;
+    if (wears()) dxdt[kSliding] = Mech::sliding_power(e);
   }
 
-  std::span<const SignalId> signals() const override {
-    return wears() ? std::span<const SignalId>(signals_with_wear_)
-                   : std::span<const SignalId>(kSignals);
-  }
+  std::span<const SignalId> signals() const override { return signals_; }
 
   // wear: the mechanism's model; the state's sliding work gives the worn-volume signal
   const WearModel* wear_model() const override { return mech_.wear_model(); }
@@ -150,21 +104,16 @@ class RodEndKinematicScene final : public Scene {
     f.set(SignalId::actuator_velocity, m.velocity);
     write_energy_signals(f, {mech_.mechanical_energy(e), x[kWork], x[kDissipated]},
                          initial_energy_);
-    write_wear_signals(x, f);
+    if (wears()) mech_.write_wear_signals(x[kSliding], f);
   }
 
  private:
   bool wears() const { return mech_.wear_model() != nullptr; }
-  void write_wear_signals(const double* x, SignalFrame& f) const {
-    if (!wears()) return;
-    f.set(SignalId::sliding_work, x[kSliding]);
-    f.set(SignalId::worn_volume, mech_.worn_volume_per_work() * x[kSliding]);
-  }
 
   Mech mech_;
   ActuatorMotion motion_;
   double initial_energy_ = 0.0;
-  std::vector<SignalId> signals_with_wear_;
+  std::vector<SignalId> signals_;  ///< mech_.scene_signals(...)
 };
 
 }  // namespace

@@ -128,6 +128,50 @@ void RodEndMechanism::state_scale(double* s) const {
   s[kThetaDot] = V / geometry_.crank();
 }
 
+std::vector<SignalId> RodEndMechanism::scene_signals(std::span<const SignalId> own) const {
+  static constexpr SignalId kBodies[] = {SignalId::time,
+                                         SignalId::ball_position,
+                                         SignalId::ball_velocity,
+                                         SignalId::ball_angular_velocity,
+                                         SignalId::ball_euler_321,
+                                         SignalId::socket_position,
+                                         SignalId::socket_velocity,
+                                         SignalId::socket_angular_velocity,
+                                         SignalId::socket_euler_321};
+  static constexpr SignalId kLinkage[] = {SignalId::actuator_position,
+                                          SignalId::actuator_velocity,
+                                          SignalId::rod_inclination,
+                                          SignalId::slider_end_position,
+                                          SignalId::crank_end_position,
+                                          SignalId::surface_angle,
+                                          SignalId::surface_rate,
+                                          SignalId::surface_acceleration,
+                                          SignalId::hinge_moment,
+                                          SignalId::slider_spring_force,
+                                          SignalId::slider_spring_axial_force,
+                                          SignalId::slider_spring_moment,
+                                          SignalId::crank_spring_force,
+                                          SignalId::crank_spring_axial_force,
+                                          SignalId::crank_spring_moment};
+  static constexpr SignalId kAudit[] = {SignalId::kinetic_energy,  SignalId::mechanical_energy,
+                                        SignalId::input_work,      SignalId::dissipated_energy,
+                                        SignalId::energy_residual, SignalId::quaternion_norm_error};
+  // time and the bodies, the contact (parts.hpp), the rod and crank
+  std::vector<SignalId> v(std::begin(kBodies), std::end(kBodies));
+  v.insert(v.end(), std::begin(kContactSignals), std::end(kContactSignals));
+  v.insert(v.end(), std::begin(kLinkage), std::end(kLinkage));
+  v.insert(v.end(), own.begin(), own.end());
+  v.insert(v.end(), std::begin(kAudit), std::end(kAudit));
+  if (wear_) v.insert(v.end(), {SignalId::sliding_work, SignalId::worn_volume});
+  return v;
+}
+
+void RodEndMechanism::write_wear_signals(double sliding_work, SignalFrame& f) const {
+  if (!wear_) return;
+  f.set(SignalId::sliding_work, sliding_work);
+  f.set(SignalId::worn_volume, worn_volume_per_work() * sliding_work);
+}
+
 double RodEndMechanism::worn_volume_per_work() const {
   return wear_ ? wear_->ball.rate() + wear_->socket.rate() : 0.0;
 }
@@ -136,7 +180,7 @@ WearSource RodEndMechanism::wear_source(const Eval& e) const {
   WearSource w;
   const ContactEval& c = e.contact;
   if (!(c.normal_force > 0.0)) return w;
-  w.sliding_power = c.normal_force * c.slip_speed;
+  w.sliding_power = sliding_power(e);
   // the contact point lies along n from both centres: the same world direction, read in each
   // body's frame
   w.direction_ball_B = e.ball.R_WB.transpose() * c.normal;

@@ -9,6 +9,8 @@
 
 #include <memory>
 #include <optional>
+#include <span>
+#include <vector>
 
 #include "core/contact.hpp"
 #include "core/params.hpp"
@@ -67,11 +69,22 @@ class RodEndMechanism {
 
   ContactGap gap(const double* x) const;
 
+  /// The signals of a rod-end scene: time, the mechanism's and the contact's, `own` (what the
+  /// scene adds, e.g. the actuator's), the energy audit and, with a wear model, sliding_work
+  /// and worn_volume.
+  std::vector<SignalId> scene_signals(std::span<const SignalId> own) const;
+
   // wear (core/wear.hpp): null / nothing when wear.model is "none"
   const WearModel* wear_model() const { return wear_ ? &*wear_ : nullptr; }
   /// Worn volume per joule of sliding work, k_b/H_b + k_s/H_s [m^3/J].
   double worn_volume_per_work() const;
   WearSource wear_source(const Eval& e) const;
+  /// F_N v_slip, the rate of the scene's sliding-work state [W].
+  static double sliding_power(const Eval& e) {
+    return e.contact.normal_force * e.contact.slip_speed;
+  }
+  /// Writes sliding_work and worn_volume from the sliding-work state [J] (with a wear model).
+  void write_wear_signals(double sliding_work, SignalFrame& f) const;
   /// Uses `worn` as the contact's surfaces from now on (a scene calls this on its own copy).
   void set_worn_surfaces(std::shared_ptr<const WornSurfaces> worn);
   /// Free play along the rod axis and at the surface in the configuration of `e`.
