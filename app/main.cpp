@@ -113,6 +113,9 @@ int main(int argc, char** argv) {
                 "and the resolved table, run nothing");
   run->add_flag("--rerun-failed", opt.rerun_failed, "rerun cases whose stored status is a failure");
   run->add_flag("--quiet,-q", quiet, "no progress on stderr");
+  run->add_flag("--wait", opt.wait,
+                "when another run of the same study holds its results directory, wait for it "
+                "instead of refusing");
   run->add_option("--results-root", results_root,
                   "where studies without an \"output\" key write (default: results)");
   run->add_option("--shard", shard,

@@ -59,6 +59,9 @@ void validate(const IntegratorSettings& s) {
   positive(s.step, "integrator.step");
   positive(s.max_step, "integrator.max_step");
   positive(s.min_step, "integrator.min_step");
+  if (s.min_step > s.max_step)
+    throw InputError("integrator.min_step",
+                     "larger than integrator.max_step; expected min_step <= max_step");
   if (s.max_steps <= 0) throw InputError("integrator.max_steps", "expected an integer > 0");
   if (s.max_rhs_calls <= 0) throw InputError("integrator.max_rhs_calls", "expected an integer > 0");
   if (s.contact_onset != "locate" && s.contact_onset != "step-end")
@@ -76,6 +79,11 @@ void validate(const TimeSettings& s) {
   if (!(s.sample_interval > 0.0) || !std::isfinite(s.sample_interval))
     throw InputError("time.sample_interval",
                      "expected a sample interval > 0 [s], got " + got(s.sample_interval));
+  if (s.sample_interval > s.end)
+    throw InputError("time.sample_interval",
+                     "longer than time.end (" + got(s.end) +
+                         " s): only t = 0 would be recorded; expected a sample interval <= the "
+                         "end time");
   if (s.end / s.sample_interval > 5e7)
     throw InputError("time.sample_interval",
                      "more than 5e7 samples requested; expected a larger sample interval");

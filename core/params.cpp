@@ -14,7 +14,12 @@ bool is_leaf(const Json& j) {
 }
 
 std::string type_name(const Json& j) {
-  if (j.is_array()) return "an array of " + std::to_string(j.size()) + " numbers";
+  if (j.is_array()) {
+    const bool numbers =
+        std::all_of(j.begin(), j.end(), [](const Json& v) { return v.is_number(); });
+    return "an array of " + std::to_string(j.size()) +
+           (numbers ? " numbers" : " values, not all numbers");
+  }
   if (j.is_boolean()) return "a boolean";
   if (j.is_number()) return "a number";
   if (j.is_string()) return "a string";
@@ -129,7 +134,9 @@ bool ParameterSet::flag(const std::string& path) const {
 }
 Vec3 ParameterSet::vec3(const std::string& path) const {
   const Json& v = leaf(path)["value"];
-  if (!v.is_array() || v.size() != 3) throw InputError(path, "expected an array of 3 numbers");
+  if (!v.is_array() || v.size() != 3 ||
+      !std::all_of(v.begin(), v.end(), [](const Json& e) { return e.is_number(); }))
+    throw InputError(path, "expected an array of 3 numbers");
   return Vec3(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
 }
 std::string ParameterSet::unit(const std::string& path) const {

@@ -7,7 +7,7 @@
 // - Quiet: HDF5's automatic error printing is switched off once (H5Eset_auto2); HDF5 failures
 //   become std::runtime_error naming the file (read_case_record returns nullopt instead).
 // - Crash safety: a file is written under a hidden temporary name in its final directory
-//   (.<name>.tmp.<pid>.<counter>), closed, flushed to disk, then renamed to its final name
+//   (.<name>.tmp.<host>.<pid>.<counter>), closed, flushed to disk, then renamed to its final name
 //   (atomic on POSIX). A failed write removes the temporary file and throws; a partially
 //   written file never appears under the final name.
 //
@@ -26,6 +26,7 @@
 // array of the names in order) and summary.csv (one header line, one line per case).
 // All string attributes and string datasets are variable-length UTF-8.
 #include "sweep/results.hpp"
+#include "sweep/results_dir.hpp"
 
 #include <fcntl.h>
 #include <hdf5.h>
@@ -256,10 +257,12 @@ std::string utc_now_iso8601() {
 // ---------------------------------------------------------------------------------------------
 // Atomic file replacement
 
-/// `.<name>.tmp.<pid>.<counter>` beside `path`; unique within the process and across processes.
+/// `.<name>.tmp.<host>.<pid>.<counter>` beside `path`; unique within the process and across
+/// processes and hosts; a later run removes it when its writer is gone (sweep/results_dir.hpp).
 fs::path temp_path_for(const fs::path& path) {
   static std::atomic<unsigned long long> counter{0};
-  const std::string name = "." + path.filename().string() + ".tmp." +
+  static const std::string host = host_name();
+  const std::string name = "." + path.filename().string() + ".tmp." + host + "." +
                            std::to_string(static_cast<long long>(::getpid())) + "." +
                            std::to_string(counter.fetch_add(1));
   return path.parent_path() / name;

@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
@@ -51,13 +52,12 @@ void write_text_atomically(const fs::path& path, const std::string& text) {
   std::string name = ".";
   name += path.filename().string();
   name += ".tmp.";
-  // host and pid: shards on different nodes may write the same study.json at once
-  char host[256] = {};
-  if (::gethostname(host, sizeof host - 1) == 0) {
-    name += host;
-    name += ".";
-  }
+  // host and pid: shards on different nodes may write the same study.json at once; the form
+  // .<name>.tmp.<host>.<pid>.<n> of every rodend temporary (sweep/results_dir.hpp)
+  name += host_name();
+  name += ".";
   name += std::to_string(::getpid());
+  name += ".0";
   const fs::path tmp = path.parent_path() / name;
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
@@ -67,6 +67,44 @@ void write_text_atomically(const fs::path& path, const std::string& text) {
   }
   fs::rename(tmp, path);
 }
+
+/// SIGINT / SIGTERM during a run: the first stops the run from taking new cases (the cases in
+/// flight finish and are written); a second one ends the process at once (its temporary files
+/// are removed by the next run).
+std::atomic<int> g_stop_signal{0};
+
+extern "C" void on_stop_signal(int sig) {
+  g_stop_signal.store(sig);
+  static const char msg[] =
+      "\nrodend: stopping: no new cases; the cases in flight finish and are written (signal "
+      "again to stop at once)\n";
+  const ssize_t w = ::write(STDERR_FILENO, msg, sizeof msg - 1);
+  (void)w;
+  std::signal(sig, SIG_DFL);
+}
+
+/// Installs the stop handlers for the life of a run.
+class StopSignals {
+ public:
+  StopSignals() {
+    g_stop_signal.store(0);
+    struct sigaction sa {};
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, &old_int_);
+    sigaction(SIGTERM, &sa, &old_term_);
+  }
+  ~StopSignals() {
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+
+ private:
+  struct sigaction old_int_ {
+  }, old_term_{};
+};
 
 }  // namespace
 
@@ -143,6 +181,14 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
   RunPlan plan;
   plan.dir = study.output_dir;
   plan.cases_dir = plan.dir / "cases";
+  const std::string lock_name = opt.shard_count > 1 ? std::string(kResultsMarker) + ".lock.shard-" +
+                                                          std::to_string(opt.shard_index) + "-of-" +
+                                                          std::to_string(opt.shard_count)
+                                                    : std::string(kResultsMarker) + ".lock";
+  plan.lock = ResultsLock::claim(plan.dir, lock_name, study.file.string(), opt.wait);
+  if (plan.lock->stale_removed() > 0 && opt.progress)
+    std::fprintf(stderr, "rodend: removed %d temporary file(s) left by interrupted runs\n",
+                 plan.lock->stale_removed());
   std::error_code ec;
   fs::create_directories(plan.cases_dir, ec);
   if (ec)
@@ -158,6 +204,14 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
           "output",
           "the results directory " + d.string() + " is not writable (" + std::strerror(errno) + ")",
           study.file.string());
+  for (const char* name : {"summary.h5", "summary.csv", "study.json"}) {
+    const fs::path f = plan.dir / name;
+    if (fs::exists(f, ec) && !fs::is_regular_file(f, ec))
+      throw InputError("output",
+                       f.string() + " exists and is not a regular file; rodend writes its " + name +
+                           " there: move it away",
+                       study.file.string());
+  }
   plan.provenance = provenance(study);
   // a shard writes its own summary; `rodend merge` assembles the study's
   plan.summary_dir = opt.shard_count > 1 ? plan.dir / ("shard-" + std::to_string(opt.shard_index) +
@@ -185,6 +239,9 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
       continue;
     }
     if (rec && (rec->status == "ok" || !opt.rerun_failed)) {
+      // a file reused from another grid of the study: its row takes this grid's place
+      rec->index = c.index;
+      rec->coordinates = c.coordinates;
       plan.records[i] = *rec;
       plan.have[i] = 1;
       continue;
@@ -221,6 +278,7 @@ int write_run_summary(const Study& study, const RunPlan& plan,
 
 int run_study(const Study& study, const RunOptions& opt) {
   RunPlan plan = plan_run(study, opt);
+  const StopSignals stop_signals;
   Progress progress(opt.progress, plan.in_scope,
                     plan.in_scope - static_cast<long>(plan.todo.size()));
 
@@ -229,6 +287,7 @@ int run_study(const Study& study, const RunOptions& opt) {
   const long n_todo = static_cast<long>(plan.todo.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(std::max(opt.threads, 1))
   for (long k = 0; k < n_todo; ++k) {
+    if (g_stop_signal.load() != 0) continue;  // stopping: no new cases
     const std::size_t i = plan.todo[static_cast<std::size_t>(k)];
     try {
       plan.records[i] = run_and_write_case(study, plan, i);
@@ -241,6 +300,15 @@ int run_study(const Study& study, const RunOptions& opt) {
     }
   }
   if (!first_error.empty()) throw std::runtime_error(first_error);
+  if (const int sig = g_stop_signal.load(); sig != 0) {
+    const long complete = std::count(plan.have.begin(), plan.have.end(), char{1});
+    std::fprintf(stderr,
+                 "rodend: stopped by %s: %ld of %ld case(s) complete in %s; no summary written. "
+                 "Resume with: rodend run %s\n",
+                 sig == SIGINT ? "SIGINT" : "SIGTERM", complete, plan.in_scope,
+                 plan.cases_dir.c_str(), study.file.c_str());
+    return 128 + sig;
+  }
 
   std::vector<CaseRecord> rows;
   for (std::size_t i = 0; i < study.cases.size(); ++i)
@@ -251,6 +319,11 @@ int run_study(const Study& study, const RunOptions& opt) {
 int merge_study(const Study& study, std::ostream& report) {
   const fs::path dir = study.output_dir;
   const fs::path cases_dir = dir / "cases";
+  if (!fs::is_directory(dir))
+    throw InputError("output", "no results directory " + dir.string() + " to merge",
+                     study.file.string());
+  const auto lock =
+      ResultsLock::claim(dir, std::string(kResultsMarker) + ".lock", study.file.string(), false);
   std::vector<CaseRecord> rows;
   rows.reserve(study.cases.size());
   std::vector<const CaseSpec*> missing;
@@ -265,11 +338,29 @@ int merge_study(const Study& study, std::ostream& report) {
       shards = (shards == 0 || shards == n) ? n : -1;
   }
   if (shards < 0) shards = 0;
+  std::vector<std::string> unreadable;
   for (const CaseSpec& c : study.cases) {
-    if (auto rec = read_case_record(cases_dir / (c.id + ".h5")))
+    std::optional<CaseRecord> rec;
+    try {
+      rec = read_case_record_strict(cases_dir / (c.id + ".h5"));
+    } catch (const std::exception& e) {
+      unreadable.push_back(e.what());
+      continue;
+    }
+    if (rec) {
+      rec->index = c.index;
+      rec->coordinates = c.coordinates;
       rows.push_back(std::move(*rec));
-    else
+    } else {
       missing.push_back(&c);
+    }
+  }
+  if (!unreadable.empty()) {
+    report << "rodend: " << unreadable.size()
+           << " case file(s) exist but cannot be read; no summary written. Move them away and "
+              "rerun those cases (rodend run resumes):\n";
+    for (const std::string& u : unreadable) report << "  " << u << "\n";
+    return 1;
   }
   if (!missing.empty()) {
     report << "rodend: " << missing.size() << " of " << study.cases.size()

@@ -16,6 +16,7 @@
 #include <mutex>
 
 #include "sweep/results.hpp"
+#include "sweep/results_dir.hpp"
 #include "sweep/study.hpp"
 
 namespace rodend {
@@ -26,6 +27,7 @@ struct RunOptions {
   bool progress = true;       ///< progress on stderr
   int shard_index = 1;        ///< run only the shard_index-th of shard_count slices (1-based)
   int shard_count = 1;
+  bool wait = false;  ///< wait for another run of the same study instead of refusing
 };
 
 /// Runs one case in memory: builds the scene, integrates, records histories and metrics.
@@ -56,15 +58,18 @@ struct RunPlan {
   std::filesystem::path cases_dir;    ///< dir/cases
   std::filesystem::path summary_dir;  ///< dir, or dir/shard-K-of-N for a shard
   Json provenance;
-  std::vector<CaseRecord> records;  ///< by case index; valid where have[i]
-  std::vector<char> have;           ///< case i has a complete file that is kept
-  std::vector<std::size_t> todo;    ///< case indices to run, in grid order
-  long in_scope = 0;                ///< cases of this shard (all cases without shards)
+  std::vector<CaseRecord> records;    ///< by case index; valid where have[i]
+  std::vector<char> have;             ///< case i has a complete file that is kept
+  std::vector<std::size_t> todo;      ///< case indices to run, in grid order
+  long in_scope = 0;                  ///< cases of this shard (all cases without shards)
+  std::shared_ptr<ResultsLock> lock;  ///< held for the run (sweep/results_dir.hpp)
 };
 
-/// Creates the results directories, writes study.json, and reads the case files present: a
-/// complete case is kept (unless failed and options.rerun_failed), the others are to run.
-/// Throws InputError when the results directory cannot be created or written.
+/// Claims the results directory (ownership marker, lock, stale temporaries removed:
+/// sweep/results_dir.hpp), creates its subdirectories, writes study.json, and reads the case
+/// files present: a complete case is kept (unless failed and options.rerun_failed), the others
+/// are to run. Throws InputError when the results directory cannot be created or written or is
+/// not rodend's, std::runtime_error when another run holds it.
 RunPlan plan_run(const Study& study, const RunOptions& options);
 
 /// Runs case `i` of the study and writes its file into plan.cases_dir. Returns its record;

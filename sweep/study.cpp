@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <functional>
+#include <optional>
 #include <sstream>
 
 #include "core/presets.hpp"
@@ -331,6 +332,16 @@ void apply_section(Draft& d, const Json& doc, const std::string& section) {
   const Json& obj = need_object(doc[section], section);
   std::vector<std::pair<std::string, Json>> flat;
   flatten(obj, section, flat);
+  // {"contact.clearance": a, "contact": {"clearance": b}} names one setting twice
+  {
+    std::vector<std::string> keys;
+    for (const auto& kv : flat) keys.push_back(kv.first);
+    std::sort(keys.begin(), keys.end());
+    if (const auto dup = std::adjacent_find(keys.begin(), keys.end()); dup != keys.end())
+      throw InputError(*dup,
+                       "set twice (once as a dotted key, once nested); expected each setting "
+                       "once");
+  }
   // a preset sets every integrator field: apply it first, so the keys beside it override it
   std::stable_partition(flat.begin(), flat.end(),
                         [](const auto& kv) { return kv.first == "integrator.preset"; });
@@ -372,6 +383,10 @@ std::vector<Json> expand_values(const Json& a, const std::string& where) {
                    : start + f * (stop - start);
     if (i == n - 1) v = stop;  // end points exact
     if (i == 0) v = start;
+    if (!std::isfinite(v))
+      throw InputError(key,
+                       "generates a value that is not a finite number; expected finite "
+                       "start and stop");
     out.emplace_back(v);
   }
   return out;
@@ -408,6 +423,8 @@ Axis parse_axis(const Json& a, const std::string& where) {
   if (!a.contains("key"))
     throw InputError(where + ".key", "missing: the key path this axis varies");
   axis.keys.push_back(need_string(a["key"], where + ".key"));
+  if (axis.keys.back().empty())
+    throw InputError(where + ".key", "expected a key path such as parameters.contact.clearance");
   axis.values.push_back(expand_values(a, where));
   return axis;
 }
@@ -425,6 +442,39 @@ std::pair<std::size_t, std::size_t> line_column(const std::string& text, std::si
   return {line, col};
 }
 
+/// Key path of the first string or key holding a NUL character (escaped as \u0000), or none.
+/// A NUL would cut a path or a message short where the string meets a C interface.
+std::optional<std::string> find_nul(const Json& doc) {
+  std::vector<std::pair<const Json*, std::string>> todo{{&doc, ""}};
+  while (!todo.empty()) {
+    const auto [j, path] = todo.back();
+    todo.pop_back();
+    if (j->is_string() && j->get_ref<const std::string&>().find('\0') != std::string::npos)
+      return path;
+    if (j->is_object()) {
+      for (auto it = j->begin(); it != j->end(); ++it) {
+        const std::string p = path.empty() ? it.key() : path + "." + it.key();
+        if (it.key().find('\0') != std::string::npos) return p;
+        todo.emplace_back(&*it, p);
+      }
+    } else if (j->is_array()) {
+      for (std::size_t i = 0; i < j->size(); ++i)
+        todo.emplace_back(&(*j)[i], path + "[" + std::to_string(i) + "]");
+    }
+  }
+  return std::nullopt;
+}
+
+/// A path the study names for its results ("output"): not empty, no NUL (checked before).
+fs::path output_path(const Json& v) {
+  const std::string s = need_string(v, "output");
+  if (s.empty())
+    throw InputError("output",
+                     "expected a non-empty directory path (or no \"output\" key: "
+                     "results/<name>)");
+  return fs::path(s);
+}
+
 }  // namespace
 
 Study parse_study(const Json& doc, const fs::path& file, const fs::path& results_root) {
@@ -434,6 +484,10 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
     if (nesting_depth(doc) > kMaxDepth)
       throw InputError("", "the document is nested deeper than " + std::to_string(kMaxDepth) +
                                " levels; a study needs a few");
+    if (const auto nul = find_nul(doc))
+      throw InputError(*nul,
+                       "a string with a NUL character (\\u0000); expected text without "
+                       "NUL");
     static const std::vector<std::string> kKeys{
         "name",    "description", "scene",   "parameters", "integrator", "time",
         "signals", "health",      "metrics", "grid",       "output",     "wear_evolution"};
@@ -454,8 +508,8 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
         doc.contains("description") ? need_string(doc["description"], "description") : "";
     if (!doc.contains("scene")) throw InputError("scene", "missing: which scene to run");
     study.scene = need_string(doc["scene"], "scene");
-    study.output_dir = doc.contains("output") ? fs::path(need_string(doc["output"], "output"))
-                                              : results_root / study.name;
+    study.output_dir =
+        doc.contains("output") ? output_path(doc["output"]) : results_root / study.name;
 
     // the base draft: defaults, then the study's sections
     Draft base;
@@ -521,6 +575,24 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
                          "study into several");
     }
 
+    // a preset sets every integrator field, so a preset axis would silently override any other
+    // integrator setting of the study (the summary would then show a method the case did not
+    // run): refuse the combination
+    if (std::find(study.axis_keys.begin(), study.axis_keys.end(), "integrator.preset") !=
+        study.axis_keys.end()) {
+      for (const std::string& k : study.axis_keys)
+        if (k != "integrator.preset" && k.rfind("integrator.", 0) == 0)
+          throw InputError("grid", "axes integrator.preset and " + k +
+                                       " contradict each other (a preset sets every integrator "
+                                       "field); expected one of them");
+      if (doc.contains("integrator"))
+        for (auto it = doc["integrator"].begin(); it != doc["integrator"].end(); ++it)
+          if (it.key() != "preset")
+            throw InputError("integrator." + it.key(),
+                             "set beside a grid axis integrator.preset, which sets every "
+                             "integrator field; expected the preset axis alone, or the "
+                             "setting as an axis without presets");
+    }
     study.cases.reserve(total);
     for (std::size_t index = 0; index < total; ++index) {
       Draft d = base;
@@ -585,15 +657,121 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
   }
 }
 
-Study load_study(const fs::path& file, const fs::path& results_root) {
+namespace {
+
+/// Largest study file read (a study is a few kilobytes; a grid of 1e5 explicit values is about
+/// 2 MB): anything larger is refused before it is read.
+constexpr std::uintmax_t kMaxStudyBytes = 16u << 20;
+
+/// Reads a study file: a regular file of at most kMaxStudyBytes, with no NUL byte.
+std::string read_study_text(const fs::path& file) {
+  const std::string name = file.string();
+  std::error_code ec;
+  const fs::file_status st = fs::status(file, ec);
+  if (ec || !fs::exists(st)) throw InputError("", "cannot open the study file: no such file", name);
+  if (fs::is_directory(st))
+    throw InputError("", "is a directory; expected a study file (JSON)", name);
+  if (!fs::is_regular_file(st))
+    throw InputError("",
+                     "is not a regular file (a device, FIFO or socket); expected a study "
+                     "file (JSON)",
+                     name);
+  const std::uintmax_t size = fs::file_size(file, ec);
+  auto too_large = [&] {
+    return InputError("",
+                      "is larger than 16 MiB, the limit of a study file; expected a study of "
+                      "a few kilobytes (a grid is written as linspace/logspace axes)",
+                      name);
+  };
+  if (!ec && size > kMaxStudyBytes) throw too_large();
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError("", "cannot open the study file", file.string());
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string text = ss.str();
+  if (!in) throw InputError("", "cannot open the study file", name);
+  std::string text;
+  text.resize(kMaxStudyBytes + 1);
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > kMaxStudyBytes) throw too_large();  // it grew while being read
+  return text;
+}
+
+/// Key path of the value being parsed, from the parser's nesting (for duplicate-key messages).
+struct KeyTracker {
+  struct Level {
+    bool array = false;
+    std::size_t index = 0;          // next element of an array
+    std::vector<std::string> keys;  // keys seen in an object
+  };
+  std::vector<Level> stack;
+  std::string duplicate;  // key path of the first duplicate key, empty if none
+
+  std::string path(const std::string& last) const {
+    std::string p;
+    for (std::size_t i = 0; i + 1 < stack.size(); ++i) {
+      const Level& l = stack[i];
+      if (l.array)
+        p += "[" + std::to_string(l.index) + "]";
+      else
+        p += (p.empty() ? "" : ".") + l.keys.back();
+    }
+    return p.empty() ? last : p + "." + last;
+  }
+  void element_done() {
+    if (!stack.empty() && stack.back().array) ++stack.back().index;
+  }
+};
+
+}  // namespace
+
+Study load_study(const fs::path& file, const fs::path& results_root) {
+  return parse_study_text(read_study_text(file), file, results_root);
+}
+
+Study parse_study_text(const std::string& text, const fs::path& file,
+                       const fs::path& results_root) {
+  if (text.find('\0') != std::string::npos) {
+    const auto [line, col] = line_column(text, text.find('\0'));
+    throw InputError("",
+                     "a NUL byte at line " + std::to_string(line) + ", column " +
+                         std::to_string(col) + "; expected JSON text (UTF-8) with no NUL byte",
+                     file.string());
+  }
   Json doc;
   try {
-    doc = Json::parse(text);
+    // duplicate keys are refused: nlohmann keeps the last one, which would silently drop a
+    // value the user wrote
+    KeyTracker keys;
+    auto callback = [&keys](int, Json::parse_event_t event, Json& parsed) {
+      using E = Json::parse_event_t;
+      switch (event) {
+        case E::object_start:
+        case E::array_start:
+          keys.stack.push_back({event == E::array_start, 0, {}});
+          break;
+        case E::object_end:
+        case E::array_end:
+          keys.stack.pop_back();
+          keys.element_done();
+          break;
+        case E::key: {
+          auto& seen = keys.stack.back().keys;
+          const std::string k = parsed.get<std::string>();
+          if (keys.duplicate.empty() && std::find(seen.begin(), seen.end(), k) != seen.end())
+            keys.duplicate = keys.path(k);
+          seen.push_back(k);
+          break;
+        }
+        case E::value:
+          keys.element_done();
+          break;
+      }
+      return true;
+    };
+    doc = Json::parse(text, callback);
+    if (!keys.duplicate.empty())
+      throw InputError(keys.duplicate,
+                       "the same key appears twice in one object; expected each key once (the "
+                       "later value would silently replace the earlier)",
+                       file.string());
   } catch (const Json::out_of_range& e) {
     // a number JSON can write but a double cannot hold (1e400)
     std::string what = e.what();

@@ -72,9 +72,14 @@ std::string case_id(const CaseSpec& c);
 
 /// Reads, expands and validates a study. `results_root` is where studies without an "output"
 /// key write (results/ of the working directory by default). Throws InputError naming the
-/// file, the key path and, for a grid, the case.
+/// file, the key path and, for a grid, the case. The file must be a regular file of at most
+/// 16 MiB; duplicate keys and NUL characters are refused.
 Study load_study(const std::filesystem::path& file,
                  const std::filesystem::path& results_root = "results");
+/// The same from the file's text (what load_study does after reading the file): NUL bytes,
+/// JSON syntax, duplicate keys, then parse_study.
+Study parse_study_text(const std::string& text, const std::filesystem::path& file,
+                       const std::filesystem::path& results_root = "results");
 /// The same from an already parsed document; `file` is used in messages and for the name.
 Study parse_study(const Json& doc, const std::filesystem::path& file,
                   const std::filesystem::path& results_root = "results");

@@ -62,9 +62,13 @@ ClearanceContactModel read_clearance_contact(const ParameterSet& p, const std::s
   } else {
     throw InputError(prefix + ".geometry", "expected \"sphere\" or \"cylinder\"");
   }
-  m.stiffness = p.number(prefix + ".stiffness_scale") * coefficient;
-  if (!(m.stiffness > 0.0) || !std::isfinite(m.stiffness))
-    throw InputError(prefix + ".stiffness_scale", "expected a value > 0");
+  const double scale = p.number(prefix + ".stiffness_scale");
+  if (!(scale > 0.0)) throw InputError(prefix + ".stiffness_scale", "expected a value > 0");
+  m.stiffness = scale * coefficient;
+  if (!std::isfinite(m.stiffness))
+    throw InputError(prefix + ".stiffness_scale",
+                     "makes the contact stiffness overflow (the scale times the Hertz "
+                     "coefficient is not a finite number); expected a scale that keeps it finite");
   m.exponent = 1.5;  // both geometries (thesis 3.3; model-notes §3)
   const std::string law_name = p.text(prefix + ".law");
   const NormalLaw* law = find_normal_law(law_name);

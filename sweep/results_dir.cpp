@@ -1,0 +1,194 @@
+#include "sweep/results_dir.hpp"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <array>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#include "core/errors.hpp"
+
+namespace rodend {
+namespace fs = std::filesystem;
+
+namespace {
+
+bool all_digits(const std::string& s) {
+  return !s.empty() && s.find_first_not_of("0123456789") == std::string::npos;
+}
+
+/// Names a results directory of rodend holds (any version): what may be in a directory that is
+/// adopted without a marker.
+bool rodend_name(const std::string& name) {
+  static const std::array<const char*, 5> kNames{"study.json", "summary.h5", "summary.csv", "cases",
+                                                 "plots"};
+  for (const char* n : kNames)
+    if (name == n) return true;
+  if (name.rfind("shard-", 0) == 0) return true;                       // shard summaries
+  if (name.front() == '.' && name.find(".tmp.") != std::string::npos)  // temporaries
+    return true;
+  return false;
+}
+
+/// Who holds the lock, as written into the lock file by the holder.
+std::string read_holder(const fs::path& lock_path) {
+  std::ifstream in(lock_path);
+  std::string line;
+  std::getline(in, line);
+  return line.empty() ? "another process" : line;
+}
+
+int remove_stale_temporaries(const fs::path& dir) {
+  int removed = 0;
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::end(it);
+       it.increment(ec)) {
+    if (it.depth() > 1) {  // dir, dir/cases, dir/shard-*: nothing deeper is rodend's
+      it.disable_recursion_pending();
+      continue;
+    }
+    std::error_code ignored;
+    if (!it->is_regular_file(ignored)) continue;
+    if (!is_stale_temporary(it->path().filename().string())) continue;
+    if (fs::remove(it->path(), ignored)) ++removed;
+  }
+  return removed;
+}
+
+}  // namespace
+
+std::string host_name() {
+  char host[256] = {};
+  if (::gethostname(host, sizeof host - 1) != 0 || host[0] == '\0') return "unknown-host";
+  return host;
+}
+
+bool is_stale_temporary(const std::string& name) {
+  const auto tmp = name.find(".tmp.");
+  if (name.empty() || name.front() != '.' || tmp == std::string::npos) return false;
+  // .<name>.tmp.<host>.<pid>.<n>, older .<name>.tmp.<pid>.<n> and .<name>.tmp.<host>.<pid>
+  std::vector<std::string> parts;
+  std::stringstream rest(name.substr(tmp + 5));
+  for (std::string p; std::getline(rest, p, '.');) parts.push_back(p);
+  if (parts.empty()) return false;
+  std::string pid, host;
+  const std::size_t n = parts.size();
+  if (n >= 2 && all_digits(parts[n - 1]) && all_digits(parts[n - 2])) {
+    pid = parts[n - 2];
+    for (std::size_t i = 0; i + 2 < n; ++i) host += (i ? "." : "") + parts[i];
+  } else if (all_digits(parts[n - 1])) {
+    pid = parts[n - 1];
+    for (std::size_t i = 0; i + 1 < n; ++i) host += (i ? "." : "") + parts[i];
+  } else {
+    return false;
+  }
+  if (!host.empty() && host != host_name()) return false;  // another node's writer: unknown
+  if (pid.size() > 9) return false;
+  const pid_t p = static_cast<pid_t>(std::stol(pid));
+  if (p <= 0) return false;
+  return ::kill(p, 0) != 0 && errno == ESRCH;
+}
+
+std::unique_ptr<ResultsLock> ResultsLock::claim(const fs::path& dir, const std::string& lock_name,
+                                                const std::string& study_file, bool wait) {
+  std::error_code ec;
+  const fs::path marker = dir / kResultsMarker;
+  const bool existed = fs::exists(dir, ec);
+  if (existed && !fs::is_directory(dir, ec))
+    throw InputError("output",
+                     "the results path " + dir.string() + " exists and is not a directory",
+                     study_file);
+  if (existed && !fs::exists(marker, ec)) {
+    // a directory rodend did not create: only an empty one, or the results of an earlier
+    // rodend version (cases/ and rodend's own names only), is taken
+    bool has_cases = false, foreign = false;
+    std::string foreign_name;
+    for (const auto& e : fs::directory_iterator(dir, ec)) {
+      const std::string name = e.path().filename().string();
+      if (name == "cases") has_cases = true;
+      if (!rodend_name(name) && !foreign) {
+        foreign = true;
+        foreign_name = name;
+      }
+    }
+    const bool empty = fs::is_empty(dir, ec);
+    if (!empty && (foreign || !has_cases))
+      throw InputError(
+          "output",
+          "the results directory " + dir.string() +
+              " is not empty and was not created by rodend (no " + kResultsMarker + " marker" +
+              (foreign ? "; it holds '" + foreign_name + "'" : "") +
+              "); rodend never overwrites files it did not create: expected a new or empty "
+              "directory, or one of rodend's results directories",
+          study_file);
+  }
+  fs::create_directories(dir, ec);
+  if (ec)
+    throw InputError("output",
+                     "cannot create the results directory " + dir.string() + ": " + ec.message(),
+                     study_file);
+  if (!fs::exists(marker)) {
+    std::ofstream out(marker);
+    out << "This directory holds rodend results; rodend created it and may write here.\n";
+    if (!out.flush())
+      throw InputError("output", "the results directory " + dir.string() + " is not writable",
+                       study_file);
+  }
+
+  // the lock: flock on a file of its own, held until the run ends (closing the descriptor, or
+  // the process's death, releases it)
+  const fs::path lock_path = dir / lock_name;
+  const int fd = ::open(lock_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0)
+    throw InputError("output",
+                     "the results directory " + dir.string() +
+                         " is not writable (cannot create its lock file " + lock_name + ": " +
+                         std::strerror(errno) + ")",
+                     study_file);
+  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    const int err = errno;
+    if (err != EWOULDBLOCK) {
+      ::close(fd);
+      throw std::runtime_error("cannot lock " + lock_path.string() + ": " + std::strerror(err));
+    }
+    const std::string holder = read_holder(lock_path);
+    if (!wait) {
+      ::close(fd);
+      throw std::runtime_error("another run of this study holds " + lock_path.string() + " (" +
+                               holder +
+                               "); wait for it to finish, or rerun with --wait to queue "
+                               "behind it");
+    }
+    std::fprintf(stderr, "rodend: waiting for the run that holds %s (%s)\n", lock_path.c_str(),
+                 holder.c_str());
+    while (::flock(fd, LOCK_EX) != 0) {
+      if (errno != EINTR) {
+        const int e = errno;
+        ::close(fd);
+        throw std::runtime_error("cannot lock " + lock_path.string() + ": " + std::strerror(e));
+      }
+    }
+  }
+  // the holder's name, for the message of a second run
+  const std::string who = "pid " + std::to_string(::getpid()) + " on " + host_name() + "\n";
+  if (::ftruncate(fd, 0) == 0) {
+    const ssize_t w = ::pwrite(fd, who.data(), who.size(), 0);
+    (void)w;  // informational only
+  }
+  std::unique_ptr<ResultsLock> lock(new ResultsLock(fd, lock_path));
+  lock->stale_removed_ = remove_stale_temporaries(dir);
+  return lock;
+}
+
+ResultsLock::~ResultsLock() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+}  // namespace rodend
