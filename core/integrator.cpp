@@ -89,6 +89,21 @@ void validate(const TimeSettings& s) {
                      "more than 5e7 samples requested; expected a larger sample interval");
 }
 
+std::string budget_shortfall(const IntegratorSettings& s, const TimeSettings& t) {
+  // the fewest steps the run can take: a runaway end time ends at once, instead of running into
+  // the step budget after minutes
+  const bool fixed = s.method == "rk4";
+  const double largest = fixed ? s.step : s.max_step;
+  const double fewest = t.end / largest;
+  if (!(fewest > static_cast<double>(s.max_steps))) return {};
+  std::ostringstream m;
+  m << "step budget of " << s.max_steps << " steps exhausted at t = 0 s, before the first step: "
+    << "reaching time.end = " << t.end << " s at "
+    << (fixed ? "integrator.step" : "most integrator.max_step") << " = " << largest
+    << " s takes at least " << fewest << " steps";
+  return m.str();
+}
+
 void validate(const HealthLimits& h) {
   auto check = [](double v, bool zero_ok, const char* key, const char* what) {
     if (!std::isfinite(v) || (zero_ok ? !(v >= 0.0) : !(v > 0.0)))
@@ -152,6 +167,8 @@ class Driver {
       stepper_->reset(z0, 0.0, settings_.step);
       emit_sample(0, z0);
       next_sample_ = 1;
+      if (const std::string m = budget_shortfall(settings_, time_); !m.empty())
+        throw RunFailure{RunStatus::step_budget_exhausted, m};
       loop();
     } catch (const RunFailure& f) {
       result.status = f.status;

@@ -107,6 +107,9 @@ class RunObserver {
 /// Checks settings; throws InputError with a key path under "integrator." or "time.".
 void validate(const IntegratorSettings& s);
 void validate(const TimeSettings& s);
+/// Why a run of `t.end` cannot finish within the step budget of `s` even at its largest step
+/// (empty when it can): such a run ends at t = 0 as step_budget_exhausted, at once.
+std::string budget_shortfall(const IntegratorSettings& s, const TimeSettings& t);
 /// Checks health limits; throws InputError with a key path under "health.".
 void validate(const HealthLimits& h);
 
