@@ -1,8 +1,11 @@
 #include "core/contact.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
+#include <string>
 
 namespace rodend {
 
@@ -14,6 +17,20 @@ std::string_view to_string(ContactGeometry g) {
       return "cylinder";
   }
   return "unknown";
+}
+
+namespace {
+constexpr std::array<std::string_view, 2> kDampingCapNames{"none", "elastic"};
+}  // namespace
+
+std::span<const std::string_view> damping_cap_names() {
+  return kDampingCapNames;
+}
+
+DampingCap damping_cap_from_name(std::string_view name) {
+  for (std::size_t i = 0; i < kDampingCapNames.size(); ++i)
+    if (kDampingCapNames[i] == name) return static_cast<DampingCap>(i);
+  throw std::invalid_argument("unknown damping cap '" + std::string(name) + "'");
 }
 
 double effective_modulus(double Eb, double nub, double Es, double nus) {
@@ -160,7 +177,10 @@ ContactEval evaluate_contact(const ClearanceContactModel& m, const BodyKinematic
   c.elastic_force = elastic_force(m, c.penetration);
   const double approach = latch.in_contact ? latch.impact_speed : std::abs(c.penetration_rate);
   const double impact_speed = std::max(approach, m.min_impact_speed);
-  const double raw = c.elastic_force * (1.0 + m.hysteresis * c.penetration_rate / impact_speed);
+  const double ratio = m.hysteresis * c.penetration_rate / impact_speed;
+  const double raw = m.damping_cap == DampingCap::elastic
+                         ? c.elastic_force + std::min(c.elastic_force * ratio, c.elastic_force)
+                         : c.elastic_force * (1.0 + ratio);  // eq. 3.14 | eq. 3.6
   c.normal_force = std::max(raw, 0.0);
   c.normal_force_on_ball = -c.normal_force * p.along_ball;
   c.potential = elastic_energy(m, c.penetration, c.elastic_force);

@@ -18,6 +18,10 @@
 // driver, on an accepted step, never inside the right-hand side. It is guarded from below by
 // `min_impact_speed` so chi/delta'^- stays bounded for resting contact.
 // The clamp at zero is the single no-pull rule: a contact never pulls (unlike thesis eq. 3.14).
+// Optional cap of thesis eq. 3.14 (contact.damping_cap "elastic"): the damping term
+// F_el chi delta'/delta'^- is limited from above to the elastic force, F_n = max(0, F_el +
+// min(F_el chi delta'/delta'^-, F_el)); still clamped at zero (model-notes §1). Default "none":
+// eq. 3.6-3.8 as the laws are calibrated (docs/thesis-deviations.md#eq-3-14-damping-cap).
 #pragma once
 
 #include <memory>
@@ -84,6 +88,14 @@ std::span<const std::string_view> friction_law_names();
 /// Cubic blend of thesis eq. 3.10.
 double smooth_step(double x, double x0, double f0, double x1, double f1);
 
+/// Upper limit on the hysteresis damping term (thesis eq. 3.14), in the order of
+/// damping_cap_names(): none (eq. 3.6-3.8 as written), elastic (damping <= F_el, eq. 3.14).
+enum class DampingCap { none, elastic };
+/// The catalogue of damping caps: the allowed values of contact.damping_cap, in enum order.
+std::span<const std::string_view> damping_cap_names();
+/// The cap named `name`; throws std::invalid_argument for an unknown name.
+DampingCap damping_cap_from_name(std::string_view name);
+
 /// Shape of the contacting surfaces: it alone decides the elastic force F_el(delta).
 enum class ContactGeometry {
   sphere,    ///< ball in a conformal socket: F_el = K delta^n (Hertz)
@@ -102,6 +114,7 @@ struct ClearanceContactModel {
   double exponent = 1.5;                        ///< n [-]
   double hysteresis = 0.0;                      ///< chi [-]
   double min_impact_speed = 1e-3;               ///< guard on delta'^- [m/s]
+  DampingCap damping_cap = DampingCap::none;    ///< eq. 3.14 cap on the damping term
   std::shared_ptr<const FrictionLaw> friction;  ///< null: frictionless
   /// Worn surfaces (core/wear.hpp), fixed for a run; null: as manufactured. With them the
   /// penetration is |e| - c(n), c(n) the local clearance in the contact direction n, and the

@@ -226,9 +226,11 @@ class Driver {
       const double r = frame_.get(SignalId::energy_residual);
       // the energy scale: what crossed the boundary (input work, dissipation) and what moves
       // inside it (kinetic energy: a falling ball's or a conservative run's exchanges)
-      max_energy_flow_ = std::max({max_energy_flow_, std::abs(frame_.get(SignalId::input_work)),
-                                   std::abs(frame_.get(SignalId::dissipated_energy)),
-                                   has_kinetic_ ? frame_.get(SignalId::kinetic_energy) : 0.0});
+      max_energy_flow_ =
+          std::max(max_energy_flow_,
+                   energy_audit_scale(frame_.get(SignalId::input_work),
+                                      frame_.get(SignalId::dissipated_energy),
+                                      has_kinetic_ ? frame_.get(SignalId::kinetic_energy) : 0.0));
       if (max_energy_flow_ > health_.energy_flow_floor &&
           std::abs(r) > health_.max_energy_residual * max_energy_flow_) {
         std::ostringstream m;

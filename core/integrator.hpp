@@ -2,6 +2,8 @@
 // accepted steps, samples histories at a fixed interval, and enforces budgets.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -51,6 +53,14 @@ struct HealthLimits {
   /// ... and for longer than this window the run fails as actuator_saturation [s]
   double tracking_window = 0.1;
 };
+
+/// The energy scale of the audit at one instant: the largest of |input work|, |dissipated
+/// energy| and the kinetic energy [J]. Its largest value over a run is what the health check
+/// health.max_energy_residual and the energy_residual metric divide the residual by: the
+/// kinetic energy keeps it finite for a lossless run (no input, no dissipation).
+inline double energy_audit_scale(double input_work, double dissipated, double kinetic) {
+  return std::max({std::abs(input_work), std::abs(dissipated), kinetic});
+}
 
 std::vector<std::string_view> integrator_methods();
 

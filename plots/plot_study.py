@@ -557,7 +557,7 @@ def fig_hydraulics(study, cases, style):
     panels = [("chamber 1 (rear) pressure (fig. 6.16)", ("chamber_pressures", "chamber_pressure"), 0),
               ("chamber 2 (front) pressure (fig. 6.18)", ("chamber_pressures", "chamber_pressure"), 1),
               ("flow into chamber 1 (fig. 6.20)", ("chamber_flows", "chamber_flow"), 0),
-              ("flow out of chamber 2 (fig. 6.21)", ("chamber_flows", "chamber_flow"), 1),
+              ("flow into chamber 2 (fig. 6.21)", ("chamber_flows", "chamber_flow"), 1),
               ("servovalve spool position (fig. 6.22)", ("spool_position",), None),
               ("actuator external force (fig. 6.17)", ("actuator_external_force",), None)]
     core = [first_present(cases, *names) for _, names, _ in panels[:5]]

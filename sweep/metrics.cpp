@@ -38,7 +38,12 @@ MetricsAccumulator::MetricsAccumulator(const Scene& scene, const MetricsSettings
       has_energy_(provides(scene, SignalId::energy_residual)),
       has_rates_(provides(scene, SignalId::penetration_rate) &&
                  provides(scene, SignalId::impact_speed)),
-      has_chambers_(provides(scene, SignalId::chamber_pressures)) {
+      has_chambers_(provides(scene, SignalId::chamber_pressures)),
+      has_kinetic_(provides(scene, SignalId::kinetic_energy)),
+      has_command_(provides(scene, SignalId::surface_angle_command)),
+      // the rod-extension command: the actuator's, else the prescribed motion itself
+      command_signal_(provides(scene, SignalId::actuator_command) ? SignalId::actuator_command
+                                                                  : SignalId::actuator_position) {
   v_.fill(kNaN);
   if (has_contact_) {
     for (MetricId id : {MetricId::first_impact_peak_force, MetricId::max_contact_force,
@@ -127,19 +132,38 @@ void MetricsAccumulator::on_step(const SignalFrame& f) {
         std::abs(a) > settings_.surface_motion_threshold)
       at(v_, MetricId::surface_motion_onset_time) = t;
   }
+  if (has_command_) {
+    // the end of each stroke: the last step end at which the command sits at its extreme (a
+    // hold keeps it there exactly, so the last such step end is the end of the hold)
+    const double c = f.get(command_signal_);
+    const double err = f.get(SignalId::surface_angle_command) - f.get(SignalId::surface_angle);
+    if (first_step_ || c >= command_max_) {
+      command_max_ = first_step_ ? c : std::max(command_max_, c);
+      at(v_, MetricId::surface_angle_error_extended) = err;
+    }
+    if (first_step_ || c <= command_min_) {
+      command_min_ = first_step_ ? c : std::min(command_min_, c);
+      at(v_, MetricId::surface_angle_error_retracted) = err;
+    }
+  }
   if (has_chambers_) {
-    const double p =
-        std::max(f.get(SignalId::chamber_pressures, 0), f.get(SignalId::chamber_pressures, 1));
-    double& m = at(v_, MetricId::max_chamber_pressure);
-    m = std::isnan(m) ? p : std::max(m, p);
+    auto peak = [&](MetricId id, double p) {
+      double& m = at(v_, id);
+      m = std::isnan(m) ? p : std::max(m, p);
+    };
+    const double p1 = f.get(SignalId::chamber_pressures, 0);
+    const double p2 = f.get(SignalId::chamber_pressures, 1);
+    peak(MetricId::max_chamber_pressure, std::max(p1, p2));
+    peak(MetricId::max_rear_chamber_pressure, p1);
+    peak(MetricId::max_front_chamber_pressure, p2);
   }
   if (has_energy_) {
     const double w = f.get(SignalId::input_work);
     const double d = f.get(SignalId::dissipated_energy);
     const double r = f.get(SignalId::energy_residual);
-    // the mechanical-energy change is residual + input - dissipated
-    const double dE = r + w - d;
-    max_flow_ = std::max({max_flow_, std::abs(w), std::abs(d), std::abs(dE)});
+    energy_scale_ =
+        std::max(energy_scale_,
+                 energy_audit_scale(w, d, has_kinetic_ ? f.get(SignalId::kinetic_energy) : 0.0));
     max_residual_ = std::max(max_residual_, std::abs(r));
     at(v_, MetricId::input_work) = w;
     at(v_, MetricId::dissipated_energy) = d;
@@ -164,7 +188,7 @@ MetricValues MetricsAccumulator::finish(const RunStats& stats) const {
     if (std::isinf(at(v, MetricId::max_penetration))) at(v, MetricId::max_penetration) = kNaN;
   }
   if (has_energy_)
-    at(v, MetricId::energy_residual) = max_flow_ > 0.0 ? max_residual_ / max_flow_ : 0.0;
+    at(v, MetricId::energy_residual) = energy_scale_ > 0.0 ? max_residual_ / energy_scale_ : 0.0;
   at(v, MetricId::max_penetration_fraction) = stats.max_penetration_fraction;
   at(v, MetricId::max_quaternion_norm_error) = stats.max_quaternion_norm_error;
   return v;

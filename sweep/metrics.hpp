@@ -47,7 +47,7 @@ class MetricsAccumulator {
  private:
   MetricsSettings settings_;
   bool has_contact_ = false, has_surface_ = false, has_energy_ = false, has_rates_ = false;
-  bool has_chambers_ = false;
+  bool has_chambers_ = false, has_kinetic_ = false, has_command_ = false;
   double t_prev_ = 0.0, force_prev_ = 0.0, wear_prev_ = 0.0;
   bool first_step_ = true;
   MetricValues v_{};
@@ -58,7 +58,9 @@ class MetricsAccumulator {
   double first_onset_ = 0.0;        // [s] onset of the first episode (its duration)
   double dissipated_prev_ = 0.0;    // [J] dissipated energy at the previous step end
   double dissipated_before_ = 0.0;  // [J] ... at the last step end before the first onset
-  double max_flow_ = 0.0, max_residual_ = 0.0;
+  double energy_scale_ = 0.0, max_residual_ = 0.0;
+  SignalId command_signal_ = SignalId::actuator_command;
+  double command_max_ = 0.0, command_min_ = 0.0;  // [m] extremes of the command so far
 };
 
 }  // namespace rodend

@@ -81,6 +81,11 @@ ClearanceContactModel read_clearance_contact(const ParameterSet& p, const std::s
                      "law '" + law_name + "' divides by c_r and is undefined at c_r = 0");
   m.hysteresis = law->hysteresis_factor(cr);
   m.min_impact_speed = read_positive(p, prefix + ".min_impact_speed");
+  try {
+    m.damping_cap = damping_cap_from_name(p.text(prefix + ".damping_cap"));
+  } catch (const std::invalid_argument& e) {
+    throw InputError(prefix + ".damping_cap", e.what());
+  }
 
   FrictionParams f;
   f.law = p.text(fprefix + ".law");

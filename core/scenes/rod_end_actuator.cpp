@@ -129,7 +129,7 @@ class RodEndActuatorScene final : public Scene {
   }
   void outputs(double t, const double* x, const DiscreteState& d, SignalFrame& f) const override {
     const Eval e = evaluate(t, x, d.contacts[0]);
-    mech_.outputs(e.mech, x + kMech, f);
+    mech_.outputs(e.mech, x + kMech, e.act.command, f);
     write_contact_signals(f, e.mech.contact, e.mech.ball, e.mech.socket, d.contacts[0]);
     act_.outputs(e.act, x + kAct, e.external_force, f);
     const double v = x[kAct + ServoActuator::kVel];

@@ -97,9 +97,9 @@ class RodEndKinematicScene final : public Scene {
   }
   void outputs(double t, const double* x, const DiscreteState& d, SignalFrame& f) const override {
     const Mech::Eval e = evaluate(t, x, d.contacts[0]);
-    mech_.outputs(e, x + kMech, f);
-    write_contact_signals(f, e.contact, e.ball, e.socket, d.contacts[0]);
     const auto m = motion_.at(t);
+    mech_.outputs(e, x + kMech, m.position, f);
+    write_contact_signals(f, e.contact, e.ball, e.socket, d.contacts[0]);
     f.set(SignalId::actuator_position, m.position);
     f.set(SignalId::actuator_velocity, m.velocity);
     write_energy_signals(f, {mech_.mechanical_energy(e), x[kWork], x[kDissipated]},

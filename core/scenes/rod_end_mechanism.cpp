@@ -138,21 +138,15 @@ std::vector<SignalId> RodEndMechanism::scene_signals(std::span<const SignalId> o
                                          SignalId::socket_velocity,
                                          SignalId::socket_angular_velocity,
                                          SignalId::socket_euler_321};
-  static constexpr SignalId kLinkage[] = {SignalId::actuator_position,
-                                          SignalId::actuator_velocity,
-                                          SignalId::rod_inclination,
-                                          SignalId::slider_end_position,
-                                          SignalId::crank_end_position,
-                                          SignalId::surface_angle,
-                                          SignalId::surface_rate,
-                                          SignalId::surface_acceleration,
-                                          SignalId::hinge_moment,
-                                          SignalId::slider_spring_force,
-                                          SignalId::slider_spring_axial_force,
-                                          SignalId::slider_spring_moment,
-                                          SignalId::crank_spring_force,
-                                          SignalId::crank_spring_axial_force,
-                                          SignalId::crank_spring_moment};
+  static constexpr SignalId kLinkage[] = {
+      SignalId::actuator_position,        SignalId::actuator_velocity,
+      SignalId::rod_inclination,          SignalId::slider_end_position,
+      SignalId::crank_end_position,       SignalId::surface_angle,
+      SignalId::surface_angle_command,    SignalId::surface_rate,
+      SignalId::surface_acceleration,     SignalId::hinge_moment,
+      SignalId::slider_spring_force,      SignalId::slider_spring_axial_force,
+      SignalId::slider_spring_moment,     SignalId::crank_spring_force,
+      SignalId::crank_spring_axial_force, SignalId::crank_spring_moment};
   static constexpr SignalId kAudit[] = {SignalId::kinetic_energy,  SignalId::mechanical_energy,
                                         SignalId::input_work,      SignalId::dissipated_energy,
                                         SignalId::energy_residual, SignalId::quaternion_norm_error};
@@ -307,7 +301,8 @@ double RodEndMechanism::rod_axial_force(const Eval& e) const {
   return e.slider_spring.force_on_body.dot(e.rod_direction);
 }
 
-void RodEndMechanism::outputs(const Eval& e, const double* x, SignalFrame& f) const {
+void RodEndMechanism::outputs(const Eval& e, const double* x, double command,
+                              SignalFrame& f) const {
   f.set(SignalId::ball_position, e.ball.p_W);
   f.set(SignalId::ball_velocity, e.ball.v_W);
   f.set(SignalId::ball_angular_velocity, e.ball.w_B);
@@ -321,6 +316,9 @@ void RodEndMechanism::outputs(const Eval& e, const double* x, SignalFrame& f) co
   f.set(SignalId::slider_end_position, e.slider_anchor.p_W);
   f.set(SignalId::crank_end_position, e.crank_anchor.p_W);
   f.set(SignalId::surface_angle, e.theta);
+  // what a rigid mechanism without clearance would reach (thesis eq. 4.1)
+  f.set(SignalId::surface_angle_command,
+        geometry_.ideal_crank_angle(geometry_.rod_zero() + command));
   f.set(SignalId::surface_rate, e.theta_dot);
   double dxdt[size];
   derivatives(e, x, dxdt);

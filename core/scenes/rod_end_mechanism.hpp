@@ -64,8 +64,9 @@ class RodEndMechanism {
   /// Force the rod end exerts on the slider spring along the rod: the actuator's external load
   /// (compression positive) [N].
   double rod_axial_force(const Eval& e) const;
-  /// Writes the mechanism's signals (contact, spheres, springs, crank/surface).
-  void outputs(const Eval& e, const double* x, SignalFrame& f) const;
+  /// Writes the mechanism's signals (contact, spheres, springs, crank/surface); `command` is the
+  /// commanded rod extension [m] (the surface_angle_command signal).
+  void outputs(const Eval& e, const double* x, double command, SignalFrame& f) const;
 
   ContactGap gap(const double* x) const;
 

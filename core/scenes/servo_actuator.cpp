@@ -1,5 +1,6 @@
 #include "core/scenes/servo_actuator.hpp"
 
+#include <array>
 #include <cmath>
 
 #include "core/scenes/drivers.hpp"
@@ -13,7 +14,13 @@ double opening(double x, double e) {
   return 0.5 * (x + std::sqrt(x * x + e * e));
 }
 
+constexpr std::array<std::string_view, 2> kTorqueMotorNames{"linear", "solenoid"};
+
 }  // namespace
+
+std::span<const std::string_view> torque_motor_names() {
+  return kTorqueMotorNames;
+}
 
 ServoActuatorParams read_servo_actuator(const ParameterSet& p, const std::string& pre) {
   ServoActuatorParams a;
@@ -24,6 +31,16 @@ ServoActuatorParams read_servo_actuator(const ParameterSet& p, const std::string
   a.ki = pos("integral_gain", true);
   a.current_limit = pos("current_limit");
   a.lvdt_time_constant = pos("lvdt_time_constant");
+  const std::string motor = p.text(pre + ".torque_motor");
+  bool known = false;
+  for (std::size_t i = 0; i < kTorqueMotorNames.size(); ++i)
+    if (kTorqueMotorNames[i] == motor) {
+      a.torque_motor = static_cast<TorqueMotor>(i);
+      known = true;
+    }
+  if (!known)
+    throw InputError(pre + ".torque_motor",
+                     "expected \"linear\" or \"solenoid\", got \"" + motor + "\"");
   a.motor_gain = pos("motor_gain");
   a.jet_mass = pos("jet_mass");
   a.jet_stiffness = pos("jet_stiffness", true);
@@ -72,6 +89,14 @@ void check_command_within_stroke(const ActuatorMotion& m, const ServoActuatorPar
     throw InputError(retraction_key, "the command -" + format_number(m.retraction) +
                                          " m is outside the piston stroke +-" +
                                          format_number(a.half_stroke) + " m");
+}
+
+double ServoActuator::motor_force(double current) const {
+  if (p_.torque_motor == TorqueMotor::solenoid) {  // eq. 6.1: B^2 S / (2 mu), B ~ i
+    const double u = current / p_.current_limit;
+    return p_.motor_gain * p_.current_limit * u * std::abs(u);
+  }
+  return p_.motor_gain * current;
 }
 
 double ServoActuator::orifice_flow(double area, double dp) const {
@@ -134,7 +159,7 @@ void ServoActuator::derivatives(const Eval& e, const double* x, double external_
   dxdt[kIntegral] = e.error;
   // torque motor and jet pipe (eq. 6.2): motor force, centring spring, damping, feedback wire
   dxdt[kJet] = vj;
-  dxdt[kJetRate] = (p_.motor_gain * e.current - p_.jet_stiffness * xj - p_.jet_damping * vj -
+  dxdt[kJetRate] = (motor_force(e.current) - p_.jet_stiffness * xj - p_.jet_damping * vj -
                     p_.wire_stiffness * (xj + xs)) /
                    p_.jet_mass;
   // spool (eq. 6.3): jet-pipe pressure difference on its ends (limited to the available
@@ -220,7 +245,8 @@ void ServoActuator::outputs(const Eval& e, const double* x, double external_forc
   f.set(SignalId::jet_pipe_position, x[kJet]);
   f.set(SignalId::spool_position, x[kSpool]);
   f.set(SignalId::chamber_pressures, x[kP1], x[kP2]);
-  f.set(SignalId::chamber_flows, e.q1, e.q2);
+  // each positive into its chamber (thesis fig. 6.20-6.21): q2 of eq. 6.5 counts the flow out
+  f.set(SignalId::chamber_flows, e.q1, -e.q2);
   f.set(SignalId::actuator_external_force, external_force);
   f.set(SignalId::hydraulic_power, hydraulic_net_power(e));
   f.set(SignalId::actuator_position, x[kPos]);

@@ -9,12 +9,24 @@
 //   | P1 [Pa] | P2 [Pa] | x [m] | x' [m/s]
 #pragma once
 
+#include <span>
 #include <string>
+#include <string_view>
 
 #include "core/params.hpp"
 #include "core/signals.hpp"
 
 namespace rodend {
+
+/// Force law of the torque motor (thesis eq. 6.1), in the order of torque_motor_names():
+///   linear:   F = motor_gain i (the push-pull motor with a polarising flux: (I0 + i)^2 -
+///             (I0 - i)^2 = 4 I0 i, exactly linear in the current at a fixed air gap);
+///   solenoid: eq. 6.1 as the thesis writes it, F = B^2 S / (2 mu) with B proportional to the
+///             current of the one solenoid energised (no bias): F = motor_gain I_r (i/I_r)|i/I_r|,
+///             I_r = current_limit, so both laws give the same force at the rated current.
+enum class TorqueMotor { linear, solenoid };
+/// The catalogue: the allowed values of actuator.torque_motor, in enum order.
+std::span<const std::string_view> torque_motor_names();
 
 struct ServoActuatorParams {
   // controller and sensor
@@ -23,11 +35,12 @@ struct ServoActuatorParams {
   double current_limit = 0.01;       ///< rated current, smooth saturation [A]
   double lvdt_time_constant = 1e-3;  ///< [s]
   // torque motor and jet pipe (6.1-6.2), referred to the nozzle
-  double motor_gain = 12.5;         ///< force per current at the nozzle [N/A]
-  double jet_mass = 5e-4;           ///< [kg]
-  double jet_stiffness = 2000;      ///< armature centring stiffness [N/m]
-  double jet_damping = 2.0;         ///< [N s/m]
-  double wire_stiffness = 500;      ///< feedback-wire stiffness [N/m]
+  TorqueMotor torque_motor = TorqueMotor::linear;  ///< force law (eq. 6.1)
+  double motor_gain = 12.5;                        ///< force per current at the nozzle [N/A]
+  double jet_mass = 5e-4;                          ///< [kg]
+  double jet_stiffness = 2000;                     ///< armature centring stiffness [N/m]
+  double jet_damping = 2.0;                        ///< [N s/m]
+  double wire_stiffness = 500;                     ///< feedback-wire stiffness [N/m]
   double jet_pressure_gain = 4e10;  ///< spool-end pressure difference per jet deflection [Pa/m]
   // spool (6.3)
   double spool_mass = 0.02;    ///< [kg]
@@ -109,6 +122,9 @@ class ServoActuator {
   double dissipated_power(const Eval& e, const double* x) const;
 
   void outputs(const Eval& e, const double* x, double external_force, SignalFrame& f) const;
+
+  /// Torque-motor force on the jet pipe, referred to the nozzle, for current i [N] (eq. 6.1).
+  double motor_force(double current) const;
 
  private:
   double orifice_flow(double area, double dp) const;
