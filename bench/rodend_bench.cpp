@@ -189,6 +189,10 @@ class MetricsObserver final : public RunObserver {
   void on_step(const SignalFrame& f) override { m_.on_step(f); }
   bool wants_steps() const override { return true; }
   void on_contact_onset(double t, int, double v) override { m_.on_contact_onset(t, v); }
+  bool wants_peak(ContactPeak::Kind k, int, double t0, double bound) const override {
+    return m_.wants_peak(k, t0, bound);
+  }
+  void on_contact_peak(const ContactPeak& p) override { m_.on_contact_peak(p); }
   MetricValues finish(const RunStats& s) const { return m_.finish(s); }
 
  private:

@@ -49,12 +49,21 @@ double cylinder_in_cylinder_coefficient(double L, double Eb, double nub, double 
   return 0.5 * std::numbers::pi * L * effective_modulus(Eb, nub, Es, nus);
 }
 
+namespace {
+
+/// delta^n; the Hertz exponent 1.5 of both geometries as delta sqrt(delta) (no pow call).
+double power_law(double delta, double n) {
+  return n == 1.5 ? delta * std::sqrt(delta) : std::pow(delta, n);
+}
+
+}  // namespace
+
 double elastic_force(const ClearanceContactModel& m, double delta) {
   switch (m.geometry) {
     case ContactGeometry::sphere:
-      return m.stiffness * std::pow(delta, m.exponent);
+      return m.stiffness * power_law(delta, m.exponent);
     case ContactGeometry::cylinder:
-      return m.stiffness * std::pow(delta, m.exponent) / std::sqrt(2.0 * (m.clearance + delta));
+      return m.stiffness * power_law(delta, m.exponent) / std::sqrt(2.0 * (m.clearance + delta));
   }
   return 0.0;
 }

@@ -150,6 +150,9 @@ class Driver {
     checks_tracking_ =
         provides(SignalId::actuator_command) && provides(SignalId::actuator_position);
     signals_.assign(sig.begin(), sig.end());
+    for (SignalId id : kStepSignals)
+      if (provides(id)) step_signals_.push_back(id);
+    ends_.assign(static_cast<std::size_t>(scene.contact_count()), ContactEnd{});
     wears_ = scene.wear_model() != nullptr && obs.wants_wear();
     n_samples_ = static_cast<long long>(std::floor(time.end / time.sample_interval + 1e-9)) + 1;
   }
@@ -209,9 +212,11 @@ class Driver {
     check_health_at_sample(t);
   }
 
-  /// A frame with a non-finite value never reaches the observer: the run ends there.
-  void check_frame_finite(double t) {
-    for (SignalId id : signals_)
+  /// A frame with a non-finite value never reaches the observer: the run ends there. Checks
+  /// `which` signals (the scene's, or those of a step frame).
+  void check_frame_finite(double t) { check_frame_finite(t, signals_); }
+  void check_frame_finite(double t, const std::vector<SignalId>& which) {
+    for (SignalId id : which)
       for (int k = 0; k < signal_spec(id).width; ++k)
         if (!std::isfinite(frame_.get(id, k))) {
           std::ostringstream m;
@@ -388,72 +393,146 @@ class Driver {
     }
   }
 
-  /// Frame at time t inside the last step, from the interpolant.
-  void frame_at(double t) {
-    stepper_->interpolate(t, z_tmp_);
+  /// Contact c at time t of the last step, on its interpolant (at its end, the step's state).
+  ContactSnapshot snapshot_at(int c, double t) {
+    if (t >= stepper_->t_now)
+      z_tmp_ = stepper_->z_now;
+    else
+      stepper_->interpolate(t, z_tmp_);
     unscale(z_tmp_, x_);
-    frame_.set(SignalId::time, t);
-    scene_.outputs(t, x_.data(), discrete_, frame_);
+    return scene_.contact_snapshot(c, t, x_.data(), discrete_);
   }
 
-  /// Peaks of an impact fall between step ends: when a contact's approach speed turns from
-  /// positive to negative within the step, the observer also gets the frames at the maximum
-  /// penetration (root of the penetration rate, by bisection) and at the maximum contact force
-  /// (golden-section search), both on the step's interpolant, in time order.
-  void refine_impact_peaks() {
-    const double t0 = stepper_->t_prev, t1 = stepper_->t_now;
-    if (!(t1 > t0)) return;
-    std::vector<double> times;
-    for (int c = 0; c < scene_.contact_count(); ++c) {
-      unscale(stepper_->z_prev, x_);
-      const ContactGap g0 = scene_.contact_gap(c, x_.data());
-      unscale(stepper_->z_now, x_);
-      const ContactGap g1 = scene_.contact_gap(c, x_.data());
-      if (!(g0.penetration_rate > 0.0 && g1.penetration_rate <= 0.0)) continue;
-      if (!(std::max(g0.penetration, g1.penetration) > 0.0)) continue;
-      double lo = t0, hi = t1;
-      for (int it = 0; it < 40; ++it) {
-        const double mid = 0.5 * (lo + hi);
-        stepper_->interpolate(mid, z_tmp_);
-        unscale(z_tmp_, x_);
-        (scene_.contact_gap(c, x_.data()).penetration_rate > 0.0 ? lo : hi) = mid;
+  /// The maximum of f on [a, b] (Brent's method: golden section with parabolic steps), to the
+  /// time resolution `tol` [s]; returns its time and writes its value.
+  template <class F>
+  static double argmax(double a, double b, double tol, F&& f, double& f_max) {
+    const double golden = 0.5 * (3.0 - std::sqrt(5.0));
+    double x = a + golden * (b - a), w = x, v = x;
+    double fx = -f(x), fw = fx, fv = fx;  // minimising -f
+    double d = 0.0, e = 0.0;
+    for (int it = 0; it < 100; ++it) {
+      const double m = 0.5 * (a + b);
+      const double tol1 = tol + 4e-16 * std::abs(x), tol2 = 2.0 * tol1;
+      if (std::abs(x - m) <= tol2 - 0.5 * (b - a)) break;
+      bool golden_step = true;
+      if (std::abs(e) > tol1) {  // try a parabola through x, w, v
+        double r = (x - w) * (fx - fv), q = (x - v) * (fx - fw), p = (x - v) * q - (x - w) * r;
+        q = 2.0 * (q - r);
+        if (q > 0.0)
+          p = -p;
+        else
+          q = -q;
+        const double e_old = e;
+        e = d;
+        if (std::abs(p) < std::abs(0.5 * q * e_old) && p > q * (a - x) && p < q * (b - x)) {
+          d = p / q;
+          const double u = x + d;
+          if (u - a < tol2 || b - u < tol2) d = m - x >= 0.0 ? tol1 : -tol1;
+          golden_step = false;
+        }
       }
-      times.push_back(0.5 * (lo + hi));
-      if (provides_force_) {
-        // golden section for the force maximum (unimodal within one impact step)
-        const double r = 0.5 * (std::sqrt(5.0) - 1.0);
-        double a = t0, b = t1, x1 = b - r * (b - a), x2 = a + r * (b - a);
-        frame_at(x1);
-        double f1 = frame_.get(SignalId::contact_force);
-        frame_at(x2);
-        double f2 = frame_.get(SignalId::contact_force);
-        for (int it = 0; it < 40 && b - a > 1e-12 * (t1 - t0); ++it) {
-          if (f1 < f2) {
-            a = x1;
-            x1 = x2;
-            f1 = f2;
-            x2 = a + r * (b - a);
-            frame_at(x2);
-            f2 = frame_.get(SignalId::contact_force);
-          } else {
-            b = x2;
-            x2 = x1;
-            f2 = f1;
-            x1 = b - r * (b - a);
-            frame_at(x1);
-            f1 = frame_.get(SignalId::contact_force);
+      if (golden_step) {
+        e = x >= m ? a - x : b - x;
+        d = golden * e;
+      }
+      const double u = std::abs(d) >= tol1 ? x + d : x + (d >= 0.0 ? tol1 : -tol1);
+      const double fu = -f(u);
+      if (fu <= fx) {
+        (u >= x ? a : b) = x;
+        v = w, fv = fw, w = x, fw = fx, x = u, fx = fu;
+      } else {
+        (u < x ? a : b) = u;
+        if (fu <= fw || w == x) {
+          v = w, fv = fw, w = u, fw = fu;
+        } else if (fu <= fv || v == x || v == w) {
+          v = u, fv = fu;
+        }
+      }
+    }
+    f_max = -fx;
+    return x;
+  }
+
+  /// Where the tangents at (t0, f0) with slope s0 > 0 and at (t1, f1) with slope s1 < 0 meet:
+  /// an upper bound of the maximum in between when f is concave there.
+  static double tangent_bound(double t0, double f0, double s0, double t1, double f1, double s1) {
+    const double t = (f1 - f0 + s0 * t0 - s1 * t1) / (s0 - s1);
+    return f0 + s0 * (std::clamp(t, t0, t1) - t0);
+  }
+
+  /// The peaks of an impact fall between step ends. For each contact, inside the accepted step
+  /// just taken: a maximum of the normal force where its slope turns from rising to falling
+  /// (with damping this is before the maximum penetration), and a maximum of the penetration
+  /// where its rate turns from positive to negative, each located on the step's interpolant
+  /// (Brent) when the observer says it could change what it collects, and reported to it.
+  /// The slopes at the step ends come from the contact's state there: the penetration rate is
+  /// the state's; the force's slope is a one-sided difference over 1e-4 of the step, carried
+  /// from one step's end to the next step's start.
+  void locate_contact_peaks() {
+    const double t0 = stepper_->t_prev, t1 = stepper_->t_now, h = t1 - t0;
+    if (!(h > 0.0)) return;
+    const double eps = 1e-4 * h, tol = 1e-7 * h;
+    for (int c = 0; c < scene_.contact_count(); ++c) {
+      ContactEnd& last = ends_[static_cast<std::size_t>(c)];
+      ContactEnd start;
+      if (last.valid && last.t == t0) {
+        start = last;
+      } else {
+        start.at = snapshot_at(c, t0);
+        start.force_slope_known = false;
+      }
+      ContactEnd end;
+      end.t = t1;
+      end.valid = true;
+      end.at = snapshot_at(c, t1);
+      if (provides_force_ && (start.at.normal_force > 0.0 || end.at.normal_force > 0.0)) {
+        end.force_slope = (end.at.normal_force - snapshot_at(c, t1 - eps).normal_force) / eps;
+        end.force_slope_known = true;
+        if (!start.force_slope_known) {
+          start.force_slope = (snapshot_at(c, t0 + eps).normal_force - start.at.normal_force) / eps;
+          start.force_slope_known = true;
+        }
+        if (start.force_slope > 0.0 && end.force_slope < 0.0) {
+          const double bound = tangent_bound(t0, start.at.normal_force, start.force_slope, t1,
+                                             end.at.normal_force, end.force_slope);
+          if (obs_.wants_peak(ContactPeak::Kind::force, c, t0, bound)) {
+            double f_max = 0.0;
+            const double t = argmax(
+                t0, t1, tol, [&](double tt) { return snapshot_at(c, tt).normal_force; }, f_max);
+            report_peak(ContactPeak::Kind::force, c, t);
           }
         }
-        times.push_back(0.5 * (a + b));
       }
+      if (start.at.penetration_rate > 0.0 && end.at.penetration_rate <= 0.0 &&
+          std::max(start.at.penetration, end.at.penetration) > 0.0) {
+        const double bound =
+            tangent_bound(t0, start.at.penetration, start.at.penetration_rate, t1,
+                          end.at.penetration, std::min(end.at.penetration_rate, -1e-300));
+        if (obs_.wants_peak(ContactPeak::Kind::penetration, c, t0, bound)) {
+          double d_max = 0.0;
+          const double t = argmax(
+              t0, t1, tol, [&](double tt) { return snapshot_at(c, tt).penetration; }, d_max);
+          report_peak(ContactPeak::Kind::penetration, c, t);
+        }
+      }
+      last = end;
     }
-    std::sort(times.begin(), times.end());
-    for (double t : times) {
-      if (!(t > t0 && t < t1)) continue;
-      frame_at(t);
-      check_frame_finite(t);
-      obs_.on_step(frame_);
-    }
+  }
+
+  void report_peak(ContactPeak::Kind kind, int c, double t) {
+    ContactPeak p;
+    p.kind = kind;
+    p.contact = c;
+    p.t = t;
+    p.at = snapshot_at(c, t);
+    for (double v : {p.at.penetration, p.at.penetration_rate, p.at.eccentricity, p.at.normal_force})
+      if (!std::isfinite(v)) {
+        std::ostringstream m;
+        m << "non-finite contact state at t = " << t << " s";
+        throw RunFailure{RunStatus::non_finite_state, m.str()};
+      }
+    obs_.on_contact_peak(p);
   }
 
   void loop() {
@@ -547,6 +626,8 @@ class Driver {
       emit_samples_until(stepper_->t_now);
       deposit_wear();
       stats_.t_reached = stepper_->t_now;
+      // peaks inside the step, with the discrete state the step was taken with
+      if (obs_.wants_steps()) locate_contact_peaks();
 
       // discrete updates at the end of the accepted step
       unscale(stepper_->z_now, x_);
@@ -555,18 +636,20 @@ class Driver {
         ContactLatch& l = discrete_.contacts[static_cast<std::size_t>(c)];
         const ContactGap g = scene_.contact_gap(c, x_.data());
         if (l.in_contact && g.penetration <= 0.0) {
-          l = ContactLatch{};  // episode over
+          l = ContactLatch{};                                // episode over
+          ends_[static_cast<std::size_t>(c)].valid = false;  // its force changed law
         } else if (!l.in_contact && g.penetration > 0.0) {
           latch_time_ = stepper_->t_now;
           latch_if_touching(c, x_.data());  // step-end latching (or onset at a restart point)
           discrete_changed = true;
+          ends_[static_cast<std::size_t>(c)].valid = false;
         }
       }
       if (obs_.wants_steps()) {
-        refine_impact_peaks();
+        // the lean frame the metrics read (kStepSignals); full frames only at samples
         frame_.set(SignalId::time, stepper_->t_now);
-        scene_.outputs(stepper_->t_now, x_.data(), discrete_, frame_);
-        check_frame_finite(stepper_->t_now);
+        scene_.step_outputs(stepper_->t_now, x_.data(), discrete_, frame_);
+        check_frame_finite(stepper_->t_now, step_signals_);
         obs_.on_step(frame_);
       }
       state_t& z = stepper_->z_now;
@@ -594,11 +677,20 @@ class Driver {
   bool checks_energy_ = false, checks_tracking_ = false, has_kinetic_ = false;
   bool wears_ = false;             ///< deposit wear (the scene models it and the observer wants it)
   std::vector<SignalId> signals_;  ///< the scene's signals (checked finite in every frame)
+  std::vector<SignalId> step_signals_;  ///< those of kStepSignals (checked in step frames)
+  /// A contact at the end of the last accepted step (locate_contact_peaks)
+  struct ContactEnd {
+    double t = 0.0;
+    bool valid = false;
+    ContactSnapshot at;
+    double force_slope = 0.0;  ///< d F_n / dt there [N/s] (one-sided difference)
+    bool force_slope_known = false;
+  };
+  std::vector<ContactEnd> ends_;
   double max_energy_flow_ = 0.0;   ///< largest |input work|, |dissipated|, kinetic at samples [J]
   double tracking_since_ = -1.0;   ///< first sample of the current tracking excess [s], or -1
-  double latch_time_ = 0.0;
-  bool locate_suspended_ = false;  ///< latch the next onset at the step end (see loop())  ///< time
-                                   ///< at which latch_if_touching is evaluated
+  double latch_time_ = 0.0;        ///< time at which latch_if_touching is evaluated
+  bool locate_suspended_ = false;  ///< latch the next onset at the step end (see loop())
 };
 
 }  // namespace

@@ -93,6 +93,16 @@ struct RunResult {
   std::vector<double> final_state;  ///< state at the last accepted step (t_reached), unscaled
 };
 
+/// A maximum of a contact's normal force or penetration inside an accepted step, located on the
+/// step's interpolant (RunObserver::on_contact_peak).
+struct ContactPeak {
+  enum class Kind { force, penetration };
+  Kind kind = Kind::force;
+  int contact = 0;
+  double t = 0.0;      ///< where the maximum is [s]
+  ContactSnapshot at;  ///< the contact there
+};
+
 /// Receives what the driver produces. Frames are valid only during the call.
 class RunObserver {
  public:
@@ -102,8 +112,19 @@ class RunObserver {
   /// before it reaches the observer.
   virtual void on_sample(const SignalFrame& /*frame*/) {}
   /// At the end of every accepted step, when wants_steps() is true (metrics that need peaks).
+  /// The frame carries the signals of kStepSignals (Scene::step_outputs), not every signal.
   virtual void on_step(const SignalFrame& /*frame*/) {}
   virtual bool wants_steps() const { return false; }
+  /// When wants_steps(): whether a maximum of a contact's force or penetration inside the step
+  /// that starts at t0, known to be at most `bound` (the value where the tangents at the step's
+  /// two ends meet: an upper bound of a concave maximum), could change what the observer
+  /// collects. Only wanted maxima are located.
+  virtual bool wants_peak(ContactPeak::Kind /*kind*/, int /*contact*/, double /*t0*/,
+                          double /*bound*/) const {
+    return true;
+  }
+  /// A located maximum, before the on_step of the step that contains it.
+  virtual void on_contact_peak(const ContactPeak& /*peak*/) {}
   /// When a contact episode is latched: its onset time [s] and approach speed [m/s].
   virtual void on_contact_onset(double /*t*/, int /*contact*/, double /*impact_speed*/) {}
   /// Wear (scenes with a wear model, when wants_wear() is true): the sliding power and where

@@ -10,19 +10,35 @@ using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
 using Quat = Eigen::Quaterniond;
 
+/// Rotation vector of a quaternion that is already unit to round-off (a product of unit
+/// quaternions), angle in [0, pi]. For angles up to 2 atan(1/8) (14 degrees), the usual range of
+/// a spring's twist, angle / sin(angle/2) comes from the series of atan(x)/x, x = tan(angle/2),
+/// summed to round-off: no inverse trigonometric call.
+inline Vec3 rotation_vector_of_unit(const Quat& q_in) {
+  Quat q = q_in;
+  if (q.w() < 0.0) q.coeffs() = -q.coeffs();  // shortest rotation
+  const Vec3 v = q.vec();
+  const double s2 = v.squaredNorm();  // sin^2(angle/2)
+  const double w = q.w();             // cos(angle/2)
+  double factor;                      // angle / sin(angle/2)
+  if (s2 <= w * w * (1.0 / 64.0)) {
+    // 2 atan(x)/(x w), x = s/w <= 1/8: sum_k (-x^2)^k / (2k+1), k <= 9 (x^20/21 < 1e-19)
+    const double x2 = s2 / (w * w);
+    double sum = 1.0 / 19.0;
+    for (int k = 8; k >= 0; --k) sum = 1.0 / (2 * k + 1) - x2 * sum;
+    factor = 2.0 * sum / w;
+  } else {
+    const double s = std::sqrt(s2);
+    factor = 2.0 * std::atan2(s, w) / s;
+  }
+  return factor * v;
+}
+
 /// Rotation vector (unit axis times angle [rad]) of the rotation `q`, angle in [0, pi].
 /// Exact and finite at zero rotation: no division by sin(angle) (thesis eq. 4.6-4.7 divide by
 /// sin(Phi), which is singular at rest; model-notes §5).
 inline Vec3 rotation_vector(const Quat& q_in) {
-  Quat q = q_in.normalized();
-  if (q.w() < 0.0) q.coeffs() = -q.coeffs();  // shortest rotation
-  const Vec3 v = q.vec();
-  const double s = v.norm();  // sin(angle/2)
-  const double w = q.w();     // cos(angle/2)
-  const double angle = 2.0 * std::atan2(s, w);
-  // angle / s -> 2 / w as s -> 0 (series of atan2(s, w) / s = (1/w)(1 - s^2/(3 w^2) + ...))
-  const double factor = (s > 1e-7) ? angle / s : (2.0 / w) * (1.0 - s * s / (3.0 * w * w));
-  return factor * v;
+  return rotation_vector_of_unit(q_in.normalized());
 }
 
 /// Quaternion of the rotation by `rv` (axis * angle), exact at zero.

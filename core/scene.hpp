@@ -41,6 +41,31 @@ struct EnergyTerms {
   double dissipated = 0.0;  ///< energy dissipated since t = 0
 };
 
+/// A contact at one instant: what the driver reads on a step's interpolant to locate the
+/// contact's force and penetration maxima (Scene::contact_snapshot).
+struct ContactSnapshot {
+  double penetration = 0.0;       ///< delta [m]
+  double penetration_rate = 0.0;  ///< delta' [m/s]
+  double eccentricity = 0.0;      ///< |e| [m]
+  double normal_force = 0.0;      ///< F_n [N]
+};
+
+/// What the frame of an accepted step carries (Scene::step_outputs): the signals that the
+/// per-step metrics (sweep/metrics.cpp) and the driver's checks read, of those a scene provides.
+/// Full frames, every signal, are computed only at sample times.
+inline constexpr SignalId kStepSignals[] = {SignalId::time,
+                                            SignalId::eccentricity,
+                                            SignalId::penetration,
+                                            SignalId::penetration_rate,
+                                            SignalId::impact_speed,
+                                            SignalId::contact_force,
+                                            SignalId::wear_indicator,
+                                            SignalId::surface_angle,
+                                            SignalId::chamber_pressures,
+                                            SignalId::input_work,
+                                            SignalId::dissipated_energy,
+                                            SignalId::energy_residual};
+
 class Scene {
  public:
   virtual ~Scene() = default;
@@ -94,6 +119,17 @@ class Scene {
   /// Fills the frame with this scene's signals at (t, x, d), energy terms included.
   virtual void outputs(double t, const double* x, const DiscreteState& d,
                        SignalFrame& frame) const = 0;
+  /// The frame of an accepted step: at least the signals of kStepSignals this scene provides
+  /// (the others may hold stale values). A scene whose full outputs cost much more overrides it;
+  /// by default the full outputs().
+  virtual void step_outputs(double t, const double* x, const DiscreteState& d,
+                            SignalFrame& frame) const {
+    outputs(t, x, d, frame);
+  }
+  /// Contact `c` at (t, x, d) (scenes with contacts). By default read from the full outputs'
+  /// contact signals; a scene overrides it with its contact evaluation alone.
+  virtual ContactSnapshot contact_snapshot(int c, double t, const double* x,
+                                           const DiscreteState& d) const;
   /// Energy terms at (t, x).
   virtual EnergyTerms energy(double t, const double* x, const DiscreteState& d) const = 0;
 };

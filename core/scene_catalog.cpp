@@ -5,6 +5,14 @@
 
 namespace rodend {
 
+ContactSnapshot Scene::contact_snapshot(int, double t, const double* x,
+                                        const DiscreteState& d) const {
+  SignalFrame f;
+  outputs(t, x, d, f);
+  return {f.get(SignalId::penetration), f.get(SignalId::penetration_rate),
+          f.get(SignalId::eccentricity), f.get(SignalId::contact_force)};
+}
+
 #define RODEND_SCENE(name, fn, doc) std::unique_ptr<Scene> fn(const ParameterSet&);
 #include "core/scenes/scenes.def"
 #undef RODEND_SCENE

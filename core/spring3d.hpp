@@ -42,7 +42,8 @@ inline SpringEval evaluate_spring(const Spring3DParams& s, const SpringAnchor& a
   const Vec3 dp = a.p_W - b.p_W;
   const Vec3 dv = a.v_W - b.v_W;
   e.force_on_body = s.stiffness * dp + s.damping * dv;
-  const Vec3 r = rotation_vector(b.q_WB * a.q_ref.conjugate());
+  // both unit: the body's normalised orientation and the anchor's reference
+  const Vec3 r = rotation_vector_of_unit(b.q_WB * a.q_ref.conjugate());
   const Vec3 dw = b.w_W - a.w_ref_W;
   e.moment_on_body = -s.rotational_stiffness * r - s.rotational_damping * dw;
   e.potential =

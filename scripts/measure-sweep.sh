@@ -1,24 +1,57 @@
 #!/usr/bin/env bash
-# Measures the sweep engine for the record: whole-process wall time of a 16-case study with 1 and
-# 2 threads (median of 5 runs each, fresh results folder every run), and peak resident memory
-# (GNU time) for 16 and 256 cases of the same per-case size.
+# Measures the sweep engine for the record, on a quiet machine (nothing else running):
+#   - bench-32 (studies/bench-32.json, 32 cases) with 1 thread, 2 threads and, when mpirun is
+#     present and the build has MPI, `mpirun -np 2` (one thread per rank): whole-process wall
+#     time, REPEATS interleaved rounds (each round runs every configuration once, in turn, so a
+#     drift of the machine's speed hits them alike), fresh results folder every run; the median
+#     per configuration, as cases per hour and as the ratio to one thread;
+#   - peak resident memory (GNU time) for 16 and 256 cases of the same per-case size.
+#
+#   bash scripts/measure-sweep.sh              # REPEATS=5 by default
+#   REPEATS=9 RODEND=./build/rodend bash scripts/measure-sweep.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
 rodend=${RODEND:-./build/rodend}
+repeats=${REPEATS:-5}
+study=studies/bench-32.json
+cases=32
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
-for threads in 1 2; do
-  for i in 1 2 3 4 5; do
-    rm -rf "$tmp/r"
-    s=$(date +%s.%N)
-    "$rodend" run studies/bench-16.json --results-root "$tmp/r" -q --threads "$threads" 2>/dev/null
-    e=$(date +%s.%N)
-    awk "BEGIN {print $e - $s}"
-  done | median | sed "s/^/bench-16 wall time, $threads thread(s), median of 5 [s]: /"
+
+configs=("1 thread" "2 threads")
+mpirun_bin=$(command -v mpirun || true)
+[ -n "$mpirun_bin" ] && configs+=("mpirun -np 2")
+
+run_config() {  # $1 = configuration; prints the wall time [s]
+  rm -rf "$tmp/r"
+  local s e
+  s=$(date +%s.%N)
+  case "$1" in
+    "1 thread") "$rodend" run "$study" --results-root "$tmp/r" -q --threads 1 >/dev/null 2>&1 ;;
+    "2 threads") "$rodend" run "$study" --results-root "$tmp/r" -q --threads 2 >/dev/null 2>&1 ;;
+    "mpirun -np 2")
+      "$mpirun_bin" --allow-run-as-root --oversubscribe -np 2 "$rodend" run "$study" \
+        --results-root "$tmp/r" -q --threads 1 >/dev/null 2>&1 ;;
+  esac
+  e=$(date +%s.%N)
+  awk "BEGIN {printf \"%.4f\n\", $e - $s}"
+}
+
+declare -A times
+for ((round = 1; round <= repeats; ++round)); do
+  for c in "${configs[@]}"; do times[$c]+="$(run_config "$c") "; done
+done
+
+median() { tr ' ' '\n' | grep -v '^$' | sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : (a[NR/2] + a[NR/2+1]) / 2}'; }
+base=$(echo "${times["1 thread"]}" | median)
+printf "%-14s %10s %14s %10s   %s\n" "bench-32" "median [s]" "cases / hour" "ratio" "runs [s]"
+for c in "${configs[@]}"; do
+  m=$(echo "${times[$c]}" | median)
+  awk -v c="$c" -v m="$m" -v b="$base" -v n="$cases" -v runs="${times[$c]}" \
+    'BEGIN {printf "%-14s %10.3f %14.0f %9.2fx   %s\n", c, m, n * 3600 / m, b / m, runs}'
 done
 for s in bench-16-short bench-256; do
   rm -rf "$tmp/m"
   /usr/bin/time -f "$s peak RSS [kB]: %M" "$rodend" run "studies/$s.json" --results-root "$tmp/m" -q --threads 2 2>&1 >/dev/null | grep "peak RSS"
 done
-echo "load average: $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "repeats: $repeats interleaved rounds; load average: $(cut -d' ' -f1-3 /proc/loadavg)"

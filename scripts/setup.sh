@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 packages=(
   build-essential cmake pkg-config git
   libeigen3-dev libboost-dev libhdf5-dev nlohmann-json3-dev catch2 libcli11-dev
-  libsundials-dev libopenmpi-dev openmpi-bin
+  libsundials-dev libopenmpi-dev openmpi-bin libdeflate-dev hdf5-tools
   python3 python3-numpy python3-h5py python3-matplotlib
 )
 

@@ -27,6 +27,10 @@ class CaseObserver final : public RunObserver {
   void on_sample(const SignalFrame& f) override;
   void on_step(const SignalFrame& f) override { metrics_.on_step(f); }
   bool wants_steps() const override { return history_ != nullptr; }
+  bool wants_peak(ContactPeak::Kind kind, int, double t0, double bound) const override {
+    return metrics_.wants_peak(kind, t0, bound);
+  }
+  void on_contact_peak(const ContactPeak& p) override { metrics_.on_contact_peak(p); }
   void on_contact_onset(double t, int, double v) override { metrics_.on_contact_onset(t, v); }
   void on_wear(const WearSource& s, double weight) override { wear_->add(s, weight); }
   bool wants_wear() const override { return wear_.has_value(); }

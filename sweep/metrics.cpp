@@ -24,6 +24,9 @@ bool provides(const Scene& s, T id) {
 double& at(MetricValues& v, MetricId id) {
   return v[static_cast<std::size_t>(id)];
 }
+double at(const MetricValues& v, MetricId id) {
+  return v[static_cast<std::size_t>(id)];
+}
 
 }  // namespace
 
@@ -79,7 +82,8 @@ void MetricsAccumulator::on_step(const SignalFrame& f) {
           at(v_, MetricId::first_contact_time) = t;
           at(v_, MetricId::first_impact_speed) = f.get(SignalId::impact_speed);
         }
-        ecc_min_ = ecc_max_ = ecc;
+        ecc_min_ = ecc;
+        ecc_max_ = std::max(ecc, ecc_peak_pending_);
         // onset of the first episode for its duration: the driver's, else extrapolated back
         // along the approach from this first step end inside it (not before the previous one)
         if (onsets_ > 0) {
@@ -171,6 +175,41 @@ void MetricsAccumulator::on_step(const SignalFrame& f) {
   }
   t_prev_ = t;
   first_step_ = false;
+}
+
+bool MetricsAccumulator::wants_peak(ContactPeak::Kind kind, double t0, double bound) const {
+  if (!has_contact_) return false;
+  // the first episode: the one under way, or the one a step before any contact may start
+  const bool first_episode = episode_ == 0 || (episode_ == 1 && in_contact_);
+  if (first_episode) return true;
+  if (kind == ContactPeak::Kind::force) return bound > at(v_, MetricId::max_contact_force);
+  // penetration: also the eccentricity's peak-to-peak within the post-impact window
+  const double window_end = at(v_, MetricId::first_contact_time) + settings_.post_impact_window;
+  return t0 <= window_end || bound > at(v_, MetricId::max_penetration);
+}
+
+void MetricsAccumulator::on_contact_peak(const ContactPeak& p) {
+  const ContactSnapshot& c = p.at;
+  if (!has_contact_ || !(c.penetration > 0.0)) return;
+  double& F = at(v_, MetricId::max_contact_force);
+  F = std::max(F, c.normal_force);
+  double& pen = at(v_, MetricId::max_penetration);
+  pen = std::max(pen, c.penetration);
+  double& ecc = at(v_, MetricId::max_eccentricity);
+  ecc = std::max(ecc, c.eccentricity);
+  // the episode under way, or the one that this step starts (its step end comes next)
+  const int episode = in_contact_ ? episode_ : episode_ + 1;
+  if (episode == 1) {
+    double& first = at(v_, MetricId::first_impact_peak_force);
+    first = std::max(first, c.normal_force);
+  }
+  if (episode_ == 0 && episode == 1) {
+    ecc_peak_pending_ = std::max(ecc_peak_pending_, c.eccentricity);
+  } else if (episode_ >= 1 &&
+             p.t <= at(v_, MetricId::first_contact_time) + settings_.post_impact_window) {
+    ecc_min_ = std::min(ecc_min_, c.eccentricity);
+    ecc_max_ = std::max(ecc_max_, c.eccentricity);
+  }
 }
 
 void MetricsAccumulator::on_contact_onset(double t, double impact_speed) {

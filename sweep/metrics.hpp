@@ -41,6 +41,12 @@ class MetricsAccumulator {
   /// A contact episode latched by the driver (first contact time and impact speed come from
   /// here: exact onset, not the first frame in contact).
   void on_contact_onset(double t, double impact_speed);
+  /// Whether a contact maximum inside the step that starts at t0, at most `bound`, could change
+  /// a metric (RunObserver::wants_peak): every maximum of the first episode and of the
+  /// post-impact window; later ones only when they could raise the run's maximum.
+  bool wants_peak(ContactPeak::Kind kind, double t0, double bound) const;
+  /// A maximum located by the driver inside the step that the next on_step ends.
+  void on_contact_peak(const ContactPeak& p);
   /// Final values; the driver's stats supply the health metrics.
   MetricValues finish(const RunStats& stats) const;
 
@@ -55,6 +61,7 @@ class MetricsAccumulator {
   int onsets_ = 0;   // onsets latched by the driver
   bool in_contact_ = false;
   double ecc_min_ = 0.0, ecc_max_ = 0.0;
+  double ecc_peak_pending_ = 0.0;   // [m] peak eccentricity inside the step that starts episode 1
   double first_onset_ = 0.0;        // [s] onset of the first episode (its duration)
   double dissipated_prev_ = 0.0;    // [J] dissipated energy at the previous step end
   double dissipated_before_ = 0.0;  // [J] ... at the last step end before the first onset

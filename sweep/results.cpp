@@ -1,9 +1,14 @@
 // Results on disk: one HDF5 file per case, a summary table (HDF5 and CSV) per study.
 //
 // Rules of this file:
-// - Thread safety: Debian's HDF5 is built without thread safety. One process-wide std::mutex
-//   (g_hdf5_mutex) guards every HDF5 call; each function that touches HDF5 holds it for the
-//   whole open-write-close (or open-read-close) of a file. Nothing outside this file calls HDF5.
+// - Thread safety: Debian's HDF5 1.10.8 is built thread-safe (H5_HAVE_THREADSAFE 1), but its
+//   thread safety is one global lock around every API call, so HDF5 work never runs in
+//   parallel. This file keeps its own process-wide std::mutex (g_hdf5_mutex) around every HDF5
+//   call, held for the whole open-write-close (or open-read-close) of a file, so that a file is
+//   never seen half-built by another thread's calls. What is expensive stays outside it: the
+//   histories' chunks are shuffled and deflated (libdeflate) by the thread that ran the case,
+//   before it takes the lock, and handed to HDF5 finished (H5Dwrite_chunk). Nothing outside
+//   this file calls HDF5.
 // - Quiet: HDF5's automatic error printing is switched off once (H5Eset_auto2); HDF5 failures
 //   become std::runtime_error naming the file (read_case_record returns nullopt instead).
 // - Crash safety: a file is written under a hidden temporary name in its final directory
@@ -18,8 +23,10 @@
 //                host, study_file, coordinates_json, parameters_json, case_json (strings)
 //   /parameters  one attribute per resolved parameter (dotted path): double, string, int8 0/1
 //                for booleans, 1-D double for arrays; units_json = {"path": "unit"}
-//   /signals     one dataset per recorded signal (catalogue name): double, (samples,) or
-//                (samples, width), chunked, shuffle + gzip 4; attributes unit, description
+//   /signals     one dataset per recorded signal (catalogue name): float64 (or float32 with
+//                output.history_precision), (samples,) or (samples, width), chunked (4096 rows),
+//                shuffle + deflate at output.compression_level (no filters at level 0; the
+//                standard filters, read by any HDF5 reader); attributes unit, description
 //   /metrics     one scalar double attribute per metric (catalogue name), NaN when not
 //                applicable; units_json = {"name": "unit"}
 // Summary: summary.h5 (group /summary, one 1-D dataset per column, attribute columns = JSON
@@ -30,12 +37,16 @@
 
 #include <fcntl.h>
 #include <hdf5.h>
+#include <libdeflate.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <limits>
 #include <memory>
@@ -55,6 +66,8 @@ namespace rodend {
 namespace {
 
 namespace fs = std::filesystem;
+// histories are copied into the file's little-endian types byte for byte
+static_assert(std::endian::native == std::endian::little, "rodend writes HDF5 chunks on LE hosts");
 
 // ---------------------------------------------------------------------------------------------
 // Locking
@@ -372,36 +385,122 @@ void write_case_parameters(const Context& cx, hid_t root, const ParameterSet& pa
   attr_string(cx, g.get(), "units_json", units.dump());
 }
 
-void write_signal(const Context& cx, hid_t group, const SignalSpec& s,
-                  const std::vector<double>& values, long long samples) {
+// ---------------------------------------------------------------------------------------------
+// Signal chunks, encoded off the lock
+//
+// HDF5's own filter pipeline would shuffle and deflate each chunk inside H5Dwrite, that is
+// under g_hdf5_mutex, where it serialises the threads of a sweep. The thread that ran the case
+// does it here instead (the same shuffle filter and zlib-format deflate stream, written by
+// libdeflate), and the lock then only hands the finished chunks to H5Dwrite_chunk: every stock
+// HDF5 reader (h5py, h5dump) decodes them with its built-in filters, no plugin.
+
+/// Row-major chunks of one signal, each padded to the full chunk shape (HDF5 stores edge chunks
+/// at full size) and encoded with the dataset's filter pipeline.
+struct EncodedSignal {
+  hsize_t rows = 0, width = 1, chunk_rows = 1;
+  std::vector<std::vector<unsigned char>> chunks;  ///< in row order
+};
+
+/// One libdeflate compressor per thread and level (they are not thread-safe, and cheap to keep).
+libdeflate_compressor* thread_compressor(int level) {
+  struct Owner {
+    std::array<libdeflate_compressor*, 13> by_level{};
+    ~Owner() {
+      for (libdeflate_compressor* c : by_level) libdeflate_free_compressor(c);
+    }
+  };
+  thread_local Owner owner;
+  libdeflate_compressor*& c = owner.by_level[static_cast<std::size_t>(level)];
+  if (!c) c = libdeflate_alloc_compressor(level);
+  if (!c) throw std::bad_alloc();
+  return c;
+}
+
+/// Rows per chunk of a signal with `rows` samples (at most 4096, at least 1).
+hsize_t chunk_rows_for(hsize_t rows) {
+  return std::clamp<hsize_t>(rows, 1, 4096);
+}
+
+EncodedSignal encode_signal(const std::vector<double>& values, long long samples, int width,
+                            const OutputSettings& out) {
+  EncodedSignal e;
+  e.rows = static_cast<hsize_t>(samples);
+  e.width = static_cast<hsize_t>(width);
+  e.chunk_rows = chunk_rows_for(e.rows);
+  const bool f32 = out.history_precision == HistoryPrecision::float32;
+  const std::size_t es = f32 ? 4 : 8;  // element size in the file [bytes]
+  const std::size_t per_chunk = static_cast<std::size_t>(e.chunk_rows * e.width);  // elements
+  std::vector<unsigned char> raw(per_chunk * es), shuffled(per_chunk * es);
+  for (hsize_t r0 = 0; r0 < e.rows; r0 += e.chunk_rows) {
+    const std::size_t n =
+        static_cast<std::size_t>(std::min(e.chunk_rows, e.rows - r0) * e.width);  // filled
+    const double* src = values.data() + static_cast<std::size_t>(r0 * e.width);
+    std::fill(raw.begin(), raw.end(), 0);  // the edge chunk's padding: the fill value 0
+    if (f32) {
+      for (std::size_t i = 0; i < n; ++i) {
+        const float v = static_cast<float>(src[i]);
+        std::memcpy(raw.data() + 4 * i, &v, 4);
+      }
+    } else {
+      std::memcpy(raw.data(), src, 8 * n);
+    }
+    if (out.compression_level == 0) {
+      e.chunks.push_back(raw);
+      continue;
+    }
+    // HDF5's shuffle filter: byte b of element i goes to b * count + i
+    for (std::size_t i = 0; i < per_chunk; ++i)
+      for (std::size_t b = 0; b < es; ++b) shuffled[b * per_chunk + i] = raw[i * es + b];
+    libdeflate_compressor* c = thread_compressor(out.compression_level);
+    std::vector<unsigned char> z(libdeflate_zlib_compress_bound(c, shuffled.size()));
+    const std::size_t size =
+        libdeflate_zlib_compress(c, shuffled.data(), shuffled.size(), z.data(), z.size());
+    if (size == 0) throw std::runtime_error("libdeflate could not compress a chunk");
+    z.resize(size);
+    e.chunks.push_back(std::move(z));
+  }
+  return e;
+}
+
+void write_signal(const Context& cx, hid_t group, const SignalSpec& s, const EncodedSignal& e,
+                  const OutputSettings& out) {
   const std::string what = "cannot write signal " + std::string(s.name);
-  const hsize_t rows = static_cast<hsize_t>(samples);
-  const hsize_t width = static_cast<hsize_t>(s.width);
   const int rank = s.width == 1 ? 1 : 2;
-  const hsize_t dims[2] = {rows, width};
+  const hsize_t dims[2] = {e.rows, e.width};
   // A chunked dataset needs maximum dimensions of at least one chunk: unlimited rows when empty.
-  const hsize_t maxdims[2] = {rows == 0 ? H5S_UNLIMITED : rows, width};
-  const hsize_t chunk[2] = {std::clamp<hsize_t>(rows, 1, 4096), width};
+  const hsize_t maxdims[2] = {e.rows == 0 ? H5S_UNLIMITED : e.rows, e.width};
+  const hsize_t chunk[2] = {e.chunk_rows, e.width};
 
   const Handle space = cx.own(H5Screate_simple(rank, dims, maxdims), H5Sclose, what);
   const Handle dcpl = cx.own(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, what);
   cx.ok(H5Pset_chunk(dcpl.get(), rank, chunk), what);
-  cx.ok(H5Pset_shuffle(dcpl.get()), what);
-  cx.ok(H5Pset_deflate(dcpl.get(), 4), what);
-  Handle d = cx.own(H5Dcreate2(group, std::string(s.name).c_str(), H5T_IEEE_F64LE, space.get(),
+  if (out.compression_level > 0) {
+    // the pipeline the chunks were encoded with (HDF5's deflate takes levels up to 9; the
+    // level is only a hint to writers, readers ignore it)
+    cx.ok(H5Pset_shuffle(dcpl.get()), what);
+    cx.ok(H5Pset_deflate(dcpl.get(), static_cast<unsigned>(std::min(out.compression_level, 9))),
+          what);
+  }
+  const hid_t file_type =
+      out.history_precision == HistoryPrecision::float32 ? H5T_IEEE_F32LE : H5T_IEEE_F64LE;
+  Handle d = cx.own(H5Dcreate2(group, std::string(s.name).c_str(), file_type, space.get(),
                                H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
                     H5Dclose, what);
-  if (rows > 0)
-    cx.ok(H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), what);
+  for (std::size_t k = 0; k < e.chunks.size(); ++k) {
+    const hsize_t offset[2] = {static_cast<hsize_t>(k) * e.chunk_rows, 0};
+    cx.ok(H5Dwrite_chunk(d.get(), H5P_DEFAULT, 0, offset, e.chunks[k].size(), e.chunks[k].data()),
+          what);
+  }
   attr_string(cx, d.get(), "unit", std::string(s.unit));
   attr_string(cx, d.get(), "description", std::string(s.description));
   cx.ok(d.close(), what);
 }
 
-void write_case_signals(const Context& cx, hid_t root, const History& h) {
+void write_case_signals(const Context& cx, hid_t root, const History& h,
+                        const std::vector<EncodedSignal>& encoded, const OutputSettings& out) {
   const Handle g = create_group(cx, root, "signals");
   for (std::size_t i = 0; i < h.signals.size(); ++i)
-    write_signal(cx, g.get(), signal_spec(h.signals[i]), h.values[i], h.samples);
+    write_signal(cx, g.get(), signal_spec(h.signals[i]), encoded[i], out);
 }
 
 void write_case_arrays(const Context& cx, hid_t root, const History& h) {
@@ -753,8 +852,14 @@ Json provenance(const Study& study) {
 void write_case_file(const fs::path& path, const CaseSpec& spec, const CaseRecord& record,
                      const History& history, const Json& prov) {
   check_history(path, history);
+  // the expensive part, in the calling thread: every chunk shuffled and deflated
+  std::vector<EncodedSignal> encoded;
+  encoded.reserve(history.signals.size());
+  for (std::size_t i = 0; i < history.signals.size(); ++i)
+    encoded.push_back(encode_signal(history.values[i], history.samples,
+                                    signal_spec(history.signals[i]).width, spec.output));
   write_atomically(path, [&](const fs::path& temp) {
-    Hdf5Lock lock;  // held for the whole create-write-close
+    Hdf5Lock lock;  // held for the create-write-close: cheap calls only, the chunks are ready
     const Context cx(path, "cannot write results file");
     Handle file = cx.own(H5Fcreate(temp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
                          "cannot create " + temp.string());
@@ -762,7 +867,7 @@ void write_case_file(const fs::path& path, const CaseSpec& spec, const CaseRecor
       const Handle root = cx.own(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose, "no root");
       write_case_root(cx, root.get(), spec, record, prov);
       write_case_parameters(cx, root.get(), spec.parameters);
-      write_case_signals(cx, root.get(), history);
+      write_case_signals(cx, root.get(), history, encoded, spec.output);
       write_case_arrays(cx, root.get(), history);
       write_case_metrics(cx, root.get(), record.metrics);
     }

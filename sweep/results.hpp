@@ -1,8 +1,10 @@
 // Results on disk: one HDF5 file per case plus a summary table (HDF5 and CSV) per study.
 //
-// Thread-safety rule: Debian's HDF5 is built without thread safety, so every HDF5 call in the
-// process is made by the functions of this file while they hold one process-wide mutex, for the
-// whole open-write-close (or open-read-close) of a file. Nothing else may call HDF5.
+// Thread-safety rule: every HDF5 call in the process is made by the functions of this file
+// while they hold one process-wide mutex, for the whole open-write-close (or open-read-close) of
+// a file. (Debian's HDF5 is thread-safe, but through one global lock of its own, so HDF5 work is
+// serial either way.) Nothing else may call HDF5. The expensive part of writing a case file,
+// compressing its histories, runs before the lock in the calling thread (results.cpp).
 //
 // Crash-safety rule: a file appears under its final name only when complete: it is written to
 // a hidden temporary name in the same directory, closed, then renamed (atomic on POSIX).

@@ -73,7 +73,14 @@ Json CaseSpec::canonical() const {
                            {"backlash_limit", w.backlash_limit},
                            {"max_updates", static_cast<double>(w.max_updates)}};
   }
+  // only when not the default: the stored values differ, the physics does not (study.hpp)
+  if (output.history_precision != HistoryPrecision::float64)
+    c["history_precision"] = std::string(to_string(output.history_precision));
   return c;
+}
+
+std::string_view to_string(HistoryPrecision p) {
+  return p == HistoryPrecision::float32 ? "float32" : "float64";
 }
 
 Json CaseSpec::canonical_run(const Json& sig) const {
@@ -148,6 +155,53 @@ std::string need_string(const Json& v, const std::string& key) {
 const Json& need_object(const Json& v, const std::string& key) {
   if (!v.is_object()) throw InputError(key, "expected an object, got " + describe(v));
   return v;
+}
+
+/// The "output" key: the results directory as a string, or an object with `directory`,
+/// `compression_level` (0-12) and `history_precision` ("float64" | "float32").
+/// A path the study names for its results: not empty (NUL characters are refused before).
+fs::path output_path(const Json& v, const std::string& key) {
+  const std::string s = need_string(v, key);
+  if (s.empty())
+    throw InputError(key, "expected a non-empty directory path (or no \"output\" key: "
+                          "results/<name>)");
+  return fs::path(s);
+}
+
+void parse_output(const Json& v, Study& study) {
+  if (v.is_string()) {
+    study.output_dir = output_path(v, "output");
+    return;
+  }
+  if (!v.is_object())
+    throw InputError("output",
+                     "expected the results directory (a string) or an object with directory, "
+                     "compression_level, history_precision; got " +
+                         describe(v));
+  for (auto it = v.begin(); it != v.end(); ++it) {
+    const std::string key = "output." + it.key();
+    if (it.key() == "directory") {
+      study.output_dir = output_path(*it, key);
+    } else if (it.key() == "compression_level") {
+      const long long level = need_integer(*it, key);
+      if (level < 0 || level > 12)
+        throw InputError(
+            key, "expected a deflate level from 0 (no compression) to 12, got " + it->dump());
+      study.output.compression_level = static_cast<int>(level);
+    } else if (it.key() == "history_precision") {
+      const std::string p = need_string(*it, key);
+      if (p == "float64")
+        study.output.history_precision = HistoryPrecision::float64;
+      else if (p == "float32")
+        study.output.history_precision = HistoryPrecision::float32;
+      else
+        throw InputError(key, "expected \"float64\" or \"float32\", got \"" + p + "\"");
+    } else {
+      throw InputError(key,
+                       "unknown key; expected directory, compression_level or "
+                       "history_precision");
+    }
+  }
 }
 
 /// A case being resolved: the draft every setting is applied to.
@@ -508,8 +562,8 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
         doc.contains("description") ? need_string(doc["description"], "description") : "";
     if (!doc.contains("scene")) throw InputError("scene", "missing: which scene to run");
     study.scene = need_string(doc["scene"], "scene");
-    study.output_dir =
-        doc.contains("output") ? output_path(doc["output"]) : results_root / study.name;
+    study.output_dir = results_root / study.name;
+    if (doc.contains("output")) parse_output(doc["output"], study);
 
     // the base draft: defaults, then the study's sections
     Draft base;
@@ -640,6 +694,7 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
       c.metrics = d.metrics;
       c.wear_evolution = d.wear_evolution;
       c.signals = signals;
+      c.output = study.output;
       c.id = case_id(c);
       study.cases.push_back(std::move(c));
     }

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/integrator.hpp"
@@ -30,6 +31,21 @@ struct WearEvolutionSettings {
   long max_updates = 1000;       ///< bound on the number of updates [1]
 };
 
+/// Storage of the sampled histories in the case files (study key "output"; README "Studies").
+/// Neither changes what is simulated: the compression is lossless, so it does not enter the
+/// case id (files written at different levels read the same and may be mixed in one study);
+/// the precision changes the stored values, so float32 enters the id (a study resumed with
+/// another precision reruns its cases instead of mixing 32- and 64-bit files; float64, the
+/// default, leaves the ids of existing studies unchanged).
+enum class HistoryPrecision { float64, float32 };
+struct OutputSettings {
+  /// deflate level of the histories' chunks (libdeflate levels 1-12; 0 = stored uncompressed).
+  /// Default chosen by measurement on studies/bench-32.json (bench/README.md).
+  int compression_level = 6;
+  HistoryPrecision history_precision = HistoryPrecision::float64;
+};
+std::string_view to_string(HistoryPrecision p);
+
 /// One fully resolved case of a study.
 struct CaseSpec {
   std::string id;                     ///< 16 hex digits: FNV-1a 64 of canonical() (see case_id)
@@ -43,6 +59,7 @@ struct CaseSpec {
   MetricsSettings metrics;
   std::vector<SignalId> signals;  ///< recorded signals, catalogue order, time first
   WearEvolutionSettings wear_evolution;
+  OutputSettings output;  ///< how its histories are stored (the study's)
 
   /// The canonical resolved description: scene, every parameter value, integrator, time,
   /// health, metrics settings, recorded signals and (only when enabled) the wear evolution. Its
@@ -59,7 +76,8 @@ struct Study {
   std::string name;            ///< "name" key, else the file stem
   std::string description;
   std::string scene;
-  std::filesystem::path output_dir;    ///< "output" key, else results/<name>
+  std::filesystem::path output_dir;    ///< "output" (or "output.directory"), else results/<name>
+  OutputSettings output;               ///< "output.compression_level", ".history_precision"
   std::vector<std::string> axis_keys;  ///< grid coordinate keys, in axis order
   std::vector<CaseSpec> cases;
   Json source;  ///< the study file as parsed

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "core/contact.hpp"
+#include "core/scenes/parts.hpp"
 #include "fixture.hpp"
 #include "sweep/metrics.hpp"
 
@@ -64,6 +65,10 @@ class MetricsObserver final : public RunObserver {
   }
   bool wants_steps() const override { return true; }
   void on_contact_onset(double t, int, double v) override { metrics.on_contact_onset(t, v); }
+  bool wants_peak(ContactPeak::Kind k, int, double t0, double bound) const override {
+    return metrics.wants_peak(k, t0, bound);
+  }
+  void on_contact_peak(const ContactPeak& p) override { metrics.on_contact_peak(p); }
   MetricsAccumulator metrics;
   Track steps;
 };
@@ -405,4 +410,91 @@ TEST_CASE("cylinder geometry: an impact closes the energy audit", "[impact]") {
   measured("cylinder impact: |energy residual| / KE0", worst / ke0, 1e-6);
   CHECK(worst / ke0 <= 1e-6);
   CHECK(r.metric(MetricId::first_impact_restitution) > 0.0);
+}
+
+namespace {
+
+/// The largest normal force of a free impact on a fixed outer body, integrated independently
+/// of the driver: classical RK4 of m delta'' = -F_el(delta) (1 + chi delta'/v0), delta(0) = 0,
+/// delta'(0) = v0, at a fixed step of 1/400000 of the Hertz time scale delta*/v0, the force's
+/// maximum over the step ends refined by the parabola through the three around it.
+double rk4_peak_force(const ClearanceContactModel& m, double mass, double v0) {
+  const double chi = m.hysteresis;
+  const auto force = [&](double x, double v) {
+    return x > 0.0 ? std::max(elastic_force(m, x) * (1.0 + chi * v / v0), 0.0) : 0.0;
+  };
+  // the Hertz penetration scale (5 m v0^2 / (4 K))^(2/5) of a sphere; for a cylinder of the
+  // same K it is of the same order, which is all a step size needs
+  const double scale = std::pow(5.0 * mass * v0 * v0 / (4.0 * m.stiffness), 0.4);
+  const double h = scale / v0 / 4e5;
+  double x = 0.0, v = v0, f_prev2 = 0.0, f_prev = 0.0, best = 0.0;
+  const auto acc = [&](double xx, double vv) { return -force(xx, vv) / mass; };
+  for (long i = 0; i < 100'000'000; ++i) {
+    const double k1x = v, k1v = acc(x, v);
+    const double k2x = v + 0.5 * h * k1v, k2v = acc(x + 0.5 * h * k1x, v + 0.5 * h * k1v);
+    const double k3x = v + 0.5 * h * k2v, k3v = acc(x + 0.5 * h * k2x, v + 0.5 * h * k2v);
+    const double k4x = v + h * k3v, k4v = acc(x + h * k3x, v + h * k3v);
+    x += h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
+    v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+    const double f = force(x, v);
+    if (f < f_prev && f_prev >= f_prev2 && f_prev > 0.0) {
+      // parabola through (-h, f_prev2), (0, f_prev), (h, f): its vertex value
+      const double a = 0.5 * (f - 2.0 * f_prev + f_prev2), b = 0.5 * (f - f_prev2);
+      best = a < 0.0 ? f_prev - b * b / (4.0 * a) : f_prev;
+      break;
+    }
+    f_prev2 = f_prev;
+    f_prev = f;
+  }
+  return best;
+}
+
+/// The metrics of a run (steps, onsets, located peaks) and the largest sampled contact force.
+class PeakObserver final : public RunObserver {
+ public:
+  explicit PeakObserver(const Scene& scene) : metrics(scene, MetricsSettings{}) {}
+  void on_sample(const SignalFrame& f) override {
+    max_sampled = std::max(max_sampled, f.get(SignalId::contact_force));
+  }
+  void on_step(const SignalFrame& f) override { metrics.on_step(f); }
+  bool wants_steps() const override { return true; }
+  void on_contact_onset(double t, int, double v) override { metrics.on_contact_onset(t, v); }
+  bool wants_peak(ContactPeak::Kind k, int, double t0, double bound) const override {
+    return metrics.wants_peak(k, t0, bound);
+  }
+  void on_contact_peak(const ContactPeak& p) override { metrics.on_contact_peak(p); }
+  MetricsAccumulator metrics;
+  double max_sampled = 0.0;
+};
+
+}  // namespace
+
+TEST_CASE("impact pair: the first impact's peak force is the force maximum, for every law",
+          "[impact][peak]") {
+  // With damping the force peaks before the deepest penetration, inside a step where the
+  // approach speed is still positive: the driver locates the force maximum itself on the
+  // step's interpolant. Sampled every 0.1 us (the reproduction: restitution-matched on
+  // a cylinder gave 14478.5 N against a sampled 14481.6 N before).
+  const std::string geometry = GENERATE(as<std::string>{}, "sphere", "cylinder");
+  for (const NormalLaw* law : normal_laws()) {
+    const std::string name(law->name());
+    CAPTURE(geometry, name);
+    ParameterSet p = impact_params(name, 0.5, 0.1);
+    p.set("contact.geometry", geometry);
+    const auto scene = make_scene("impact-pair", p);
+    PeakObserver obs(*scene);
+    const RunResult r = simulate(*scene, impact_integrator(), TimeSettings{1e-3, 1e-7}, obs);
+    REQUIRE(r.status == RunStatus::ok);
+    const MetricValues m = obs.metrics.finish(r.stats);
+    const double peak = m[static_cast<std::size_t>(MetricId::first_impact_peak_force)];
+    // never below its own sampled history (the samples lie on the same interpolants)
+    CHECK(peak >= obs.max_sampled);
+    // and the force maximum of an independent fine integration: the driver's dopri5 at 1e-10
+    // and Brent's location to 1e-7 of a step leave measured <= 2e-9 relative; bound 1e-6
+    const ClearanceContactModel model = read_clearance_contact(p, "contact", "friction");
+    const double fine = rk4_peak_force(model, p.number("ball.mass"), 0.1);
+    const double e = std::abs(peak / fine - 1.0);
+    measured("impact peak force vs fine RK4 (rel), " + geometry + " " + name, e, 1e-6);
+    CHECK(e <= 1e-6);
+  }
 }

@@ -146,6 +146,12 @@ class ImpactPairScene final : public Scene {
                 (free_ ? outer_.mass * gravity_.dot(out.p_W) : 0.0) + c.potential,
             0.0, x[dissipated_]};
   }
+  ContactSnapshot contact_snapshot(int, double, const double* x,
+                                   const DiscreteState& d) const override {
+    const ContactEval c =
+        evaluate_contact(contact_, BodyKinematics::from_state(x + kBall), outer(x), d.contacts[0]);
+    return {c.penetration, c.penetration_rate, c.eccentricity, c.normal_force};
+  }
   void outputs(double t, const double* x, const DiscreteState& d, SignalFrame& f) const override {
     const BodyKinematics ball = BodyKinematics::from_state(x + kBall);
     const BodyKinematics out = outer(x);

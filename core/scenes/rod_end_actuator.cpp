@@ -127,6 +127,23 @@ class RodEndActuatorScene final : public Scene {
     return {mech_.mechanical_energy(e.mech) + act_.mechanical_energy(x + kAct, 0.0), x[kWork],
             x[kDissipated]};
   }
+  // an accepted step's frame: the contact, the surface angle, the actuator (chamber
+  // pressures) and the energy audit (kStepSignals)
+  void step_outputs(double t, const double* x, const DiscreteState& d,
+                    SignalFrame& f) const override {
+    const Eval e = evaluate(t, x, d.contacts[0]);
+    f.set(SignalId::surface_angle, e.mech.theta);
+    write_contact_signals(f, e.mech.contact, e.mech.ball, e.mech.socket, d.contacts[0]);
+    act_.outputs(e.act, x + kAct, e.external_force, f);
+    write_energy_signals(f,
+                         {mech_.mechanical_energy(e.mech) + act_.mechanical_energy(x + kAct, 0.0),
+                          x[kWork], x[kDissipated]},
+                         initial_energy_);
+  }
+  ContactSnapshot contact_snapshot(int, double, const double* x,
+                                   const DiscreteState& d) const override {
+    return mech_.contact_snapshot(x + kMech, d.contacts[0]);
+  }
   void outputs(double t, const double* x, const DiscreteState& d, SignalFrame& f) const override {
     const Eval e = evaluate(t, x, d.contacts[0]);
     mech_.outputs(e.mech, x + kMech, e.act.command, f);

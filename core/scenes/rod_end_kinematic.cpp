@@ -95,6 +95,19 @@ class RodEndKinematicScene final : public Scene {
   EnergyTerms energy(double t, const double* x, const DiscreteState& d) const override {
     return {mech_.mechanical_energy(evaluate(t, x, d.contacts[0])), x[kWork], x[kDissipated]};
   }
+  // an accepted step's frame: the contact, the surface angle and the energy audit (kStepSignals)
+  void step_outputs(double t, const double* x, const DiscreteState& d,
+                    SignalFrame& f) const override {
+    const Mech::Eval e = evaluate(t, x, d.contacts[0]);
+    f.set(SignalId::surface_angle, e.theta);
+    write_contact_signals(f, e.contact, e.ball, e.socket, d.contacts[0]);
+    write_energy_signals(f, {mech_.mechanical_energy(e), x[kWork], x[kDissipated]},
+                         initial_energy_);
+  }
+  ContactSnapshot contact_snapshot(int, double, const double* x,
+                                   const DiscreteState& d) const override {
+    return mech_.contact_snapshot(x + kMech, d.contacts[0]);
+  }
   void outputs(double t, const double* x, const DiscreteState& d, SignalFrame& f) const override {
     const Mech::Eval e = evaluate(t, x, d.contacts[0]);
     const auto m = motion_.at(t);

@@ -43,8 +43,15 @@ std::optional<WearModel> read_wear(const ParameterSet& p) {
   return w;
 }
 
-Quat about_z(double angle) {
-  return Quat(Eigen::AngleAxisd(angle, Vec3::UnitZ()));
+/// The rotation about z by the angle whose cosine and sine are c, s: the unit quaternion of
+/// the half angle, from the half-angle identities (the branch that does not cancel).
+Quat about_z(double c, double s) {
+  if (c >= 0.0) {
+    const double ch = std::sqrt(0.5 * (1.0 + c));  // cos(angle/2) >= 1/sqrt(2)
+    return Quat(ch, 0.0, 0.0, 0.5 * s / ch);
+  }
+  const double sh = std::copysign(std::sqrt(0.5 * (1.0 - c)), s);  // |sin(angle/2)| >= 1/sqrt(2)
+  return Quat(0.5 * s / sh, 0.0, 0.0, sh);
 }
 
 }  // namespace
@@ -225,6 +232,12 @@ ContactGap RodEndMechanism::gap(const double* x) const {
                      BodyKinematics::from_state(x + kSocket));
 }
 
+ContactSnapshot RodEndMechanism::contact_snapshot(const double* x, const ContactLatch& l) const {
+  const ContactEval c = evaluate_contact(contact_, BodyKinematics::from_state(x + kBall),
+                                         BodyKinematics::from_state(x + kSocket), l);
+  return {c.penetration, c.penetration_rate, c.eccentricity, c.normal_force};
+}
+
 RodEndMechanism::Eval RodEndMechanism::evaluate(double t, double u, double u_dot, const double* x,
                                                 const ContactLatch& latch) const {
   Eval e;
@@ -233,20 +246,22 @@ RodEndMechanism::Eval RodEndMechanism::evaluate(double t, double u, double u_dot
   e.theta = x[kTheta];
   e.theta_dot = x[kThetaDot];
 
-  // rod end from the rod length (eq. 4.1-4.3, differentiated for the velocity)
+  // rod end from the rod length (eq. 4.1-4.3, differentiated for the velocity): one law of
+  // cosines gives the rod's direction; its rotation about z is the half-angle quaternion
   e.rod_length = geometry_.rod_zero() + u;
-  e.rod_angle = geometry_.rod_angle(e.rod_length);
-  e.rod_angle_rate = geometry_.rod_angle_slope(e.rod_length) * u_dot;
-  e.rod_direction = Vec3(std::cos(e.rod_angle), std::sin(e.rod_angle), 0.0);
-  e.slider_anchor.p_W = geometry_.rod_end(e.rod_length) + Vec3(0.0, 0.0, misalignment_z_);
-  e.slider_anchor.v_W = geometry_.rod_end_velocity(e.rod_length, u_dot);
-  e.slider_anchor.q_ref = about_z(e.rod_angle);  // rod angle is 0 at actuator zero
+  const RodKinematics rod = geometry_.rod_kinematics(e.rod_length, u_dot);
+  e.rod_angle_rate = rod.angle_rate;
+  e.rod_direction = rod.direction();
+  e.slider_anchor.p_W = rod.end + Vec3(0.0, 0.0, misalignment_z_);
+  e.slider_anchor.v_W = rod.end_velocity;
+  e.slider_anchor.q_ref = about_z(rod.cos_angle, rod.sin_angle);  // rod angle 0 at actuator zero
   e.slider_anchor.w_ref_W = Vec3(0.0, 0.0, e.rod_angle_rate);
 
   // crank end from the crank angle (eq. 4.17-4.21)
-  e.crank_anchor.p_W = geometry_.crank_end(e.theta);
-  e.crank_anchor.v_W = geometry_.crank_end_velocity(e.theta, e.theta_dot);
-  e.crank_anchor.q_ref = about_z(e.theta);
+  const CrankKinematics crank = geometry_.crank_kinematics(e.theta, e.theta_dot);
+  e.crank_anchor.p_W = crank.end;
+  e.crank_anchor.v_W = crank.end_velocity;
+  e.crank_anchor.q_ref = Quat(crank.cos_half, 0.0, 0.0, crank.sin_half);
   e.crank_anchor.w_ref_W = Vec3(0.0, 0.0, e.theta_dot);
 
   e.contact = evaluate_contact(contact_, e.ball, e.socket, latch);
@@ -312,7 +327,7 @@ void RodEndMechanism::outputs(const Eval& e, const double* x, double command,
   f.set(SignalId::socket_angular_velocity, e.socket.w_B);
   f.set(SignalId::socket_euler_321, euler321(e.socket.R_WB));
   // contact signals need the latch only for impact_speed, which the scene sets
-  f.set(SignalId::rod_inclination, e.rod_angle);
+  f.set(SignalId::rod_inclination, e.rod_angle());
   f.set(SignalId::slider_end_position, e.slider_anchor.p_W);
   f.set(SignalId::crank_end_position, e.crank_anchor.p_W);
   f.set(SignalId::surface_angle, e.theta);

@@ -7,6 +7,7 @@
 // States (28, from the part's offset): ball (13) | socket (13) | theta [rad] | theta' [rad/s].
 #pragma once
 
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <span>
@@ -39,8 +40,10 @@ class RodEndMechanism {
   struct Eval {
     BodyKinematics ball, socket;
     double theta = 0.0, theta_dot = 0.0;
-    double rod_length = 0.0, rod_angle = 0.0, rod_angle_rate = 0.0;
-    Vec3 rod_direction = Vec3::UnitX();
+    double rod_length = 0.0, rod_angle_rate = 0.0;
+    Vec3 rod_direction = Vec3::UnitX();  ///< unit vector along the rod, O -> P
+    /// Rod inclination to the x-axis [rad] (an output: the dynamics use the direction).
+    double rod_angle() const { return std::atan2(rod_direction.y(), rod_direction.x()); }
     SpringAnchor slider_anchor, crank_anchor;
     ContactEval contact;
     SpringEval slider_spring, crank_spring;
@@ -69,6 +72,8 @@ class RodEndMechanism {
   void outputs(const Eval& e, const double* x, double command, SignalFrame& f) const;
 
   ContactGap gap(const double* x) const;
+  /// The contact alone at the mechanism state x (the driver's peak location).
+  ContactSnapshot contact_snapshot(const double* x, const ContactLatch& l) const;
 
   /// The signals of a rod-end scene: time, the mechanism's and the contact's, `own` (what the
   /// scene adds, e.g. the actuator's), the energy audit and, with a wear model, sliding_work

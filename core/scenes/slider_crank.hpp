@@ -18,6 +18,26 @@
 
 namespace rodend {
 
+/// The rod at one instant: its direction and the rod end's motion (eq. 4.1-4.3 differentiated),
+/// from one law of cosines, without inverse trigonometry.
+struct RodKinematics {
+  double cos_angle = 1.0, sin_angle = 0.0;  ///< direction of the rod O -> P: (cos, sin) [-]
+  double angle_rate = 0.0;                  ///< d(rod angle)/dt [rad/s]
+  Vec3 end = Vec3::Zero();                  ///< rod end (slider end) P [m]
+  Vec3 end_velocity = Vec3::Zero();         ///< [m/s]
+  Vec3 direction() const { return Vec3(cos_angle, sin_angle, 0.0); }
+  /// The rod angle itself [rad] (an output; nothing in the dynamics needs it).
+  double angle() const { return std::atan2(sin_angle, cos_angle); }
+};
+
+/// The crank at one instant (eq. 4.17-4.21), from one sine-cosine pair of half the crank angle.
+struct CrankKinematics {
+  double cos_half = 1.0, sin_half = 0.0;  ///< of theta / 2: the crank's rotation about z is the
+                                          ///< unit quaternion (cos_half, 0, 0, sin_half)
+  Vec3 end = Vec3::Zero();                ///< crank end [m]
+  Vec3 end_velocity = Vec3::Zero();       ///< [m/s]
+};
+
 class SliderCrank {
  public:
   /// s crank [m], t frame [m], l0 rod length at actuator zero [m]; requires a closed triangle.
@@ -41,6 +61,8 @@ class SliderCrank {
   /// Rod-end (slider end) position for rod length l, and its velocity for rate l' [m, m/s].
   Vec3 rod_end(double l) const;
   Vec3 rod_end_velocity(double l, double l_dot) const;
+  /// Everything above at once, for rod length l and rate l' (what the right-hand side uses).
+  RodKinematics rod_kinematics(double l, double l_dot) const;
 
   /// Crank angle from its initial position for which the ideal mechanism closes at length l:
   /// the law-of-cosines angle gamma(l) - gamma(l0) of eq. 4.1 [rad].
@@ -49,13 +71,17 @@ class SliderCrank {
   /// theta' (eq. 4.17-4.21) [m, m/s].
   Vec3 crank_end(double theta) const;
   Vec3 crank_end_velocity(double theta, double theta_dot) const;
+  /// Both at once, and the crank's rotation, for crank angle theta and rate theta'.
+  CrankKinematics crank_kinematics(double theta, double theta_dot) const;
 
  private:
   double s_, t_, l0_;
   Vec3 O_, Q_;
-  double frame_angle_;   ///< direction of OQ [rad]
-  double crank_angle0_;  ///< direction of QP at actuator zero [rad]
-  double gamma0_;        ///< angle at Q at actuator zero [rad]
+  double frame_angle_;                          ///< direction of OQ [rad]
+  double crank_angle0_;                         ///< direction of QP at actuator zero [rad]
+  double gamma0_;                               ///< angle at Q at actuator zero [rad]
+  double cos_frame_ = 1.0, sin_frame_ = 0.0;    ///< of frame_angle_
+  double cos_crank0_ = 1.0, sin_crank0_ = 0.0;  ///< of crank_angle0_
 };
 
 }  // namespace rodend
