@@ -519,15 +519,6 @@ std::optional<std::string> find_nul(const Json& doc) {
   return std::nullopt;
 }
 
-/// A path the study names for its results ("output"): not empty, no NUL (checked before).
-fs::path output_path(const Json& v) {
-  const std::string s = need_string(v, "output");
-  if (s.empty())
-    throw InputError("output",
-                     "expected a non-empty directory path (or no \"output\" key: "
-                     "results/<name>)");
-  return fs::path(s);
-}
 
 }  // namespace
 
