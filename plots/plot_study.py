@@ -254,7 +254,7 @@ def bottom_legend(fig, handles, labels):
 
 
 def clearance_lines(ax, cases, style, factor, both_signs=False):
-    """Dashed clearance level(s); returns the legend entry."""
+    """Dotted clearance level(s); returns the legend entry."""
     values = [(c, clearance_of(c)) for c in cases if clearance_of(c)]
     if not values:
         return None
@@ -265,16 +265,16 @@ def clearance_lines(ax, cases, style, factor, both_signs=False):
             continue
         drawn.add(v)
         color = style(c) if vary else "k"
-        ax.axhline(v * factor, color=color, ls="--", lw=0.9, alpha=0.8)
+        ax.axhline(v * factor, color=color, ls=":", lw=0.9, alpha=0.8)
         if both_signs:
-            ax.axhline(-v * factor, color=color, ls="--", lw=0.9, alpha=0.8)
-    label = "clearance (dashed, case colour)" if vary else \
-        f"clearance {format_value(values[0][1] * 1e3)} mm (dashed)"
-    return Line2D([], [], color="k" if not vary else "0.4", ls="--", lw=0.9), label
+            ax.axhline(-v * factor, color=color, ls=":", lw=0.9, alpha=0.8)
+    label = "clearance (dotted, case colour)" if vary else \
+        f"clearance {format_value(values[0][1] * 1e3)} mm (dotted)"
+    return Line2D([], [], color="k" if not vary else "0.4", ls=":", lw=0.9), label
 
 
 def clearance_circle(ax, cases, style, factor, polar):
-    """Dashed clearance circle(s) in a polar or cartesian axes; returns the legend entry."""
+    """Dotted clearance circle(s) in a polar or cartesian axes; returns the legend entry."""
     values = [(c, clearance_of(c)) for c in cases if clearance_of(c)]
     if not values:
         return None
@@ -288,14 +288,14 @@ def clearance_circle(ax, cases, style, factor, polar):
         color = style(c) if vary else "k"
         lw, alpha = (1.0, 0.7) if vary else (1.3, 0.9)
         if polar:
-            ax.plot(th, np.full_like(th, v * factor), color=color, ls="--", lw=lw, alpha=alpha,
+            ax.plot(th, np.full_like(th, v * factor), color=color, ls=":", lw=lw, alpha=alpha,
                     zorder=2)
         else:
-            ax.plot(v * factor * np.cos(th), v * factor * np.sin(th), color=color, ls="--",
+            ax.plot(v * factor * np.cos(th), v * factor * np.sin(th), color=color, ls=":",
                     lw=lw, alpha=alpha, zorder=2)
-    label = "clearance circle (dashed, case colour)" if vary else \
-        f"clearance circle {format_value(values[0][1] * 1e3)} mm (dashed)"
-    return Line2D([], [], color="k" if not vary else "0.4", ls="--", lw=1.3), label
+    label = "clearance circle (dotted, case colour)" if vary else \
+        f"clearance circle {format_value(values[0][1] * 1e3)} mm (dotted)"
+    return Line2D([], [], color="k" if not vary else "0.4", ls=":", lw=1.3), label
 
 
 def contact_angles(case):
