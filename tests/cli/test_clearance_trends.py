@@ -1,5 +1,5 @@
-"""Thesis §5.2 trends, checked on the summary of the shipped clearance study: with a larger
-clearance the first-impact peak contact force grows, so does the peak-to-peak eccentricity
+"""Thesis §5.2 trends, checked on the summary of the shipped kinematic clearance study
+(studies/clearance-kinematic.json): with a larger clearance the first-impact peak contact force grows, so does the peak-to-peak eccentricity
 oscillation after the first contact, and the surface starts to move later."""
 import os
 import sys
