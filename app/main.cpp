@@ -19,8 +19,10 @@ using namespace rodend;
 namespace {
 
 void print_dry_run(const Study& s) {
-  std::cout << "study " << s.name << ": scene " << s.scene << ", " << s.cases.size()
-            << " case(s), results in " << s.output_dir.string() << "\n";
+  std::string scenes;
+  for (const auto& n : s.scenes) scenes += (scenes.empty() ? "" : ", ") + n;
+  std::cout << "study " << s.name << ": scene" << (s.scenes.size() > 1 ? "s " : " ") << scenes
+            << ", " << s.cases.size() << " case(s), results in " << s.output_dir.string() << "\n";
   std::cout << "index\tcase_id\tmethod\tend_s";
   for (const auto& k : s.axis_keys) std::cout << "\t" << k;
   std::cout << "\n";

@@ -17,11 +17,17 @@ Figures (file stem: what, thesis figure):
   trajectories_xy_xz       xy and xz trajectories when the ball leaves the xy-plane (5.18-5.20)
   first_impact_force       summary metric first_impact_peak_force against the first numeric grid axis (5.15)
   hydraulics               chamber pressures and flows, spool, actuator load (6.16-6.22)
+  spring_forces            outer and inner 3-D spring forces and moments (5.3, 5.7, 5.8, 6.13-6.14, 6.27-6.28)
+  hinge_moment             applied hinge moment, surface angle, actuator position (6.23-6.25)
   actuator_response        piston position against command and LVDT, velocity, current, jet pipe (6.10-6.11)
   phase_fft                surface angular acceleration against rate, and its amplitude spectrum
   energy_audit             mechanical-energy change, input work, dissipation, residual
   ball_motion              ball (and socket) motion and forces, scenes without a mechanism (3.24, 3.26)
   body_motion              free-body position, velocity, attitude, rates (3.21-3.23)
+
+When the scene is a grid axis (kinematic and full-system runs in one study), the colour names
+the grid point without the scene and the line style names the scene, so the curves the thesis
+compares (fig. 6.11-6.15) are overlaid.
 
 Needs only Debian's numpy, h5py and matplotlib (Agg backend).
 """
@@ -157,34 +163,69 @@ def clearances_vary(cases):
     return len(values) > 1
 
 
+SCENE_LINES = ["-", "--", ":", "-."]
+
+
 class Style:
-    """One colour per case, fixed for the whole study so every figure matches."""
+    """One colour per case, fixed for the whole study so every figure matches. When the scene
+    is a grid axis (kinematic and full-system runs side by side), the colour names the grid
+    point without the scene and the line style names the scene (ls), so the runs the thesis
+    compares (fig. 6.11-6.15) are overlaid in the same colour."""
 
     def __init__(self, study):
         cases = study.cases()
-        n = len(cases)
+        self.scenes = study.scenes
+        self.line = {s: SCENE_LINES[i % len(SCENE_LINES)] for i, s in enumerate(self.scenes)}
+        if len(self.scenes) > 1:
+            keys = []
+            for c in cases:
+                k = json_key({k: v for k, v in c.coordinates.items() if k != "scene"})
+                if k not in keys:
+                    keys.append(k)
+            key_of = {c.id: json_key({k: v for k, v in c.coordinates.items() if k != "scene"})
+                      for c in cases}
+        else:
+            keys = [c.id for c in cases]
+            key_of = {c.id: c.id for c in cases}
+        n = len(keys)
         if n <= 10:
             cmap = plt.get_cmap("tab10")
             colors = [cmap(i) for i in range(n)]
         else:
             cmap = plt.get_cmap("viridis")
             colors = [cmap(i / max(n - 1, 1)) for i in range(n)]
-        self.color = {c.id: colors[i] for i, c in enumerate(cases)}
+        by_key = dict(zip(keys, colors))
+        self.color = {cid: by_key[k] for cid, k in key_of.items()}
 
     def __call__(self, case):
         return self.color.get(case.id, "k")
 
+    def ls(self, case):
+        """Line style of the case's scene (solid when the study has one scene)."""
+        return self.line.get(case.scene, "-")
+
+    def scene_entries(self):
+        """Legend entries naming the line style of each scene (none for a single scene)."""
+        if len(self.scenes) < 2:
+            return []
+        return [(Line2D([], [], color="0.3", ls=self.line[s], lw=1.5), f"{s} ({self.line[s]})")
+                for s in self.scenes]
+
+
+def json_key(d):
+    return tuple(sorted((k, format_value(v)) for k, v in d.items()))
+
 
 def title(study, text):
-    return f"{text}\nstudy {study.name} ({study.scene}, {len(study.cases())} case(s))"
+    return f"{text}\nstudy {study.name} ({', '.join(study.scenes)}, {len(study.cases())} case(s))"
 
 
 def case_legend(fig, cases, style, extra=()):
     """A figure legend below the axes naming each case's grid coordinates (plus extra
     (handle, label) entries)."""
-    handles = [Line2D([], [], color=style(c), lw=2) for c in cases]
+    handles = [Line2D([], [], color=style(c), ls=style.ls(c), lw=2) for c in cases]
     labels = [c.label for c in cases]
-    for h, l in extra:
+    for h, l in list(style.scene_entries()) + list(extra):
         handles.append(h)
         labels.append(l)
     return bottom_legend(fig, handles, labels)
@@ -213,7 +254,7 @@ def bottom_legend(fig, handles, labels):
 
 
 def clearance_lines(ax, cases, style, factor, both_signs=False):
-    """Dashed clearance level(s); returns the legend entry."""
+    """Dotted clearance level(s); returns the legend entry."""
     values = [(c, clearance_of(c)) for c in cases if clearance_of(c)]
     if not values:
         return None
@@ -224,16 +265,16 @@ def clearance_lines(ax, cases, style, factor, both_signs=False):
             continue
         drawn.add(v)
         color = style(c) if vary else "k"
-        ax.axhline(v * factor, color=color, ls="--", lw=0.9, alpha=0.8)
+        ax.axhline(v * factor, color=color, ls=":", lw=0.9, alpha=0.8)
         if both_signs:
-            ax.axhline(-v * factor, color=color, ls="--", lw=0.9, alpha=0.8)
-    label = "clearance (dashed, case colour)" if vary else \
-        f"clearance {format_value(values[0][1] * 1e3)} mm (dashed)"
-    return Line2D([], [], color="k" if not vary else "0.4", ls="--", lw=0.9), label
+            ax.axhline(-v * factor, color=color, ls=":", lw=0.9, alpha=0.8)
+    label = "clearance (dotted, case colour)" if vary else \
+        f"clearance {format_value(values[0][1] * 1e3)} mm (dotted)"
+    return Line2D([], [], color="k" if not vary else "0.4", ls=":", lw=0.9), label
 
 
 def clearance_circle(ax, cases, style, factor, polar):
-    """Dashed clearance circle(s) in a polar or cartesian axes; returns the legend entry."""
+    """Dotted clearance circle(s) in a polar or cartesian axes; returns the legend entry."""
     values = [(c, clearance_of(c)) for c in cases if clearance_of(c)]
     if not values:
         return None
@@ -247,14 +288,14 @@ def clearance_circle(ax, cases, style, factor, polar):
         color = style(c) if vary else "k"
         lw, alpha = (1.0, 0.7) if vary else (1.3, 0.9)
         if polar:
-            ax.plot(th, np.full_like(th, v * factor), color=color, ls="--", lw=lw, alpha=alpha,
+            ax.plot(th, np.full_like(th, v * factor), color=color, ls=":", lw=lw, alpha=alpha,
                     zorder=2)
         else:
-            ax.plot(v * factor * np.cos(th), v * factor * np.sin(th), color=color, ls="--",
+            ax.plot(v * factor * np.cos(th), v * factor * np.sin(th), color=color, ls=":",
                     lw=lw, alpha=alpha, zorder=2)
-    label = "clearance circle (dashed, case colour)" if vary else \
-        f"clearance circle {format_value(values[0][1] * 1e3)} mm (dashed)"
-    return Line2D([], [], color="k" if not vary else "0.4", ls="--", lw=1.3), label
+    label = "clearance circle (dotted, case colour)" if vary else \
+        f"clearance circle {format_value(values[0][1] * 1e3)} mm (dotted)"
+    return Line2D([], [], color="k" if not vary else "0.4", ls=":", lw=1.3), label
 
 
 def contact_angles(case):
@@ -275,8 +316,8 @@ def fig_eccentricity_force(study, cases, style):
     for c in cases:
         t, e, f = sigs(c, "time", "eccentricity", "contact_force")
         e, e_unit = shown(e, c.unit("eccentricity"))
-        ax1.plot(t, e, color=style(c), lw=0.9)
-        ax2.plot(t, f, color=style(c), lw=0.9)
+        ax1.plot(t, e, color=style(c), ls=style.ls(c), lw=0.9)
+        ax2.plot(t, f, color=style(c), ls=style.ls(c), lw=0.9)
     factor = DISPLAY.get(cases[0].unit("eccentricity"), ("", 1.0))[1]
     extra = [x for x in [clearance_lines(ax1, cases, style, factor)] if x]
     ax1.set_ylabel(axis_label("eccentricity |e|", e_unit))
@@ -285,6 +326,10 @@ def fig_eccentricity_force(study, cases, style):
     for ax in (ax1, ax2):
         ax.grid(True, alpha=0.3)
     ref = {"gravity-drop": "3.24", "spring-contact": "3.26"}.get(study.scene, "5.2")
+    if len(study.scenes) > 1:
+        ref = "6.12"
+    elif study.scene == "rod-end-actuator":
+        ref = "5.2, 6.12, 6.24"
     fig.suptitle(title(study, f"Eccentricity and contact force (thesis fig. {ref})"))
     case_legend(fig, cases, style, extra)
     return fig
@@ -305,7 +350,7 @@ def fig_polar_relative_position(study, cases, style):
         theta = np.full(len(r), np.nan)
         ok = np.isfinite(radius)
         theta[ok] = np.unwrap(np.arctan2(r[ok, 1], r[ok, 0]))   # no jumps across ±180°
-        ax.plot(theta, radius, color=style(c), lw=1.3, zorder=3)
+        ax.plot(theta, radius, color=style(c), ls=style.ls(c), lw=1.3, zorder=3)
         rmax = max(rmax, finite_max(radius))
         if clearance_of(c):
             rmax = max(rmax, clearance_of(c) * factor)
@@ -425,10 +470,10 @@ def fig_surface_angle(study, cases, style):
     for c in cases:
         t, a = sigs(c, "time", "surface_angle")
         a, unit = shown(a, c.unit("surface_angle"))
-        ax.plot(t, a, color=style(c), lw=1.0)
+        ax.plot(t, a, color=style(c), ls=style.ls(c), lw=1.0)
         if diff:
             r, _ = shown(np.interp(t, t0, a0, left=np.nan, right=np.nan), ref.unit("surface_angle"))
-            axes[1, 0].plot(t, a - r, color=style(c), lw=1.0)
+            axes[1, 0].plot(t, a - r, color=style(c), ls=style.ls(c), lw=1.0)
     ax.set_ylabel(axis_label("surface angle θ", unit))
     if diff:
         axes[1, 0].set_ylabel(axis_label("θ − θ of the first case", unit))
@@ -436,7 +481,8 @@ def fig_surface_angle(study, cases, style):
     axes[-1, 0].set_xlabel(axis_label("time", cases[0].unit("time")))
     for a_ in axes[:, 0]:
         a_.grid(True, alpha=0.3)
-    fig.suptitle(title(study, "Control-surface angle (thesis fig. 5.17)"))
+    fig.suptitle(title(study, "Control-surface angle (thesis fig. 5.17"
+                              + (", 6.11" if len(study.scenes) > 1 else "") + ")"))
     case_legend(fig, cases, style)
     return fig
 
@@ -454,8 +500,8 @@ def fig_trajectories(study, cases, style):
     for c in cases:
         r = sig(c, "relative_position")
         r, unit = shown(r, c.unit("relative_position"))
-        axy.plot(r[:, 0], r[:, 1], color=style(c), lw=0.8)
-        axz.plot(r[:, 0], r[:, 2], color=style(c), lw=0.8)
+        axy.plot(r[:, 0], r[:, 1], color=style(c), ls=style.ls(c), lw=0.8)
+        axz.plot(r[:, 0], r[:, 2], color=style(c), ls=style.ls(c), lw=0.8)
         axy.plot(r[0, 0], r[0, 1], "o", color=style(c), ms=4)
         axz.plot(r[0, 0], r[0, 2], "o", color=style(c), ms=4)
     factor = DISPLAY.get(cases[0].unit("relative_position"), ("", 1.0))[1]
@@ -590,7 +636,7 @@ def fig_hydraulics(study, cases, style):
             t, v = sigs(c, "time", name)
             v, unit = shown(v, c.unit(name))
             v = v.reshape(len(t), -1)
-            ax.plot(t, v[:, 0 if k is None else k], color=style(c), lw=0.9)
+            ax.plot(t, v[:, 0 if k is None else k], color=style(c), ls=style.ls(c), lw=0.9)
         quantity = {"chamber_pressures": "pressure", "chamber_pressure": "pressure",
                     "chamber_flows": "flow", "chamber_flow": "flow",
                     "spool_position": "position", "actuator_external_force": "force"}[name]
@@ -624,6 +670,82 @@ def fig_actuator_response(study, cases, style):
             rows.append((quantity, [(name, "-", what)]))
     return time_rows("Actuator response to its command (thesis fig. 6.10-6.11)",
                      study, cases, style, rows)
+
+
+@figure("spring_forces", "spring forces and moments (fig. 5.3, 5.7, 5.8, 6.13, 6.14, 6.27, 6.28)")
+def fig_spring_forces(study, cases, style):
+    # (panel title, signal, component)
+    panels = [("outer (rod-socket) spring force, x (fig. 5.3, 6.13, 6.27)", "slider_spring_force", 0),
+              ("outer (rod-socket) spring force, y (fig. 6.13, 6.27)", "slider_spring_force", 1),
+              ("inner (ball-crank) spring force, x (fig. 5.7, 6.14, 6.28)", "crank_spring_force", 0),
+              ("inner (ball-crank) spring force, y (fig. 6.14, 6.28)", "crank_spring_force", 1),
+              ("outer spring moment, z (fig. 5.8)", "slider_spring_moment", 2),
+              ("inner spring moment, z", "crank_spring_moment", 2)]
+    cases = with_signals(cases, "slider_spring_force", "crank_spring_force")
+    # a z component that moves (misalignment): its own panels
+    for name, what in (("slider_spring_force", "outer"), ("crank_spring_force", "inner")):
+        if any(2 in moving_components(sig(c, name)) for c in cases):
+            panels.append((f"{what} spring force, z", name, 2))
+    panels = [p for p in panels if any(c.has(p[1]) for c in cases)]
+    nrow = int(math.ceil(len(panels) / 2))
+    fig, axes = plt.subplots(nrow, 2, sharex=True, figsize=(12.4, 2.5 * nrow + 1.4),
+                             layout="constrained", squeeze=False)
+    axes = axes.ravel()
+    for ax in axes[len(panels):]:
+        ax.set_visible(False)
+    for ax, (what, name, k) in zip(axes, panels):
+        unit = ""
+        for c in cases:
+            if not c.has(name):
+                continue
+            t, v = sigs(c, "time", name)
+            v = v.reshape(len(t), -1)
+            unit = c.unit(name)
+            ax.plot(t, v[:, k], color=style(c), ls=style.ls(c), lw=0.9)
+        ax.axhline(0.0, color="0.5", lw=0.6)
+        ax.set_ylabel(axis_label("moment" if "moment" in name else "force", unit))
+        ax.set_title(what, fontsize="small", loc="left")
+        ax.grid(True, alpha=0.3)
+    for i, ax in enumerate(axes[:len(panels)]):
+        if i + 2 >= len(panels):
+            ax.set_xlabel(axis_label("time", cases[0].unit("time")))
+            ax.xaxis.set_tick_params(labelbottom=True)
+    fig.suptitle(title(study, "3-D spring forces (on the socket and on the ball) and moments "
+                              "(thesis fig. 5.3, 5.7, 5.8, 6.13-6.14, 6.27-6.28)"))
+    case_legend(fig, cases, style)
+    return fig
+
+
+@figure("hinge_moment", "applied hinge moment and surface angle (fig. 6.23-6.25)")
+def fig_hinge_moment(study, cases, style):
+    cases = with_signals(cases, "hinge_moment", "surface_angle")
+    if not any(np.nanmax(np.abs(sig(c, "hinge_moment")), initial=0.0) > 0 for c in cases):
+        raise Skip("no hinge moment in any case")
+    rows = 3 if any(c.has("actuator_position") for c in cases) else 2
+    fig, axes = plt.subplots(rows, 1, sharex=True, figsize=(8.5, 2.4 * rows + 1.6),
+                             layout="constrained")
+    for c in cases:
+        t, m, a = sigs(c, "time", "hinge_moment", "surface_angle")
+        axes[0].plot(t, m, color=style(c), ls=style.ls(c), lw=0.9)
+        a, a_unit = shown(a, c.unit("surface_angle"))
+        axes[1].plot(t, a, color=style(c), ls=style.ls(c), lw=0.9)
+        if rows == 3 and c.has("actuator_position"):
+            x, x_unit = shown(sig(c, "actuator_position"), c.unit("actuator_position"))
+            axes[2].plot(t, x, color=style(c), ls=style.ls(c), lw=0.9)
+            axes[2].set_ylabel(axis_label("actuator position", x_unit))
+    axes[0].set_ylabel(axis_label("hinge moment", cases[0].unit("hinge_moment")))
+    axes[0].set_title("applied hinge moment, counter-clockwise positive (fig. 6.25)",
+                      fontsize="small", loc="left")
+    axes[1].set_ylabel(axis_label("surface angle θ", a_unit))
+    if rows == 3:
+        axes[2].set_title("actuator position (fig. 6.23)", fontsize="small", loc="left")
+    axes[-1].set_xlabel(axis_label("time", cases[0].unit("time")))
+    for ax in axes:
+        ax.grid(True, alpha=0.3)
+    fig.suptitle(title(study, "Applied hinge moment, surface angle and actuator position "
+                              "(thesis fig. 6.23-6.25)"))
+    case_legend(fig, cases, style)
+    return fig
 
 
 @figure("phase_fft", "phase diagram and FFT of the surface acceleration")

@@ -295,6 +295,16 @@ class Study:
                 self._cases.append(case)
         return list(self._cases)
 
+    @property
+    def scenes(self):
+        """Every scene of the study in order of first use (several when the scene is a grid
+        axis: kinematic and full-system runs side by side)."""
+        out = []
+        for c in self.cases():
+            if c.scene not in out:
+                out.append(c.scene)
+        return out or ([self.scene] if self.scene else [])
+
     def numeric_grid_keys(self):
         """Grid columns holding numbers, in column order."""
         return [k for k in self.grid_keys

@@ -597,6 +597,7 @@ CaseRecord read_case_locked(const fs::path& path) {
       cx.fail("unsupported schema_version");
     r.id = read_attr_string(cx, g, "case_id");
     r.index = static_cast<long>(read_attr_int64(cx, g, "case_index"));
+    r.scene = read_attr_string(cx, g, "scene");
     r.coordinates = Json::parse(read_attr_string(cx, g, "coordinates_json"));
     r.status = read_attr_string(cx, g, "status");
     r.message = read_attr_string(cx, g, "message");
@@ -659,15 +660,21 @@ std::vector<Column> summary_columns(const Study& study, const std::vector<CaseRe
        [](const CaseRecord& r) { return r.id; });
   integer("case_index", "1", "position of the case in the expanded grid, 0-based",
           [](const CaseRecord& r) { return static_cast<long long>(r.index); });
+  text("scene", "", "the case's scene (a grid coordinate when the study's scene is a grid axis)",
+       [](const CaseRecord& r) { return r.scene; });
 
   // grid coordinates: numeric columns when every value is a number, else text (strings as
   // they are, other values as compact JSON); a missing value is NaN or ""
   for (const std::string& key : study.axis_keys) {
+    if (key == "scene") continue;  // the scene column above
     std::string unit;
     if (key.rfind("parameters.", 0) == 0 && !study.cases.empty()) {
       const std::string path = key.substr(11);
-      if (study.cases.front().parameters.has(path))
-        unit = study.cases.front().parameters.unit(path);
+      for (const CaseSpec& c : study.cases)  // with a scene axis, not every scene has it
+        if (c.parameters.has(path)) {
+          unit = c.parameters.unit(path);
+          break;
+        }
     }
     const std::string desc = "grid coordinate " + key;
     const bool numeric = std::all_of(rows.begin(), rows.end(), [&](const CaseRecord& r) {

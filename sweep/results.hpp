@@ -45,6 +45,7 @@ struct History {
 struct CaseRecord {
   std::string id;
   long index = 0;
+  std::string scene;  ///< the case's scene
   Json coordinates = Json::object();
   std::string status;      ///< "ok" or a RunStatus name
   std::string message;     ///< empty when ok

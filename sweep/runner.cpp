@@ -151,6 +151,7 @@ CaseRecord run_case(const CaseSpec& spec, History& history) {
   CaseRecord rec;
   rec.id = spec.id;
   rec.index = spec.index;
+  rec.scene = spec.scene;
   rec.coordinates = spec.coordinates;
   rec.started_utc = utc_now();
   const auto t0 = std::chrono::steady_clock::now();

@@ -213,6 +213,9 @@ struct Draft {
   HealthLimits health;
   MetricsSettings metrics;
   WearEvolutionSettings wear_evolution;
+  /// scene-axis studies: a parameter key this case's scene does not have is skipped (the study
+  /// checks that some scene of it has the key)
+  bool skip_absent_parameters = false;
 };
 
 /// Applies one setting addressed by a full key path (parameters.*, integrator.*, time.*,
@@ -224,6 +227,7 @@ void apply(Draft& d, const std::string& key, const Json& v) {
   if (field.empty())
     throw InputError(key, "expected a key path such as parameters.contact.clearance");
   if (section == "parameters") {
+    if (d.skip_absent_parameters && !d.parameters.has(field)) return;
     try {
       d.parameters.set(field, v);
     } catch (const InputError& e) {
@@ -404,6 +408,7 @@ void apply_section(Draft& d, const Json& doc, const std::string& section) {
 
 struct Axis {
   std::vector<std::string> keys;          // several for a zip group
+  std::vector<std::string> wheres;        // per key, its place in the study ("grid[0].zip[1]")
   std::vector<std::vector<Json>> values;  // per key, same length
   std::size_t size() const { return values.empty() ? 0 : values.front().size(); }
 };
@@ -464,6 +469,7 @@ Axis parse_axis(const Json& a, const std::string& where) {
         throw InputError(w, "zip members must have the same length: " + std::to_string(m.size()) +
                                 " vs " + std::to_string(axis.size()));
       axis.keys.push_back(m.keys[0]);
+      axis.wheres.push_back(m.wheres[0]);
       axis.values.push_back(m.values[0]);
     }
     return axis;
@@ -479,6 +485,7 @@ Axis parse_axis(const Json& a, const std::string& where) {
   axis.keys.push_back(need_string(a["key"], where + ".key"));
   if (axis.keys.back().empty())
     throw InputError(where + ".key", "expected a key path such as parameters.contact.clearance");
+  axis.wheres.push_back(where);
   axis.values.push_back(expand_values(a, where));
   return axis;
 }
@@ -551,51 +558,8 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
       throw InputError("name", "expected a non-empty name without '/'");
     study.description =
         doc.contains("description") ? need_string(doc["description"], "description") : "";
-    if (!doc.contains("scene")) throw InputError("scene", "missing: which scene to run");
-    study.scene = need_string(doc["scene"], "scene");
     study.output_dir = results_root / study.name;
     if (doc.contains("output")) parse_output(doc["output"], study);
-
-    // the base draft: defaults, then the study's sections
-    Draft base;
-    base.scene = study.scene;
-    base.parameters = ParameterSet::defaults_for(study.scene);  // unknown scene -> key "scene"
-    base.integrator = *preset_settings(study.scene, kDefaultPreset);  // overridden below
-    if (!doc.contains("time"))
-      throw InputError("time", "missing: {\"end\": ..., \"sample_interval\": ...}");
-    for (const char* section :
-         {"parameters", "integrator", "time", "health", "metrics", "wear_evolution"})
-      apply_section(base, doc, section);
-    if (!doc["time"].contains("end")) throw InputError("time.end", "missing: the end time [s]");
-    if (!doc["time"].contains("sample_interval"))
-      throw InputError("time.sample_interval", "missing: the history sample interval [s]");
-
-    // recorded signals: "all" (default) or a list of names the scene provides
-    std::vector<SignalId> signals;
-    {
-      // the scene's signal list needs a built scene; the base draft must build
-      const auto scene = build_checked(study.scene, base.parameters);
-      const auto provided = scene->signals();
-      const Json sel = doc.contains("signals") ? doc["signals"] : Json("all");
-      if (sel.is_string() && sel.get<std::string>() == "all") {
-        signals.assign(provided.begin(), provided.end());
-      } else if (sel.is_array()) {
-        signals.push_back(SignalId::time);
-        for (std::size_t i = 0; i < sel.size(); ++i) {
-          const std::string key = "signals[" + std::to_string(i) + "]";
-          const std::string name = need_string(sel[i], key);
-          const auto id = signal_by_name(name);
-          if (!id) throw InputError(key, "unknown signal '" + name + "' (see `rodend signals`)");
-          if (std::find(provided.begin(), provided.end(), *id) == provided.end())
-            throw InputError(key, "signal '" + name + "' is not recorded by scene " + study.scene);
-          if (std::find(signals.begin(), signals.end(), *id) == signals.end())
-            signals.push_back(*id);
-        }
-        std::sort(signals.begin(), signals.end());
-      } else {
-        throw InputError("signals", "expected \"all\" or an array of signal names");
-      }
-    }
 
     // the grid: axes, each a single key or a zip group; cartesian product, last axis fastest
     std::vector<Axis> axes;
@@ -605,6 +569,137 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
       for (std::size_t i = 0; i < g.size(); ++i)
         axes.push_back(parse_axis(g[i], "grid[" + std::to_string(i) + "]"));
     }
+
+    // the scenes: the "scene" key, or the values of the grid axis "scene"
+    const Axis* scene_axis = nullptr;
+    std::size_t scene_member = 0;
+    for (const Axis& a : axes)
+      for (std::size_t k = 0; k < a.keys.size(); ++k)
+        if (a.keys[k] == "scene" && !scene_axis) {
+          scene_axis = &a;
+          scene_member = k;
+        }
+    if (scene_axis) {
+      if (doc.contains("scene"))
+        throw InputError("scene", "the scene is also a grid axis (" +
+                                      scene_axis->wheres[scene_member] + "): give it in one place");
+      const auto& values = scene_axis->values[scene_member];
+      for (std::size_t j = 0; j < values.size(); ++j) {
+        const std::string where =
+            scene_axis->wheres[scene_member] + ".values[" + std::to_string(j) + "]";
+        const std::string name = need_string(values[j], where);
+        try {
+          (void)ParameterSet::defaults_for(name);
+        } catch (const InputError& e) {
+          throw InputError(where, e.problem());
+        }
+        if (std::find(study.scenes.begin(), study.scenes.end(), name) == study.scenes.end())
+          study.scenes.push_back(name);
+      }
+    } else {
+      if (!doc.contains("scene"))
+        throw InputError("scene", "missing: which scene to run (or a grid axis \"scene\")");
+      study.scene = need_string(doc["scene"], "scene");
+      study.scenes = {study.scene};
+    }
+    const bool several = scene_axis != nullptr;
+    auto scene_list = [&] {
+      std::string out;
+      for (const std::string& n : study.scenes) out += (out.empty() ? "" : ", ") + n;
+      return out;
+    };
+
+    // with a scene axis, a parameter key (study level or grid) applies where the case's scene
+    // has it; one that no scene of the study has is an error (a typo)
+    if (several) {
+      std::vector<ParameterSet> defaults;
+      for (const std::string& n : study.scenes) defaults.push_back(ParameterSet::defaults_for(n));
+      auto check_known = [&](const std::string& path, const std::string& where) {
+        if (std::none_of(defaults.begin(), defaults.end(),
+                         [&](const ParameterSet& p) { return p.has(path); }))
+          throw InputError(where, "no scene of this study (" + scene_list() + ") has parameter '" +
+                                      path + "' (see `rodend params SCENE`)");
+      };
+      if (doc.contains("parameters")) {
+        std::vector<std::pair<std::string, Json>> flat;
+        flatten(need_object(doc["parameters"], "parameters"), "", flat);
+        for (const auto& [k, v] : flat) check_known(k, "parameters." + k);
+      }
+      for (const Axis& a : axes)
+        for (std::size_t k = 0; k < a.keys.size(); ++k)
+          if (a.keys[k].rfind("parameters.", 0) == 0)
+            check_known(a.keys[k].substr(11), a.wheres[k] + ".key");
+    }
+    if (!doc.contains("time"))
+      throw InputError("time", "missing: {\"end\": ..., \"sample_interval\": ...}");
+
+    // one base draft per scene: its defaults and preset, then the study's sections; and the
+    // signals it records: "all" (default) or a list of names
+    const Json sel = doc.contains("signals") ? doc["signals"] : Json("all");
+    const bool all_signals = sel.is_string() && sel.get<std::string>() == "all";
+    if (!all_signals && !sel.is_array())
+      throw InputError("signals", "expected \"all\" or an array of signal names");
+    std::vector<Draft> bases;
+    std::vector<std::vector<SignalId>> scene_signals;
+    std::vector<bool> signal_provided(all_signals ? 0 : sel.size(), false);
+    for (const std::string& name : study.scenes) {
+      Draft base;
+      base.scene = name;
+      base.skip_absent_parameters = several;
+      base.parameters = ParameterSet::defaults_for(name);        // unknown scene -> key "scene"
+      base.integrator = *preset_settings(name, kDefaultPreset);  // overridden below
+      try {
+        for (const char* section :
+             {"parameters", "integrator", "time", "health", "metrics", "wear_evolution"})
+          apply_section(base, doc, section);
+      } catch (const InputError& e) {
+        if (!several) throw;
+        throw InputError(e.key_path(), e.problem() + " (scene " + name + ")");
+      }
+      if (!doc["time"].contains("end")) throw InputError("time.end", "missing: the end time [s]");
+      if (!doc["time"].contains("sample_interval"))
+        throw InputError("time.sample_interval", "missing: the history sample interval [s]");
+
+      std::vector<SignalId> signals;
+      // the scene's signal list needs a built scene; the base draft must build
+      std::unique_ptr<Scene> scene;
+      try {
+        scene = build_checked(name, base.parameters);
+      } catch (const InputError& e) {
+        if (!several) throw;
+        throw InputError(e.key_path(), e.problem() + " (scene " + name + ")");
+      }
+      const auto provided = scene->signals();
+      if (all_signals) {
+        signals.assign(provided.begin(), provided.end());
+      } else {
+        signals.push_back(SignalId::time);
+        for (std::size_t i = 0; i < sel.size(); ++i) {
+          const std::string key = "signals[" + std::to_string(i) + "]";
+          const std::string sname = need_string(sel[i], key);
+          const auto id = signal_by_name(sname);
+          if (!id) throw InputError(key, "unknown signal '" + sname + "' (see `rodend signals`)");
+          if (std::find(provided.begin(), provided.end(), *id) == provided.end()) {
+            if (!several)
+              throw InputError(key,
+                               "signal '" + sname + "' is not recorded by scene " + study.scene);
+            continue;
+          }
+          signal_provided[i] = true;
+          if (std::find(signals.begin(), signals.end(), *id) == signals.end())
+            signals.push_back(*id);
+        }
+        std::sort(signals.begin(), signals.end());
+      }
+      bases.push_back(std::move(base));
+      scene_signals.push_back(std::move(signals));
+    }
+    for (std::size_t i = 0; i < signal_provided.size(); ++i)
+      if (!signal_provided[i])
+        throw InputError("signals[" + std::to_string(i) + "]",
+                         "signal '" + sel[i].get<std::string>() +
+                             "' is recorded by no scene of this study (" + scene_list() + ")");
+
     std::size_t total = 1;
     for (const Axis& a : axes) {
       for (const std::string& k : a.keys) {
@@ -640,7 +735,6 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
     }
     study.cases.reserve(total);
     for (std::size_t index = 0; index < total; ++index) {
-      Draft d = base;
       CaseSpec c;
       std::size_t rest = index;
       std::vector<std::size_t> pos(axes.size());
@@ -648,16 +742,25 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
         pos[a] = rest % axes[a].size();
         rest /= axes[a].size();
       }
+      std::size_t which = 0;  // the case's scene, an index into study.scenes
+      if (scene_axis) {
+        const std::string name =
+            scene_axis->values[scene_member][pos[scene_axis - axes.data()]].get<std::string>();
+        which = static_cast<std::size_t>(std::find(study.scenes.begin(), study.scenes.end(), name) -
+                                         study.scenes.begin());
+      }
+      Draft d = bases[which];
       try {
         for (std::size_t a = 0; a < axes.size(); ++a)
           for (std::size_t k = 0; k < axes[a].keys.size(); ++k) {
             const Json& v = axes[a].values[k][pos[a]];
             c.coordinates[axes[a].keys[k]] = v;
+            if (axes[a].keys[k] == "scene") continue;  // chosen above
             apply(d, axes[a].keys[k], v);
           }
         validate(d.integrator);
         validate(d.time);
-        check_history_size(d.time, signals);
+        check_history_size(d.time, scene_signals[which]);
         {
           const auto scene = build_checked(d.scene, d.parameters);  // the scene's own checks
           if (d.wear_evolution.enabled && !scene->wear_model())
@@ -684,7 +787,7 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
       c.health = d.health;
       c.metrics = d.metrics;
       c.wear_evolution = d.wear_evolution;
-      c.signals = signals;
+      c.signals = scene_signals[which];
       c.output = study.output;
       c.id = case_id(c);
       study.cases.push_back(std::move(c));

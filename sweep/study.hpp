@@ -1,6 +1,13 @@
 // Studies: a JSON file naming a scene, parameter overrides, a grid over parameters and
 // integrator settings, time settings and the signals to record. A single case is a study with
 // no grid. Every case is resolved and validated before anything runs.
+//
+// The scene may itself be a grid axis (key "scene", values scene names; then the top-level
+// "scene" key is absent). Each case resolves its own scene's defaults and preset; a study-level
+// or grid parameter key applies to the cases whose scene has it, and a key that no scene of the
+// study has is an error (a typo is caught). Recorded signals: "all" is each scene's own list; a
+// list of names records each where the case's scene provides it, and a name no scene provides
+// is an error.
 #pragma once
 
 #include <filesystem>
@@ -75,9 +82,12 @@ struct Study {
   std::filesystem::path file;  ///< the study file
   std::string name;            ///< "name" key, else the file stem
   std::string description;
-  std::string scene;
-  std::filesystem::path output_dir;    ///< "output" (or "output.directory"), else results/<name>
-  OutputSettings output;               ///< "output.compression_level", ".history_precision"
+  std::string scene;  ///< "scene" key; empty when the scene is a grid axis
+  /// every scene the study runs, in order of first use: {scene}, or the values of the grid
+  /// axis "scene" (kinematic and full-system runs side by side in one study)
+  std::vector<std::string> scenes;
+  std::filesystem::path output_dir;  ///< "output" (or "output.directory"), else results/<name>
+  OutputSettings output;             ///< "output.compression_level", ".history_precision"
   std::vector<std::string> axis_keys;  ///< grid coordinate keys, in axis order
   std::vector<CaseSpec> cases;
   Json source;  ///< the study file as parsed

@@ -83,6 +83,7 @@ CaseRecord make_record(const CaseSpec& spec) {
   CaseRecord r;
   r.id = spec.id;
   r.index = spec.index;
+  r.scene = spec.scene;
   r.coordinates = spec.coordinates;
   r.status = spec.index == 0 ? "ok" : "penetration_limit";
   r.message = spec.index == 0 ? "" : "penetration, \"deep\", at t = 0.01 s";
@@ -287,14 +288,16 @@ TEST_CASE("the summary has one header line and one line per case", "[results]") 
   REQUIRE(lines.size() == 3);
 
   std::string header =
-      "case_id,case_index,parameters.contact.clearance,status,message,t_reached_s,wall_time_s,"
+      "case_id,case_index,scene,parameters.contact.clearance,status,message,t_reached_s,"
+      "wall_time_s,"
       "steps_accepted,steps_rejected,rhs_calls,started_utc,finished_utc";
   for (const MetricSpec& m : metric_catalogue()) header += "," + std::string(m.name);
   CHECK(lines[0] == header);
 
   // first row: the id, index, the coordinate at full precision, empty message
-  CHECK(lines[1].rfind(rows[0].id + ",0,0.00050000000000000001,ok,,0.25,1.5,12345678901,17,98765,"
-                                    "2024-05-01T10:00:00Z,2024-05-01T10:00:02Z,",
+  CHECK(lines[1].rfind(rows[0].id + ",0," + study.cases[0].scene +
+                           ",0.00050000000000000001,ok,,0.25,1.5,12345678901,17,98765,"
+                           "2024-05-01T10:00:00Z,2024-05-01T10:00:02Z,",
                        0) == 0);
   // second row: a message with a comma and quotes is quoted, quotes doubled
   CHECK(lines[2].find(",penetration_limit,\"penetration, \"\"deep\"\", at t = 0.01 s\",") !=

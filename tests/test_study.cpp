@@ -1,4 +1,5 @@
 // Study loading: grid expansion (product, zip, generators), canonical case ids, validation.
+#include <algorithm>
 #include <catch2/catch.hpp>
 
 #include "sweep/study.hpp"
@@ -151,4 +152,114 @@ TEST_CASE("validation names the key path and, for a grid, the case", "[study]") 
   Json section = base_doc();
   section["grid"] = Json::parse(R"([{"key": "solver.rel_tol", "values": [1e-6]}])");
   CHECK_THAT(error_of(section), Catch::Contains("unknown section 'solver'"));
+}
+
+// --- the scene as a grid axis (issue 17) ----------------------------------------------------
+
+namespace {
+
+Json scene_axis_doc() {
+  return Json::parse(R"({
+    "name": "sa",
+    "time": {"end": 0.1, "sample_interval": 1e-3},
+    "grid": [{"key": "scene", "values": ["rod-end-kinematic", "rod-end-actuator"]},
+             {"key": "parameters.contact.clearance", "values": [2e-4, 5e-4]}]
+  })");
+}
+
+std::string error_of(const Json& doc) {
+  try {
+    (void)parse(doc);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("the scene is a grid axis: each case resolves its own scene's defaults", "[study]") {
+  const Study s = parse(scene_axis_doc());
+  REQUIRE(s.cases.size() == 4);
+  CHECK(s.scene.empty());
+  CHECK(s.scenes == std::vector<std::string>{"rod-end-kinematic", "rod-end-actuator"});
+  CHECK(s.axis_keys == std::vector<std::string>{"scene", "parameters.contact.clearance"});
+  CHECK(s.cases[0].scene == "rod-end-kinematic");
+  CHECK(s.cases[1].scene == "rod-end-kinematic");
+  CHECK(s.cases[2].scene == "rod-end-actuator");
+  CHECK(s.cases[2].coordinates["scene"] == "rod-end-actuator");
+  CHECK(s.cases[3].parameters.number("contact.clearance") == 5e-4);
+  // only the full system has an actuator; each records its own signals
+  CHECK_FALSE(s.cases[0].parameters.has("actuator.proportional_gain"));
+  CHECK(s.cases[2].parameters.has("actuator.proportional_gain"));
+  const auto has = [](const CaseSpec& c, SignalId id) {
+    return std::find(c.signals.begin(), c.signals.end(), id) != c.signals.end();
+  };
+  CHECK_FALSE(has(s.cases[0], SignalId::chamber_pressures));
+  CHECK(has(s.cases[2], SignalId::chamber_pressures));
+  CHECK(has(s.cases[0], SignalId::contact_force));
+}
+
+TEST_CASE("a scene-axis case has the id of the same case in a one-scene study", "[study]") {
+  const Study s = parse(scene_axis_doc());
+  for (const char* scene : {"rod-end-kinematic", "rod-end-actuator"}) {
+    Json one = Json::parse(R"({"name": "one", "time": {"end": 0.1, "sample_interval": 1e-3},
+      "grid": [{"key": "parameters.contact.clearance", "values": [2e-4, 5e-4]}]})");
+    one["scene"] = scene;
+    const Study o = parse(one);
+    for (std::size_t i = 0; i < 2; ++i) {
+      const std::size_t j = (std::string(scene) == "rod-end-kinematic" ? 0 : 2) + i;
+      CHECK(s.cases[j].id == o.cases[i].id);
+    }
+  }
+}
+
+TEST_CASE("a scene axis: overrides apply where the scene has the key, presets per scene",
+          "[study]") {
+  Json doc = scene_axis_doc();
+  doc["parameters"] = {{"actuator.proportional_gain", 3.0}, {"motion.extension", 0.06}};
+  doc["integrator"] = {{"preset", "fast"}};
+  const Study s = parse(doc);
+  CHECK(s.cases[2].parameters.number("actuator.proportional_gain") == 3.0);
+  CHECK_FALSE(s.cases[0].parameters.has("actuator.proportional_gain"));
+  CHECK(s.cases[0].parameters.number("motion.extension") == 0.06);
+  CHECK(s.cases[3].parameters.number("motion.extension") == 0.06);
+  // each scene's own "fast" preset (core/presets.cpp): dopri5 1e-7 kinematic, 1e-8 actuator
+  CHECK(s.cases[0].integrator.rel_tol == 1e-7);
+  CHECK(s.cases[2].integrator.rel_tol == 1e-8);
+}
+
+TEST_CASE("a scene axis: a key no scene has, or the scene in two places, is an error", "[study]") {
+  Json doc = scene_axis_doc();
+  doc["parameters"] = {{"actuator.proportional_gian", 3.0}};
+  std::string m = error_of(doc);
+  CHECK(m.find("parameters.actuator.proportional_gian") != std::string::npos);
+  CHECK(m.find("no scene of this study (rod-end-kinematic, rod-end-actuator)") !=
+        std::string::npos);
+
+  doc = scene_axis_doc();
+  doc["grid"][1]["key"] = "parameters.contact.clearence";
+  m = error_of(doc);
+  CHECK(m.find("grid[1].key") != std::string::npos);
+  CHECK(m.find("contact.clearence") != std::string::npos);
+
+  doc = scene_axis_doc();
+  doc["scene"] = "rod-end-kinematic";
+  m = error_of(doc);
+  CHECK(m.find("scene: the scene is also a grid axis (grid[0])") != std::string::npos);
+
+  doc = scene_axis_doc();
+  doc["grid"][0]["values"][1] = "rod-end-actuater";
+  m = error_of(doc);
+  CHECK(m.find("grid[0].values[1]: unknown scene 'rod-end-actuater'") != std::string::npos);
+
+  doc = scene_axis_doc();
+  doc["signals"] = {"contact_force", "jet_pipe_position", "body_position"};
+  m = error_of(doc);  // recorded where provided; one no scene records is an error
+  CHECK(m.find("signals[2]") != std::string::npos);
+  CHECK(m.find("recorded by no scene of this study") != std::string::npos);
+  doc["signals"] = {"contact_force", "jet_pipe_position"};
+  const Study s = parse(doc);
+  CHECK(s.cases[0].signals.size() == 2);  // time, contact_force
+  CHECK(s.cases[2].signals.size() == 3);  // time, contact_force, jet_pipe_position
 }

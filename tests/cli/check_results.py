@@ -49,12 +49,14 @@ def check_folder(folder):
         if listed:
             problems.append(f"{folder}: case file {cid} is not in the summary")
     statuses = collections.Counter()
-    scene = ""
+    scenes = []                 # several when the scene is a grid axis
     for path in cases:
         with h5py.File(path, "r") as f:
             status = text(f.attrs["status"])
             message = text(f.attrs["message"])
             scene = text(f.attrs["scene"])
+            if scene not in scenes:
+                scenes.append(scene)
             t_reached = float(f.attrs["t_reached_s"])
             statuses[status] += 1
             if status not in STATUSES:
@@ -77,7 +79,9 @@ def check_folder(folder):
             row = listed.get(os.path.basename(path)[:-3])
             if row is not None and row["status"] != status:
                 problems.append(f"{path}: status {status} but the summary says {row['status']}")
-    return scene, len(cases), statuses, problems
+            if row is not None and "scene" in row and row["scene"] != scene:
+                problems.append(f"{path}: scene {scene} but the summary says {row['scene']}")
+    return ", ".join(scenes), len(cases), statuses, problems
 
 
 def main(argv):

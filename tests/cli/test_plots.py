@@ -26,6 +26,8 @@ SKIP_LINE = {
     "first_impact_force": "skip first-impact peak force",
     "hydraulics": "skip hydraulics",
     "actuator_response": "skip actuator response",
+    "spring_forces": "skip spring forces and moments",
+    "hinge_moment": "skip applied hinge moment",
     "phase_fft": "skip phase diagram",
     "energy_audit": "skip energy audit",
     "ball_motion": "skip ball motion",
@@ -86,11 +88,30 @@ with tempfile.TemporaryDirectory() as tmp:
     r = plot([kin])
     expect_figures("kinematic", r, os.path.join(kin, "plots"),
                    {"eccentricity_force", "polar_relative_position", "polar_force_wear",
-                    "surface_angle", "first_impact_force", "phase_fft", "energy_audit"})
+                    "surface_angle", "first_impact_force", "phase_fft", "energy_audit",
+                    "spring_forces"})
     check("skip phase diagram" not in r.stdout, "kinematic: phase diagram skipped")
+    check(any(l.startswith("skip applied hinge moment") and "no hinge moment" in l
+              for l in r.stdout.splitlines()), f"kinematic: hinge-moment skip reason:\n{r.stdout}")
     check("not recorded" in next((l for l in r.stdout.splitlines()
                                   if l.startswith("skip hydraulics")), ""),
           f"kinematic: the hydraulics skip line does not say the signals are missing:\n{r.stdout}")
+
+    # the scene as a grid axis (kinematic and full system side by side) with a hinge moment:
+    # the figures of both scenes, the actuator's drawn from its cases only
+    both = simulate(tmp, {
+        "name": "both",
+        "parameters": {"hinge.kind": "constant", "hinge.constant_moment": -20.0},
+        "integrator": {"method": "dopri5", "abs_tol": 1e-6, "rel_tol": 1e-6, "max_step": 1e-3},
+        "time": {"end": 0.3, "sample_interval": 5e-4},
+        "grid": [{"key": "scene", "values": ["rod-end-kinematic", "rod-end-actuator"]},
+                 {"key": "parameters.contact.clearance", "values": [5e-4]}],
+    })
+    r = plot([both])
+    expect_figures("scene axis", r, os.path.join(both, "plots"),
+                   {"eccentricity_force", "polar_relative_position", "polar_force_wear",
+                    "surface_angle", "phase_fft", "energy_audit",
+                    "spring_forces", "hinge_moment", "hydraulics", "actuator_response"})
 
     # a scene without a mechanism, one case, no grid
     drop = simulate(tmp, {
