@@ -331,3 +331,62 @@ TEST_CASE("torque motor: the solenoid law of eq. 6.1 against the linear one",
   CHECK(sol.motor_force(0.0) == 0.0);
   CHECK(lin.motor_force(0.3 * Ir) == Approx(a.motor_gain * 0.3 * Ir).epsilon(1e-15));
 }
+
+// --- figs. 6.27-6.29: spring-force signs and where the wear peaks, under a constant moment
+// --------
+
+TEST_CASE(
+    "constant clockwise hinge moment: outer spring compressed, inner spring on the ball "
+    "pushed back, and the wear peak away from the force peak (thesis figs. 6.27-6.29)",
+    "[actuator][fidelity][hinge]") {
+  // M0 = -30 N m from t = 0 (clockwise, opposing extension), the thesis cycle +-60 mm. The
+  // moment exceeds the surface's dynamic load (hinge damping c theta' <= 2 N m s x 2.3 rad/s =
+  // 4.6 N m at the retraction's peak rate), so the rod pushes for the whole cycle (fig. 6.27);
+  // at -3 N m it does not (docs/thesis-deviations.md#fig-6-27-6-28-outer-spring-signs).
+  // dopri5 1e-7: ~4e5 steps. measured: slider F_x on the socket 215..302 N, crank F_x on the ball
+  // -299..-215 N; on the retraction the force peaks at its start (274 N, t = 1.200 s) and the
+  // wear indicator mid-stroke (t = 1.50 s), where the force is 0.88 of its peak.
+  History h;
+  const CaseRecord r =
+      run_one({{"scene", "rod-end-actuator"},
+               {"parameters", {{"hinge", {{"kind", "constant"}, {"constant_moment", -30.0}}}}},
+               {"integrator",
+                {{"method", "dopri5"}, {"abs_tol", 1e-7}, {"rel_tol", 1e-7}, {"max_step", 1e-3}}},
+               {"time", {{"end", 2.4}, {"sample_interval", 1e-3}}},
+               {"signals", Json::array({"slider_spring_force", "crank_spring_force",
+                                        "contact_force", "wear_indicator"})}},
+              &h);
+  auto column = [&](SignalId id) {
+    for (std::size_t i = 0; i < h.signals.size(); ++i)
+      if (h.signals[i] == id) return h.values[i];
+    FAIL("signal not recorded");
+    return std::vector<double>{};
+  };
+  const auto t = column(SignalId::time);
+  const auto fs = column(SignalId::slider_spring_force);  // x, y, z per sample
+  const auto fc = column(SignalId::crank_spring_force);
+  const auto f = column(SignalId::contact_force);
+  const auto w = column(SignalId::wear_indicator);
+  REQUIRE(fs.size() == 3 * t.size());
+  std::size_t checked = 0;
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    if (t[k] < 0.05) continue;  // the step of the moment at t = 0 rings first
+    CHECK(fs[3 * k] > 0.0);     // fig. 6.27: the outer spring pushes the socket: compressed
+    CHECK(fc[3 * k] < 0.0);     // fig. 6.28: the inner spring pushes the ball back (compressed)
+    CHECK(f[k] > 0.0);          // fig. 6.24: in contact throughout
+    ++checked;
+  }
+  CHECK(checked > 2000);
+  // fig. 6.29: on the retraction (1.2-2.2 s) the wear indicator F_n v_slip peaks where the
+  // slip is fast (mid-stroke), not where the force peaks (the reversal)
+  std::size_t kf = 0, kw = 0;
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    if (t[k] < 1.2 || t[k] > 2.2) continue;
+    if (kf == 0 || f[k] > f[kf]) kf = k;
+    if (kw == 0 || w[k] > w[kw]) kw = k;
+  }
+  CAPTURE(t[kf], t[kw], f[kf], f[kw]);
+  CHECK(std::abs(t[kw] - t[kf]) > 0.1);
+  CHECK(f[kw] < 0.95 * f[kf]);
+  CHECK(metric(r, MetricId::impact_count) >= 1.0);
+}
