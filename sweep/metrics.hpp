@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <limits>
 #include <span>
 #include <string_view>
 
@@ -48,6 +49,7 @@ class MetricsAccumulator {
   MetricsSettings settings_;
   bool has_contact_ = false, has_surface_ = false, has_energy_ = false, has_rates_ = false;
   bool has_chambers_ = false;
+  bool has_crank_ = false, has_joint_forces_ = false, has_crank_rate_ = false;
   double t_prev_ = 0.0, force_prev_ = 0.0, wear_prev_ = 0.0;
   bool first_step_ = true;
   MetricValues v_{};
@@ -59,6 +61,14 @@ class MetricsAccumulator {
   double dissipated_prev_ = 0.0;    // [J] dissipated energy at the previous step end
   double dissipated_before_ = 0.0;  // [J] ... at the last step end before the first onset
   double max_flow_ = 0.0, max_residual_ = 0.0;
+  /// Peaks of one crank revolution (crank-driven mechanisms).
+  struct Revolution {
+    double peak_acceleration = 0.0, peak_force = 0.0;
+    double ecc_min = std::numeric_limits<double>::infinity(), ecc_max = 0.0;
+  };
+  double crank_start_ = 0.0;  // [rad] crank angle of the first frame
+  long long revolution_ = 0;  // index of the revolution under way
+  Revolution current_, last_, before_last_;
 };
 
 }  // namespace rodend
