@@ -165,6 +165,7 @@ void MetricsAccumulator::on_step(const SignalFrame& f) {
     if (index > revolution_) {
       before_last_ = index == revolution_ + 1 ? last_ : Revolution{};
       last_ = index == revolution_ + 1 ? current_ : Revolution{};
+      revolution_peaks_.push_back(current_.peak_acceleration);
       current_ = Revolution{};
       take(current_);
       revolution_ = index;
@@ -210,6 +211,23 @@ MetricValues MetricsAccumulator::finish(const RunStats& stats) const {
       if (revolution_ >= 2 && peak > 0.0)
         at(v, MetricId::peak_slider_acceleration_change) =
             std::abs(peak - before_last_.peak_acceleration) / peak;
+      // the period of the settled response: the last p turns repeat the p before them
+      const std::vector<double>& pk = revolution_peaks_;
+      const std::size_t n = pk.size();
+      for (std::size_t period = 1; period <= 4 && 2 * period <= n; ++period) {
+        bool repeats = true;
+        double cycle = 0.0;
+        for (std::size_t j = 0; j < period; ++j) {
+          const double now = pk[n - 1 - j], before = pk[n - 1 - j - period];
+          repeats = repeats && std::abs(now - before) <= 0.01 * now;
+          cycle = std::max(cycle, now);
+        }
+        if (repeats) {
+          at(v, MetricId::steady_cycle_revolutions) = static_cast<double>(period);
+          at(v, MetricId::peak_slider_acceleration_cycle) = cycle;
+          break;
+        }
+      }
       if (has_contact_) {
         if (has_joint_forces_) at(v, MetricId::peak_contact_force) = last_.peak_force;
         at(v, MetricId::last_revolution_min_eccentricity) = last_.ecc_min;

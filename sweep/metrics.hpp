@@ -6,6 +6,7 @@
 #include <limits>
 #include <span>
 #include <string_view>
+#include <vector>
 
 #include "core/integrator.hpp"
 
@@ -69,6 +70,7 @@ class MetricsAccumulator {
   double crank_start_ = 0.0;  // [rad] crank angle of the first frame
   long long revolution_ = 0;  // index of the revolution under way
   Revolution current_, last_, before_last_;
+  std::vector<double> revolution_peaks_;  // [m/s^2] peak |slider acceleration| of each turn
 };
 
 }  // namespace rodend
