@@ -537,6 +537,7 @@ class Driver {
       }
       if (obs_.wants_steps()) {
         refine_impact_peaks();
+        unscale(stepper_->z_now, x_);  // the refinement left an interior state in x_
         frame_.set(SignalId::time, stepper_->t_now);
         scene_.outputs(stepper_->t_now, x_.data(), discrete_, frame_);
         check_frame_finite(stepper_->t_now);
