@@ -75,7 +75,8 @@ def expect_figures(what, r, out, drawn, formats=("png",)):
     check(not extra, f"{what}: unexpected files {extra}")
 
 
-PSC_DRAWN = {"slider_acceleration"}
+PSC_DRAWN = {"eccentricity_force", "polar_relative_position", "polar_force_wear", "first_impact_force",
+             "energy_audit", "slider_acceleration"}
 
 with tempfile.TemporaryDirectory() as tmp:
     # a 2-case clearance sweep on the mechanism, short: extension starts, first impacts
