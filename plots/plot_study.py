@@ -977,8 +977,8 @@ def fig_slider_acceleration(study, cases, style):
         ax2.grid(True, alpha=0.3)
     if orbits:
         extra.append((Line2D([], [], color="0.5", ls=":"), "clearance circle"))
-    fig.suptitle(title(study, "Slider acceleration against crank angle, last full revolution; "
-                              "journal centre relative to bearing centre (rod-slider joint)"))
+    fig.suptitle(title(study, "Slider acceleration, last full revolution; rod-slider orbits\n"
+                              "(journal centre relative to bearing centre)"))
     case_legend(fig, clear, style, extra)
     return fig
 
