@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 namespace rodend {
 namespace {
@@ -44,6 +45,10 @@ MetricsAccumulator::MetricsAccumulator(const Scene& scene, const MetricsSettings
       has_chambers_(provides(scene, SignalId::chamber_pressures)),
       has_kinetic_(provides(scene, SignalId::kinetic_energy)),
       has_command_(provides(scene, SignalId::surface_angle_command)),
+      has_crank_(provides(scene, SignalId::crank_angle) &&
+                 provides(scene, SignalId::slider_acceleration)),
+      has_joint_forces_(provides(scene, SignalId::joint_normal_forces)),
+      has_crank_rate_(provides(scene, SignalId::surface_rate)),
       // the rod-extension command: the actuator's, else the prescribed motion itself
       command_signal_(provides(scene, SignalId::actuator_command) ? SignalId::actuator_command
                                                                   : SignalId::actuator_position) {
@@ -161,6 +166,39 @@ void MetricsAccumulator::on_step(const SignalFrame& f) {
     peak(MetricId::max_rear_chamber_pressure, p1);
     peak(MetricId::max_front_chamber_pressure, p2);
   }
+  if (has_crank_) {
+    // revolutions counted from the first frame's crank angle; 1e-9 turn of slack so a run that
+    // ends on a whole number of turns completes its last one despite round-off in the angle
+    const double turn = 2.0 * std::numbers::pi;
+    const double angle = f.get(SignalId::crank_angle);
+    // the crank angle at t = 0: the first frame is the first step's end, so take back the
+    // angle turned over that (short) step at the crank's rate there (exact at constant speed)
+    if (first_step_)
+      crank_start_ = angle - (has_crank_rate_ ? f.get(SignalId::surface_rate) * t : 0.0);
+    const auto index =
+        static_cast<long long>(std::floor(std::abs(angle - crank_start_) / turn + 1e-9));
+    auto take = [&](Revolution& r) {
+      r.peak_acceleration =
+          std::max(r.peak_acceleration, std::abs(f.get(SignalId::slider_acceleration)));
+      if (has_joint_forces_)
+        for (int j = 0; j < 3; ++j)
+          r.peak_force = std::max(r.peak_force, f.get(SignalId::joint_normal_forces, j));
+      if (has_contact_) {
+        const double e = f.get(SignalId::eccentricity);
+        r.ecc_min = std::min(r.ecc_min, e);
+        r.ecc_max = std::max(r.ecc_max, e);
+      }
+    };
+    take(current_);  // the step that crosses a turn ends both revolutions
+    if (index > revolution_) {
+      before_last_ = index == revolution_ + 1 ? last_ : Revolution{};
+      last_ = index == revolution_ + 1 ? current_ : Revolution{};
+      revolution_peaks_.push_back(current_.peak_acceleration);
+      current_ = Revolution{};
+      take(current_);
+      revolution_ = index;
+    }
+  }
   if (has_energy_) {
     const double w = f.get(SignalId::input_work);
     const double d = f.get(SignalId::dissipated_energy);
@@ -228,6 +266,38 @@ MetricValues MetricsAccumulator::finish(const RunStats& stats) const {
   }
   if (has_energy_)
     at(v, MetricId::energy_residual) = energy_scale_ > 0.0 ? max_residual_ / energy_scale_ : 0.0;
+  if (has_crank_) {
+    at(v, MetricId::revolutions) = static_cast<double>(revolution_);
+    if (revolution_ >= 1) {
+      const double peak = last_.peak_acceleration;
+      at(v, MetricId::peak_slider_acceleration) = peak;
+      if (revolution_ >= 2 && peak > 0.0)
+        at(v, MetricId::peak_slider_acceleration_change) =
+            std::abs(peak - before_last_.peak_acceleration) / peak;
+      // the period of the settled response: the last p turns repeat the p before them
+      const std::vector<double>& pk = revolution_peaks_;
+      const std::size_t n = pk.size();
+      for (std::size_t period = 1; period <= 4 && 2 * period <= n; ++period) {
+        bool repeats = true;
+        double cycle = 0.0;
+        for (std::size_t j = 0; j < period; ++j) {
+          const double now = pk[n - 1 - j], before = pk[n - 1 - j - period];
+          repeats = repeats && std::abs(now - before) <= 0.01 * now;
+          cycle = std::max(cycle, now);
+        }
+        if (repeats) {
+          at(v, MetricId::steady_cycle_revolutions) = static_cast<double>(period);
+          at(v, MetricId::peak_slider_acceleration_cycle) = cycle;
+          break;
+        }
+      }
+      if (has_contact_) {
+        if (has_joint_forces_) at(v, MetricId::peak_contact_force) = last_.peak_force;
+        at(v, MetricId::last_revolution_min_eccentricity) = last_.ecc_min;
+        at(v, MetricId::last_revolution_max_eccentricity) = last_.ecc_max;
+      }
+    }
+  }
   at(v, MetricId::max_penetration_fraction) = stats.max_penetration_fraction;
   at(v, MetricId::max_quaternion_norm_error) = stats.max_quaternion_norm_error;
   return v;

@@ -3,8 +3,10 @@
 #pragma once
 
 #include <array>
+#include <limits>
 #include <span>
 #include <string_view>
+#include <vector>
 
 #include "core/integrator.hpp"
 
@@ -54,6 +56,7 @@ class MetricsAccumulator {
   MetricsSettings settings_;
   bool has_contact_ = false, has_surface_ = false, has_energy_ = false, has_rates_ = false;
   bool has_chambers_ = false, has_kinetic_ = false, has_command_ = false;
+  bool has_crank_ = false, has_joint_forces_ = false, has_crank_rate_ = false;
   double t_prev_ = 0.0, force_prev_ = 0.0, wear_prev_ = 0.0;
   bool first_step_ = true;
   MetricValues v_{};
@@ -68,6 +71,15 @@ class MetricsAccumulator {
   double energy_scale_ = 0.0, max_residual_ = 0.0;
   SignalId command_signal_ = SignalId::actuator_command;
   double command_max_ = 0.0, command_min_ = 0.0;  // [m] extremes of the command so far
+  /// Peaks of one crank revolution (crank-driven mechanisms).
+  struct Revolution {
+    double peak_acceleration = 0.0, peak_force = 0.0;
+    double ecc_min = std::numeric_limits<double>::infinity(), ecc_max = 0.0;
+  };
+  double crank_start_ = 0.0;  // [rad] crank angle of the first frame
+  long long revolution_ = 0;  // index of the revolution under way
+  Revolution current_, last_, before_last_;
+  std::vector<double> revolution_peaks_;  // [m/s^2] peak |slider acceleration| of each turn
 };
 
 }  // namespace rodend

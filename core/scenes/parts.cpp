@@ -31,12 +31,14 @@ RigidBodyParams read_body(const ParameterSet& p, const std::string& prefix) {
 }
 
 ClearanceContactModel read_clearance_contact(const ParameterSet& p, const std::string& prefix,
-                                             const std::string& fprefix) {
+                                             const std::string& fprefix,
+                                             const std::string& clearance_path) {
   ClearanceContactModel m;
   m.ball_radius = read_positive(p, prefix + ".ball_radius");
-  const double c = p.number(prefix + ".clearance");
+  const std::string cpath = clearance_path.empty() ? prefix + ".clearance" : clearance_path;
+  const double c = p.number(cpath);
   if (!(c > 0.0))
-    throw InputError(prefix + ".clearance",
+    throw InputError(cpath,
                      "expected a clearance > 0 [m] (the socket radius must exceed the ball "
                      "radius), got " +
                          format_number(c));

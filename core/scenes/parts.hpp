@@ -23,9 +23,12 @@ inline double solid_sphere_inertia(double mass, double radius) {
 /// The clearance contact under `<prefix>` (geometry, clearance, ball_radius, bearing_length,
 /// materials, stiffness_scale, law, restitution, min_impact_speed) and the friction under
 /// `<friction_prefix>`. `geometry` "sphere" (Hertz, ball in a conformal socket) or "cylinder"
-/// (pin in a bearing of length `bearing_length`, read only then).
+/// (pin in a bearing of length `bearing_length`, read only then). The clearance is read from
+/// `clearance_path` when given (scenes with several joints sharing one contact block), else
+/// from `<prefix>.clearance`.
 ClearanceContactModel read_clearance_contact(const ParameterSet& p, const std::string& prefix,
-                                             const std::string& friction_prefix);
+                                             const std::string& friction_prefix,
+                                             const std::string& clearance_path = {});
 
 /// A 3-D spring under `<prefix>` (stiffness, damping, rotational_stiffness, rotational_damping),
 /// all >= 0.

@@ -132,9 +132,10 @@ class RodEndActuatorScene final : public Scene {
   void step_outputs(double t, const double* x, const DiscreteState& d,
                     SignalFrame& f) const override {
     const Eval e = evaluate(t, x, d.contacts[0]);
-    f.set(SignalId::surface_angle, e.mech.theta);
+    mech_.step_outputs(e.mech, e.act.command, f);
     write_contact_signals(f, e.mech.contact, e.mech.ball, e.mech.socket, d.contacts[0]);
     act_.outputs(e.act, x + kAct, e.external_force, f);
+    f.set(SignalId::kinetic_energy, kinetic_energy(e, x));
     write_energy_signals(f,
                          {mech_.mechanical_energy(e.mech) + act_.mechanical_energy(x + kAct, 0.0),
                           x[kWork], x[kDissipated]},
@@ -149,15 +150,18 @@ class RodEndActuatorScene final : public Scene {
     mech_.outputs(e.mech, x + kMech, e.act.command, f);
     write_contact_signals(f, e.mech.contact, e.mech.ball, e.mech.socket, d.contacts[0]);
     act_.outputs(e.act, x + kAct, e.external_force, f);
-    const double v = x[kAct + ServoActuator::kVel];
-    f.set(SignalId::kinetic_energy,
-          mech_.kinetic_energy(e.mech) + 0.5 * act_.params().piston_mass * v * v);
+    f.set(SignalId::kinetic_energy, kinetic_energy(e, x));
     write_energy_signals(f, energy(t, x, d), initial_energy_);
     if (wears()) mech_.write_wear_signals(x[kSliding], f);
   }
 
  private:
   bool wears() const { return mech_.wear_model() != nullptr; }
+  /// spheres, crank and surface, plus the piston [J]
+  double kinetic_energy(const Eval& e, const double* x) const {
+    const double v = x[kAct + ServoActuator::kVel];
+    return mech_.kinetic_energy(e.mech) + 0.5 * act_.params().piston_mass * v * v;
+  }
 
   Mech mech_;
   ServoActuator act_;

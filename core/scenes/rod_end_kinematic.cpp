@@ -99,7 +99,9 @@ class RodEndKinematicScene final : public Scene {
   void step_outputs(double t, const double* x, const DiscreteState& d,
                     SignalFrame& f) const override {
     const Mech::Eval e = evaluate(t, x, d.contacts[0]);
-    f.set(SignalId::surface_angle, e.theta);
+    const double position = motion_.at(t).position;
+    mech_.step_outputs(e, position, f);
+    f.set(SignalId::actuator_position, position);
     write_contact_signals(f, e.contact, e.ball, e.socket, d.contacts[0]);
     write_energy_signals(f, {mech_.mechanical_energy(e), x[kWork], x[kDissipated]},
                          initial_energy_);

@@ -316,6 +316,13 @@ double RodEndMechanism::rod_axial_force(const Eval& e) const {
   return e.slider_spring.force_on_body.dot(e.rod_direction);
 }
 
+void RodEndMechanism::step_outputs(const Eval& e, double command, SignalFrame& f) const {
+  f.set(SignalId::surface_angle, e.theta);
+  f.set(SignalId::surface_angle_command,
+        geometry_.ideal_crank_angle(geometry_.rod_zero() + command));  // thesis eq. 4.1
+  f.set(SignalId::kinetic_energy, kinetic_energy(e));
+}
+
 void RodEndMechanism::outputs(const Eval& e, const double* x, double command,
                               SignalFrame& f) const {
   f.set(SignalId::ball_position, e.ball.p_W);

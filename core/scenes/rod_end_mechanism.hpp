@@ -70,6 +70,9 @@ class RodEndMechanism {
   /// Writes the mechanism's signals (contact, spheres, springs, crank/surface); `command` is the
   /// commanded rod extension [m] (the surface_angle_command signal).
   void outputs(const Eval& e, const double* x, double command, SignalFrame& f) const;
+  /// The mechanism's part of an accepted step's frame (kStepSignals): surface angle, the angle
+  /// commanded by `command` [m] (surface_angle_command) and the kinetic energy.
+  void step_outputs(const Eval& e, double command, SignalFrame& f) const;
 
   ContactGap gap(const double* x) const;
   /// The contact alone at the mechanism state x (the driver's peak location).

@@ -32,6 +32,7 @@ SKIP_LINE = {
     "energy_audit": "skip energy audit",
     "ball_motion": "skip ball motion",
     "body_motion": "skip free-body motion",
+    "slider_acceleration": "skip slider acceleration",
 }
 
 
@@ -75,6 +76,9 @@ def expect_figures(what, r, out, drawn, formats=("png",)):
                    if os.path.splitext(os.path.basename(p))[0] not in drawn)
     check(not extra, f"{what}: unexpected files {extra}")
 
+
+PSC_DRAWN = {"eccentricity_force", "polar_relative_position", "polar_force_wear", "first_impact_force",
+             "energy_audit", "slider_acceleration"}
 
 with tempfile.TemporaryDirectory() as tmp:
     # a 2-case clearance sweep on the mechanism, short: extension starts, first impacts
@@ -157,6 +161,19 @@ with tempfile.TemporaryDirectory() as tmp:
     expect_figures("servo-actuator, --pdf --out", r, out,
                    {"hydraulics", "actuator_response", "energy_audit"}, formats=("png", "pdf"))
     check(not os.path.exists(os.path.join(act, "plots")), "--out: wrote into the study folder too")
+
+    # the planar slider-crank rig (issue 21): the ideal joint and one clearance, two revolutions
+    psc = simulate(tmp, {
+        "name": "psc",
+        "scene": "planar-slider-crank",
+        "integrator": {"preset": "fast"},
+        "time": {"end": 0.24, "sample_interval": 2e-4},
+        "grid": [{"zip": [
+            {"key": "parameters.joints.rod_slider.model", "values": ["ideal", "clearance"]},
+            {"key": "parameters.joints.rod_slider.clearance", "values": [0.0, 5e-4]}]}],
+    })
+    r = plot([psc])
+    expect_figures("planar-slider-crank", r, os.path.join(psc, "plots"), PSC_DRAWN)
 
     # not a study: exit 2, one line naming the folder, no traceback, nothing written
     empty = os.path.join(tmp, "empty")
