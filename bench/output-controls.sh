@@ -39,7 +39,7 @@ row() {
   valgrind --tool=callgrind --callgrind-out-file="$tmp/cg.out" "$rodend" run "$first" \
     --results-root "$tmp/r" -q -j 1 >/dev/null 2>&1
   instr=$(callgrind_annotate --inclusive=yes "$tmp/cg.out" 2>/dev/null |
-    grep -m1 'rodend::write_case_file' | awk '{gsub(",", "", $1); print $1}')
+    awk '/rodend::write_case_file/ && !done {gsub(",", "", $1); print $1; done = 1}')
   awk -v l="$1" -v p="$2" -v s="$size" -v i="$instr" \
     'BEGIN {printf "| %s | %s | %.1f | %.1f |\n", l, p, s / 1e6, i / 1e6}'
 }

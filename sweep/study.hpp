@@ -47,8 +47,11 @@ struct WearEvolutionSettings {
 enum class HistoryPrecision { float64, float32 };
 struct OutputSettings {
   /// deflate level of the histories' chunks (libdeflate levels 1-12; 0 = stored uncompressed).
-  /// Default chosen by measurement on studies/bench-32.json (bench/README.md).
-  int compression_level = 6;
+  /// Default 0, by measurement on studies/bench-32.json (bench/README.md): the histories are
+  /// smooth doubles whose low bytes are noise, so level 1 shrinks them only 1.6x for 7.6x the
+  /// write cost (a third of a case's instructions), and higher levels gain 1-2 % more;
+  /// float32 halves them for nothing.
+  int compression_level = 0;
   HistoryPrecision history_precision = HistoryPrecision::float64;
 };
 std::string_view to_string(HistoryPrecision p);

@@ -263,3 +263,37 @@ TEST_CASE("a scene axis: a key no scene has, or the scene in two places, is an e
   CHECK(s.cases[0].signals.size() == 2);  // time, contact_force
   CHECK(s.cases[2].signals.size() == 3);  // time, contact_force, jet_pipe_position
 }
+
+TEST_CASE("output controls: float32 histories change the case id, the compression level does not",
+          "[study][output]") {
+  const Study plain = parse(base_doc());
+  CHECK(plain.output.compression_level == 0);
+  CHECK(plain.output.history_precision == HistoryPrecision::float64);
+  Json doc = base_doc();
+  doc["output"] = Json{{"directory", "/tmp/elsewhere"}, {"compression_level", 9}};
+  const Study packed = parse(doc);
+  CHECK(packed.output_dir == "/tmp/elsewhere");
+  CHECK(packed.cases[0].output.compression_level == 9);
+  // lossless: the same case, the same id (files at different levels may be mixed)
+  CHECK(packed.cases[0].id == plain.cases[0].id);
+  doc["output"]["history_precision"] = "float32";
+  const Study f32 = parse(doc);
+  CHECK(f32.cases[0].output.history_precision == HistoryPrecision::float32);
+  // other stored values: another id, so a resume with the other precision reruns the case
+  CHECK(f32.cases[0].id != plain.cases[0].id);
+  CHECK(f32.cases[0].canonical()["history_precision"] == "float32");
+  CHECK_FALSE(plain.cases[0].canonical().contains("history_precision"));
+  // the old form, a directory string, still works
+  doc["output"] = "/tmp/there";
+  CHECK(parse(doc).output_dir == "/tmp/there");
+  for (const Json& bad : {Json(-1), Json(13), Json(2.5), Json("6")}) {
+    doc["output"] = Json{{"compression_level", bad}};
+    CHECK_THROWS_AS(parse(doc), InputError);
+  }
+  doc["output"] = Json{{"history_precision", "float16"}};
+  CHECK_THROWS_AS(parse(doc), InputError);
+  doc["output"] = Json{{"level", 1}};
+  CHECK_THROWS_AS(parse(doc), InputError);
+  doc["output"] = Json(3);
+  CHECK_THROWS_AS(parse(doc), InputError);
+}
