@@ -20,8 +20,11 @@
 
 namespace rodend {
 
-/// Layout version of the results files; bumped on any incompatible change.
-inline constexpr int kResultsSchemaVersion = 1;
+/// Layout version of the results files; bumped on any incompatible change. 2: CF `units` and
+/// `long_name` attributes (1: `unit`, `description`), netCDF dimension scales (time, case_index).
+inline constexpr int kResultsSchemaVersion = 2;
+/// The oldest layout the readers (resume, merge, compare) still accept.
+inline constexpr int kOldestReadableSchemaVersion = 1;
 
 /// A per-case array that is not a time history (wear maps, wear-evolution histories): written
 /// as dataset `group/name` with its unit and description as attributes.
@@ -29,6 +32,10 @@ struct CaseArray {
   std::string group, name, unit, description;
   std::vector<std::size_t> dims;  ///< row-major
   std::vector<double> values;
+  /// netCDF dimension name of each axis (empty: none attached). An axis named after a 1-D
+  /// array of the same group has that array as its coordinate (dimension scale); otherwise the
+  /// dimension is created without a variable.
+  std::vector<std::string> dim_names = {};
 };
 
 /// Sampled histories of one case: for each recorded signal, n_samples x width values, row-major.

@@ -292,10 +292,27 @@ TEST_CASE("the summary has one header line and one line per case", "[results]") 
   for (const MetricSpec& m : metric_catalogue()) header += "," + std::string(m.name);
   CHECK(lines[0] == header);
 
-  // first row: the id, index, the coordinate at full precision, empty message
-  CHECK(lines[1].rfind(rows[0].id + ",0,0.00050000000000000001,ok,,0.25,1.5,12345678901,17,98765,"
+  // first row: the id, index, the coordinate as the shortest decimal that reads back as the
+  // same double (5e-4 is 0.0005, not %.17g's 0.00050000000000000001), empty message
+  CHECK(lines[1].rfind(rows[0].id + ",0,0.0005,ok,,0.25,1.5,12345678901,17,98765,"
                                     "2024-05-01T10:00:00Z,2024-05-01T10:00:02Z,",
                        0) == 0);
+  // every metric reads back exactly (0.125 i + 1e-17 needs 17 digits for i = 0 only)
+  {
+    std::vector<std::string> fields;
+    std::stringstream in(lines[1]);
+    for (std::string f; std::getline(in, f, ',');) fields.push_back(f);
+    const std::size_t first_metric = 12;
+    REQUIRE(fields.size() == first_metric + rows[0].metrics.size());
+    for (std::size_t i = 0; i < rows[0].metrics.size(); ++i) {
+      INFO("metric " << i << ": " << fields[first_metric + i]);
+      if (std::isnan(rows[0].metrics[i]))
+        CHECK(fields[first_metric + i] == "nan");
+      else
+        CHECK(std::stod(fields[first_metric + i]) == rows[0].metrics[i]);
+    }
+    CHECK(fields[first_metric] == "1e-17");
+  }
   // second row: a message with a comma and quotes is quoted, quotes doubled
   CHECK(lines[2].find(",penetration_limit,\"penetration, \"\"deep\"\", at t = 0.01 s\",") !=
         std::string::npos);
