@@ -12,6 +12,7 @@
 #include "sweep/compare.hpp"
 #include "sweep/mpi_runner.hpp"
 #include "sweep/runner.hpp"
+#include "sweep/schema.hpp"
 #include "sweep/study.hpp"
 
 using namespace rodend;
@@ -117,6 +118,12 @@ int main(int argc, char** argv) {
                   "where studies without an \"output\" key write (default: results)");
   run->add_option("--shard", shard,
                   "K/N: run only the K-th of N deterministic slices of the cases");
+  run->add_option("--set", opt.overrides,
+                  "key.path=value: override one value of the study (repeatable; value is JSON, "
+                  "else a string), e.g. --set parameters.contact.clearance=2e-4 --set "
+                  "time.end=0.5; recorded in the written study.json and the provenance")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
 
   auto* merge = app.add_subcommand(
       "merge",
@@ -131,6 +138,11 @@ int main(int argc, char** argv) {
   auto* rdir = app.add_subcommand("results-dir", "Print the results directory of a study.");
   rdir->add_option("STUDY", study_file, "study file (JSON)")->required();
   rdir->add_option("--results-root", results_root, "as for run");
+
+  auto* schema = app.add_subcommand(
+      "schema",
+      "Print the JSON Schema (draft 2020-12) of study files, generated from the loader's own "
+      "lists of keys, settings, scenes, parameters and signals (for editors and checks).");
 
   auto* scenes = app.add_subcommand("scenes", "List the scenes.");
   auto* params =
@@ -172,6 +184,10 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*params) return list_params(scene_name, as_json);
+    if (*schema) {
+      std::cout << study_schema().dump(2) << "\n";
+      return 0;
+    }
     if (*signals) return list_signals(markdown, as_json);
     if (*metrics) return list_metrics(markdown);
     if (*compare) {
@@ -211,7 +227,7 @@ int main(int argc, char** argv) {
         opt.progress = !quiet && mpi_session.rank() == 0;
         return mpi::run_study_mpi(mpi_session, study_file, results_root, opt);
       }
-      const Study study = load_study(study_file, results_root);
+      const Study study = load_study(study_file, results_root, opt.overrides);
       if (dry_run) {
         print_dry_run(study);
         return 0;

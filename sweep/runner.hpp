@@ -26,6 +26,7 @@ struct RunOptions {
   bool progress = true;       ///< progress on stderr
   int shard_index = 1;        ///< run only the shard_index-th of shard_count slices (1-based)
   int shard_count = 1;
+  std::vector<std::string> overrides;  ///< --set key=value, applied to the study (MPI ranks)
 };
 
 /// Runs one case in memory: builds the scene, integrates, records histories and metrics.
