@@ -108,6 +108,29 @@ with tempfile.TemporaryDirectory() as tmp:
     check(any(l.startswith("skip first-impact") and "grid" in l for l in r.stdout.splitlines()),
           f"gravity-drop: first-impact skip reason:\n{r.stdout}")
 
+    # --no-title: the same figures without titles; legends give lengths in the axes' unit (mm)
+    sys.path.insert(0, PLOTS)
+    import matplotlib
+    matplotlib.use("Agg")
+    import plot_study
+    from rodend_results import coordinate_label, open_study
+    check(coordinate_label("parameters.contact.clearance", 1e-4, "m") ==
+          "contact.clearance = 0.1 mm", "legend label of a length is not in mm")
+    check(coordinate_label("parameters.contact.restitution", 0.8, "1") ==
+          "contact.restitution = 0.8", "legend label of a number")
+    r = plot([kin, "--no-title", "--out", os.path.join(tmp, "notitle")])
+    check(r.returncode == 0, f"--no-title: exit {r.returncode}\n{r.stderr}")
+    study = open_study(kin)
+    for titled in (True, False):
+        plot_study.SHOW_TITLES = titled
+        fig = plot_study.fig_eccentricity_force(study, study.cases(), plot_study.Style(study))
+        has = fig._suptitle is not None and fig._suptitle.get_text() != ""
+        check(has == titled, f"eccentricity_force: title {'missing' if titled else 'drawn'}")
+        legend = [t.get_text() for leg in fig.legends for t in leg.get_texts()]
+        check(any("mm" in t for t in legend) and not any(t.endswith(" m") for t in legend),
+              f"eccentricity_force legend units: {legend}")
+        matplotlib.pyplot.close(fig)
+
     # only two signals recorded: no crash, only the figure that fits
     few = simulate(tmp, {
         "name": "few",
