@@ -7,6 +7,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "app/report.hpp"
 #include "core/integrator.hpp"
 #include "core/scene.hpp"
 #include "sweep/compare.hpp"
@@ -144,6 +145,15 @@ int main(int argc, char** argv) {
       "Print the JSON Schema (draft 2020-12) of study files, generated from the loader's own "
       "lists of keys, settings, scenes, parameters and signals (for editors and checks).");
 
+  auto* report = app.add_subcommand(
+      "report",
+      "Write one self-contained HTML page for a study's results (RESULTS/report.html): the "
+      "summary table with units, the figures of RESULTS/plots (draw them first with "
+      "plots/plot_study.py) embedded as PNG, the study as run and its provenance.");
+  std::string report_dir, report_out;
+  report->add_option("RESULTS", report_dir, "a study's results folder")->required();
+  report->add_option("--out", report_out, "the page to write (default RESULTS/report.html)");
+
   auto* scenes = app.add_subcommand("scenes", "List the scenes.");
   auto* params =
       app.add_subcommand("params", "Print a scene's default parameters with units and provenance.");
@@ -184,6 +194,10 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*params) return list_params(scene_name, as_json);
+    if (*report) {
+      std::cout << write_report(report_dir, report_out).string() << "\n";
+      return 0;
+    }
     if (*schema) {
       std::cout << study_schema().dump(2) << "\n";
       return 0;

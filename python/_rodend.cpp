@@ -58,7 +58,8 @@ py::dict record_dict(const CaseRecord& r) {
 
 /// Runs the one case of a study document; histories as numpy arrays. Writes its case file to
 /// `write` when given (the same file `rodend run` writes).
-py::dict run_case(const std::string& doc_text, const std::string& origin, const std::string& write) {
+py::dict py_run_case(const std::string& doc_text, const std::string& origin,
+                     const std::string& write) {
   Json doc;
   try {
     doc = Json::parse(doc_text);
@@ -110,8 +111,8 @@ py::dict run_case(const std::string& doc_text, const std::string& origin, const 
 }
 
 /// Loads a study (with --set overrides) as the CLI does: what it would run, where.
-py::dict load(const std::string& path, const std::string& results_root,
-              const std::vector<std::string>& overrides) {
+py::dict py_load_study(const std::string& path, const std::string& results_root,
+                       const std::vector<std::string>& overrides) {
   const Study s = load_study(path, results_root, overrides);
   py::dict d;
   d["name"] = s.name;
@@ -132,8 +133,9 @@ py::dict load(const std::string& path, const std::string& results_root,
 }
 
 /// Runs a study as `rodend run` does (resume, results files); returns (exit code, results dir).
-py::tuple run_study(const std::string& path, int threads, const std::string& results_root,
-                    const std::vector<std::string>& overrides, bool rerun_failed, bool progress) {
+py::tuple py_run_study(const std::string& path, int threads, const std::string& results_root,
+                       const std::vector<std::string>& overrides, bool rerun_failed,
+                       bool progress) {
   if (threads < 1) throw InputError("threads", "expected an integer >= 1", path);
   const Study study = load_study(path, results_root, overrides);
   RunOptions opt;
@@ -164,10 +166,10 @@ PYBIND11_MODULE(_rodend, m) {
   m.attr("__version__") = RODEND_VERSION;
   m.attr("git_revision") = RODEND_GIT_REVISION;
   m.attr("schema_version") = kResultsSchemaVersion;
-  m.def("run_case", &run_case, py::arg("doc"), py::arg("origin"), py::arg("write") = "");
-  m.def("load_study", &load, py::arg("path"), py::arg("results_root") = "results",
+  m.def("run_case", &py_run_case, py::arg("doc"), py::arg("origin"), py::arg("write") = "");
+  m.def("load_study", &py_load_study, py::arg("path"), py::arg("results_root") = "results",
         py::arg("overrides") = std::vector<std::string>{});
-  m.def("run_study", &run_study, py::arg("path"), py::arg("threads"), py::arg("results_root"),
+  m.def("run_study", &py_run_study, py::arg("path"), py::arg("threads"), py::arg("results_root"),
         py::arg("overrides"), py::arg("rerun_failed"), py::arg("progress"));
   m.def("schema", [] { return study_schema().dump(); });
   m.def("scenes", [] {

@@ -491,9 +491,9 @@ void attach_array_dimensions(const Context& cx, const History& h,
         return a.group == group && a.name == dim && a.dims.size() == 1;
       });
       const std::string what = "cannot attach dimension " + group + "/" + dim;
-      const Handle scale = has_variable ? cx.own(H5Dopen2(g, dim.c_str(), H5P_DEFAULT), H5Dclose,
-                                                 what)
-                                        : dimension_without_variable(cx, g, dim, size);
+      const Handle scale = has_variable
+                               ? cx.own(H5Dopen2(g, dim.c_str(), H5P_DEFAULT), H5Dclose, what)
+                               : dimension_without_variable(cx, g, dim, size);
       std::vector<Handle> open;
       std::vector<std::pair<hid_t, unsigned>> targets;
       for (const auto& [name, axis] : uses[group][dim]) {
@@ -962,6 +962,11 @@ SummaryTable read_summary(const fs::path& dir) {
       cx.own(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, "cannot open the file");
   SummaryTable t;
   {
+    const Handle root = cx.own(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose, "no root");
+    if (cx.yes(H5Aexists(root.get(), "provenance_json"), "cannot look up provenance_json"))
+      t.provenance = Json::parse(read_attr_string(cx, root.get(), "provenance_json"), nullptr,
+                                 /*allow_exceptions=*/false);
+    if (!t.provenance.is_object()) t.provenance = Json::object();
     const Handle g =
         cx.own(H5Gopen2(file.get(), "/summary", H5P_DEFAULT), H5Gclose, "no /summary group");
     const Json cols = Json::parse(read_attr_string(cx, g.get(), "columns"));

@@ -67,6 +67,7 @@ struct SummaryTable {
   std::map<std::string, std::vector<std::string>> texts;  ///< text columns
   std::map<std::string, std::string> units;               ///< unit of each column
   std::size_t rows = 0;
+  Json provenance = Json::object();  ///< the root attribute provenance_json (rodend report)
   bool is_text(const std::string& c) const { return texts.count(c) > 0; }
 };
 /// Reads `dir/summary.h5`; throws std::runtime_error naming the file when it is missing or not

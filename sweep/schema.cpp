@@ -71,8 +71,9 @@ Json study_schema() {
 
   props["name"] = {{"type", "string"},
                    {"pattern", "^[^/]+$"},
-                   {"description", "study name; results go to results/<name>/ (default: the "
-                                   "file's stem)"}};
+                   {"description",
+                    "study name; results go to results/<name>/ (default: the "
+                    "file's stem)"}};
   props["description"] = {{"type", "string"}, {"description", "what the study is for"}};
   props["scene"] = {{"enum", scenes}, {"description", "the scene (rodend scenes)"}};
   props["parameters"] = {
@@ -92,10 +93,12 @@ Json study_schema() {
   for (const std::string& k : study_keys())
     if (!props.contains(k)) throw std::logic_error("study_schema: no schema for key " + k);
 
-  const Json number3 = {{"type", "array"},
-                        {"prefixItems", {{{"type", "number"}}, {{"type", "number"}}, {{"type", "integer"}, {"minimum", 1}}}},
-                        {"minItems", 3},
-                        {"maxItems", 3}};
+  const Json number3 = {
+      {"type", "array"},
+      {"prefixItems",
+       {{{"type", "number"}}, {{"type", "number"}}, {{"type", "integer"}, {"minimum", 1}}}},
+      {"minItems", 3},
+      {"maxItems", 3}};
   const Json axis = {
       {"type", "object"},
       {"required", {"key"}},
@@ -107,12 +110,12 @@ Json study_schema() {
         {"logspace", number3}}},
       {"oneOf",
        {{{"required", {"values"}}}, {{"required", {"linspace"}}}, {{"required", {"logspace"}}}}}};
-  const Json zip = {{"type", "object"},
-                    {"required", {"zip"}},
-                    {"additionalProperties", false},
-                    {"properties",
-                     {{"zip",
-                       {{"type", "array"}, {"minItems", 1}, {"items", {{"$ref", "#/$defs/axis"}}}}}}}};
+  const Json zip = {
+      {"type", "object"},
+      {"required", {"zip"}},
+      {"additionalProperties", false},
+      {"properties",
+       {{"zip", {{"type", "array"}, {"minItems", 1}, {"items", {{"$ref", "#/$defs/axis"}}}}}}}};
 
   // per scene, its parameters by dotted key path (nested objects are accepted as they are)
   Json per_scene = Json::array();
@@ -121,7 +124,8 @@ Json study_schema() {
     Json params = Json::object();
     for (const std::string& path : p.paths()) params[path] = parameter_schema(p.leaf(path));
     per_scene.push_back(
-        {{"if", {{"properties", {{"scene", {{"const", std::string(s.name)}}}}}, {"required", {"scene"}}}},
+        {{"if",
+          {{"properties", {{"scene", {{"const", std::string(s.name)}}}}}, {"required", {"scene"}}}},
          {"then", {{"properties", {{"parameters", {{"properties", params}}}}}}}});
   }
 

@@ -285,7 +285,8 @@ void apply(Draft& d, const std::string& key, const Json& v) {
                   [&](const Field& f) { return f.info.section == section; })) {
     std::string names;
     for (const Field& f : kFields)
-      if (f.info.section == section) names += (names.empty() ? "" : ", ") + std::string(f.info.name);
+      if (f.info.section == section)
+        names += (names.empty() ? "" : ", ") + std::string(f.info.name);
     throw InputError(key, "unknown " + section + " setting; expected one of " + names);
   }
   throw InputError(key, "unknown section '" + section +
@@ -655,9 +656,9 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
       if (f.section == section)
         consider(f.name, f.type == "integer" ? "an integer" : "a " + f.type, f.unit);
   }
-  std::string m = section == "parameters"
-                      ? "unknown parameter of scene " + scene + " (see `rodend params " + scene + "`)"
-                      : "unknown " + section + " setting (see `rodend schema`)";
+  std::string m = section == "parameters" ? "unknown parameter of scene " + scene +
+                                                " (see `rodend params " + scene + "`)"
+                                          : "unknown " + section + " setting (see `rodend schema`)";
   if (!best.empty())
     m += "; nearest: " + section + "." + best + ", expected " + type +
          (unit.empty() || unit == "1" ? "" : " [" + unit + "]");
@@ -708,12 +709,11 @@ Json apply_overrides(Json doc, const std::vector<std::string>& overrides, const 
       d.scene = doc["scene"].get<std::string>();
       d.parameters = ParameterSet::defaults_for(d.scene);
       const auto& fs_ = study_fields();
-      const bool known =
-          section == "parameters"
-              ? d.parameters.has(rest)
-              : std::any_of(fs_.begin(), fs_.end(), [&](const StudyField& f) {
-                  return f.section == section && f.name == rest;
-                });
+      const bool known = section == "parameters"
+                             ? d.parameters.has(rest)
+                             : std::any_of(fs_.begin(), fs_.end(), [&](const StudyField& f) {
+                                 return f.section == section && f.name == rest;
+                               });
       if (!known) unknown_override_key(key, section, rest, d.parameters, d.scene);
       apply(d, key, value);
       if (doc.contains(section) && !doc[section].is_object())

@@ -32,9 +32,8 @@ CaseArray array(std::string group, std::string name, std::string unit, std::stri
     dim_names = {"latitude", "longitude"};
   else
     dim_names = {"latitude"};
-  return {std::move(group),       std::move(name),   std::move(unit),
-          std::move(description), std::move(dims),   std::move(values),
-          std::move(dim_names)};
+  return {std::move(group), std::move(name),   std::move(unit),     std::move(description),
+          std::move(dims),  std::move(values), std::move(dim_names)};
 }
 
 }  // namespace

@@ -92,6 +92,21 @@ with tempfile.TemporaryDirectory() as tmp:
                                   if l.startswith("skip hydraulics")), ""),
           f"kinematic: the hydraulics skip line does not say the signals are missing:\n{r.stdout}")
 
+    # rodend report: one self-contained page with the summary, the figures and the provenance
+    r = run(["report", kin])
+    page = os.path.join(kin, "report.html")
+    check(r.returncode == 0 and r.stdout.strip() == page, f"report: {r.returncode} {r.stderr}")
+    with open(page, encoding="utf-8") as f:
+        html = f.read()
+    n_png = len(glob.glob(os.path.join(kin, "plots", "*.png")))
+    check(html.count('src="data:image/png;base64,') == n_png and n_png >= 5,
+          f"report: {html.count('data:image/png')} embedded figures, {n_png} drawn")
+    check("max_contact_force [N]" in html and "git_revision" in html and "<h1>Study kin</h1>" in html,
+          "report: no summary table header with units, provenance or title")
+    check("src=\"plots/" not in html and "href=" not in html, "report links to files: not self-contained")
+    r = run(["report", os.path.join(tmp, "nope")])
+    check(r.returncode == 2 and "nope" in r.stderr, f"report of a missing folder: {r.returncode} {r.stderr}")
+
     # a scene without a mechanism, one case, no grid
     drop = simulate(tmp, {
         "name": "drop",

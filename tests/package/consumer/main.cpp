@@ -22,9 +22,10 @@ int main() {
   const double t = r.metrics[static_cast<std::size_t>(MetricId::first_contact_time)];
   const double v = r.metrics[static_cast<std::size_t>(MetricId::first_impact_speed)];
   const double t_exact = std::sqrt(2 * c / g), v_exact = std::sqrt(2 * g * c);
-  std::printf("status %s, %lld samples, first contact %.12g s (exact %.12g), speed %.12g m/s "
-              "(exact %.12g)\n",
-              r.status.c_str(), history.samples, t, t_exact, v, v_exact);
+  std::printf(
+      "status %s, %lld samples, first contact %.12g s (exact %.12g), speed %.12g m/s "
+      "(exact %.12g)\n",
+      r.status.c_str(), history.samples, t, t_exact, v, v_exact);
   const bool ok = r.status == "ok" && std::abs(t / t_exact - 1) < 1e-6 &&
                   std::abs(v / v_exact - 1) < 1e-6 && history.samples == 31;
   return ok ? 0 : 1;
