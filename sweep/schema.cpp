@@ -120,9 +120,9 @@ Json study_schema() {
   // per scene, its parameters by dotted key path (nested objects are accepted as they are)
   Json per_scene = Json::array();
   for (const auto& s : scene_catalogue()) {
-    const ParameterSet p = ParameterSet::defaults_for(s.name);
     Json params = Json::object();
-    for (const std::string& path : p.paths()) params[path] = parameter_schema(p.leaf(path));
+    const Json leaves = ParameterSet::defaults_for(s.name).leaves();  // outlives items()
+    for (const auto& [path, leaf] : leaves.items()) params[path] = parameter_schema(leaf);
     per_scene.push_back(
         {{"if",
           {{"properties", {{"scene", {{"const", std::string(s.name)}}}}}, {"required", {"scene"}}}},

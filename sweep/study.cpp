@@ -649,8 +649,9 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
     if (dist < best_d) best_d = dist, best = name, type = t, unit = u;
   };
   if (section == "parameters") {
-    for (const std::string& p : params.paths())
-      consider(p, describe(params.leaf(p)["value"]), params.unit(p));
+    const Json leaves = params.leaves();  // outlives items()
+    for (const auto& [p, leaf] : leaves.items())
+      consider(p, describe(leaf["value"]), leaf.value("unit", ""));
   } else {
     for (const StudyField& f : study_fields())
       if (f.section == section)
