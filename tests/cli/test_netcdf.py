@@ -63,7 +63,7 @@ def main():
         # --- the summary: one call, a DataFrame equal to summary.csv
         df = xr.open_dataset(os.path.join(out, "summary.h5"), engine="h5netcdf",
                              group="summary").to_dataframe()
-        csv = pd.read_csv(os.path.join(out, "summary.csv"))
+        csv = pd.read_csv(os.path.join(out, "summary.csv"), float_precision="round_trip")
         check(list(df.index) == list(csv["case_index"]), f"index {list(df.index)}")
         check(set(df.columns) == set(csv.columns) - {"case_index"},
               f"columns differ: {set(df.columns) ^ (set(csv.columns) - {'case_index'})}")

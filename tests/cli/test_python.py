@@ -112,7 +112,7 @@ def main():
         rc, folder = rodend.run_study(grid, threads=2, results_root=os.path.join(tmp, "py"))
         check(rc == 0, f"run_study exit {rc}")
         res = rodend.open_results(folder)
-        csv = pd.read_csv(os.path.join(folder, "summary.csv"))
+        csv = pd.read_csv(os.path.join(folder, "summary.csv"), float_precision="round_trip")
         check(list(res.summary.columns) == list(csv.columns), "summary columns")
         check(len(res.summary) == 6, "summary rows")
         for col in ("first_contact_time", "parameters.contact.clearance", "rhs_calls"):
