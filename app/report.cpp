@@ -1,7 +1,6 @@
 #include "app/report.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -39,10 +38,7 @@ std::string escape(const std::string& s) {
 }
 
 std::string number(double v) {
-  if (std::isnan(v)) return "";
-  char buf[40];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
+  return std::isnan(v) ? std::string() : shortest_decimal(v);
 }
 
 std::string base64(const std::string& in) {

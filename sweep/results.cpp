@@ -810,13 +810,8 @@ std::string csv_field(const std::string& s) {
   return out + "\"";
 }
 
-/// Shortest decimal that reads back as the same double (2e-4 is "0.0002", not
-/// "0.00020000000000000001"), as nlohmann::json writes the JSON files.
 std::string csv_number(double v) {
-  if (std::isnan(v)) return "nan";
-  char buf[40];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
+  return shortest_decimal(v);
 }
 
 void write_summary_csv(const fs::path& final_path, const fs::path& temp,
@@ -859,6 +854,33 @@ void write_summary_csv(const fs::path& final_path, const fs::path& temp,
 
 // -------------------------------------------------------------------------------------------
 // Public interface
+
+std::string shortest_decimal(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char buf[40];
+  // the shortest digits that read back exactly, as d.ddde±XX
+  const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::scientific);
+  const std::string sci(buf, r.ptr);
+  const auto e = sci.find('e');
+  const int exp = std::stoi(sci.substr(e + 1));
+  if (exp < -4 || exp >= 16) return sci;  // 1e-17, 1.5e+20
+  const bool negative = sci[0] == '-';
+  std::string digits;
+  for (std::size_t i = negative ? 1 : 0; i < e; ++i)
+    if (sci[i] != '.') digits += sci[i];
+  std::string out = negative ? "-" : "";
+  if (exp < 0) {
+    out += "0." + std::string(static_cast<std::size_t>(-exp - 1), '0') + digits;  // 0.0005
+  } else {
+    const auto whole = static_cast<std::size_t>(exp + 1);
+    if (digits.size() <= whole)
+      out += digits + std::string(whole - digits.size(), '0');  // 12345678901
+    else
+      out += digits.substr(0, whole) + "." + digits.substr(whole);  // 1.25
+  }
+  return out;
+}
 
 Json provenance(const Study& study) {
   char host[256] = {};

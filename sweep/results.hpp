@@ -89,6 +89,11 @@ std::vector<std::string> list_signals(const std::filesystem::path& case_file);
 /// One signal of a case file; throws std::runtime_error.
 SignalData read_signal(const std::filesystem::path& case_file, const std::string& name);
 
+/// The shortest decimal that reads back as the same double, in the form Python's repr and
+/// nlohmann::json use: fixed notation for exponents -4 to 15 (2e-4 is "0.0002", not
+/// "0.00020000000000000001"), else d.ddde±XX ("1e-17"); "nan", "inf", "-inf".
+std::string shortest_decimal(double v);
+
 /// Process-wide provenance: rodend version and git revision, host, study file.
 Json provenance(const Study& study);
 

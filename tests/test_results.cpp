@@ -6,6 +6,9 @@
 #include <atomic>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -334,4 +337,29 @@ TEST_CASE("a summary of no cases is just the header", "[results]") {
   write_summary(tmp.path(), study, {}, provenance(study));
   CHECK(entries(tmp.path()) == std::vector<std::string>{"summary.csv", "summary.h5"});
   CHECK(lines_of(tmp.path() / "summary.csv").size() == 1);
+}
+
+TEST_CASE("numbers are written as the shortest decimal that reads back exactly", "[results]") {
+  CHECK(shortest_decimal(2e-4) == "0.0002");
+  CHECK(shortest_decimal(5e-4) == "0.0005");
+  CHECK(shortest_decimal(0.1 + 0.2) == "0.30000000000000004");  // not 0.3: that is another double
+  CHECK(shortest_decimal(1e-17) == "1e-17");
+  CHECK(shortest_decimal(-1.25) == "-1.25");
+  CHECK(shortest_decimal(12345678901.0) == "12345678901");
+  CHECK(shortest_decimal(1.5e20) == "1.5e+20");
+  CHECK(shortest_decimal(0.0) == "0");
+  CHECK(shortest_decimal(std::numeric_limits<double>::quiet_NaN()) == "nan");
+  CHECK(shortest_decimal(-std::numeric_limits<double>::infinity()) == "-inf");
+  // every double reads back as itself: a deterministic sweep over bit patterns of all magnitudes
+  std::uint64_t bits = 0x9E3779B97F4A7C15ull;
+  int bad = 0;
+  for (int i = 0; i < 200000; ++i) {
+    bits ^= bits << 13, bits ^= bits >> 7, bits ^= bits << 17;  // xorshift64
+    double v;
+    std::memcpy(&v, &bits, sizeof v);
+    if (!std::isfinite(v)) continue;
+    const std::string s = shortest_decimal(v);
+    if (std::strtod(s.c_str(), nullptr) != v || s.size() > 24) ++bad;
+  }
+  CHECK(bad == 0);
 }
