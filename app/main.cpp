@@ -90,7 +90,8 @@ int main(int argc, char** argv) {
       "grid over parameters and integrator settings, the integrator, the end time, the sample "
       "interval and the signals to record. `rodend run` resolves and validates every case, "
       "runs them in parallel and writes results/<study>/: one HDF5 file per case "
-      "(cases/<id>.h5: histories under /signals with a `unit` attribute each, the resolved "
+      "(cases/<id>.h5: histories under /signals with CF `units` and `long_name` attributes "
+      "and the time axis as a netCDF dimension, the resolved "
       "parameters, the integrator settings, status, wall time, step and right-hand-side "
       "counts, metrics) and a summary table (summary.h5, summary.csv). See README.md.\n\n"
       "Exit codes: 0 ok, 1 a case failed, 2 bad input.",
