@@ -33,7 +33,8 @@ for law in ("lankarani-nikravesh", "restitution-matched"):
     assert case.status == "ok", case.message
     achieved[law] = case.metrics["first_impact_restitution"]
     delta, force = case.signals["penetration"], case.signals["contact_force"]
-    ax.plot(delta * 1e6, force, label=f"{law}: e = {achieved[law]:.3f}")
+    inside = delta > 0                                   # the contact itself (negative: apart)
+    ax.plot(delta[inside] * 1e6, force[inside], label=f"{law}: e = {achieved[law]:.3f}")
     print(f"{law:22s} achieved restitution {achieved[law]:.4f}, peak force "
           f"{case.metrics['first_impact_peak_force']:.1f} {case.metric_units['first_impact_peak_force']}")
 
