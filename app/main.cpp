@@ -7,11 +7,13 @@
 #include <iostream>
 #include <sstream>
 
+#include "app/report.hpp"
 #include "core/integrator.hpp"
 #include "core/scene.hpp"
 #include "sweep/compare.hpp"
 #include "sweep/mpi_runner.hpp"
 #include "sweep/runner.hpp"
+#include "sweep/schema.hpp"
 #include "sweep/study.hpp"
 
 using namespace rodend;
@@ -90,7 +92,8 @@ int main(int argc, char** argv) {
       "grid over parameters and integrator settings, the integrator, the end time, the sample "
       "interval and the signals to record. `rodend run` resolves and validates every case, "
       "runs them in parallel and writes results/<study>/: one HDF5 file per case "
-      "(cases/<id>.h5: histories under /signals with a `unit` attribute each, the resolved "
+      "(cases/<id>.h5: histories under /signals with CF `units` and `long_name` attributes "
+      "and the time axis as a netCDF dimension, the resolved "
       "parameters, the integrator settings, status, wall time, step and right-hand-side "
       "counts, metrics) and a summary table (summary.h5, summary.csv). See README.md.\n\n"
       "Exit codes: 0 ok, 1 a case failed, 2 bad input.",
@@ -122,6 +125,12 @@ int main(int argc, char** argv) {
                   "where studies without an \"output\" key write (default: results)");
   run->add_option("--shard", shard,
                   "K/N: run only the K-th of N deterministic slices of the cases");
+  run->add_option("--set", opt.overrides,
+                  "key.path=value: override one value of the study (repeatable; value is JSON, "
+                  "else a string), e.g. --set parameters.contact.clearance=2e-4 --set "
+                  "time.end=0.5; recorded in the written study.json and the provenance")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
 
   auto* merge = app.add_subcommand(
       "merge",
@@ -136,6 +145,20 @@ int main(int argc, char** argv) {
   auto* rdir = app.add_subcommand("results-dir", "Print the results directory of a study.");
   rdir->add_option("STUDY", study_file, "study file (JSON)")->required();
   rdir->add_option("--results-root", results_root, "as for run");
+
+  auto* schema = app.add_subcommand(
+      "schema",
+      "Print the JSON Schema (draft 2020-12) of study files, generated from the loader's own "
+      "lists of keys, settings, scenes, parameters and signals (for editors and checks).");
+
+  auto* report = app.add_subcommand(
+      "report",
+      "Write one self-contained HTML page for a study's results (RESULTS/report.html): the "
+      "summary table with units, the figures of RESULTS/plots (draw them first with "
+      "plots/plot_study.py) embedded as PNG, the study as run and its provenance.");
+  std::string report_dir, report_out;
+  report->add_option("RESULTS", report_dir, "a study's results folder")->required();
+  report->add_option("--out", report_out, "the page to write (default RESULTS/report.html)");
 
   auto* scenes = app.add_subcommand("scenes", "List the scenes.");
   auto* params =
@@ -177,6 +200,14 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*params) return list_params(scene_name, as_json);
+    if (*report) {
+      std::cout << write_report(report_dir, report_out).string() << "\n";
+      return 0;
+    }
+    if (*schema) {
+      std::cout << study_schema().dump(2) << "\n";
+      return 0;
+    }
     if (*signals) return list_signals(markdown, as_json);
     if (*metrics) return list_metrics(markdown);
     if (*compare) {
@@ -216,7 +247,7 @@ int main(int argc, char** argv) {
         opt.progress = !quiet && mpi_session.rank() == 0;
         return mpi::run_study_mpi(mpi_session, study_file, results_root, opt);
       }
-      const Study study = load_study(study_file, results_root);
+      const Study study = load_study(study_file, results_root, opt.overrides);
       if (dry_run) {
         print_dry_run(study);
         return 0;

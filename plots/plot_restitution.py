@@ -99,13 +99,15 @@ def draw_restitution(summary, out, dpi):
     ax.set_ylim(0, 1.05)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="lower right")
-    ax.set_title("Achieved against requested restitution (one free impact)")
+    if SHOW_TITLES:
+        ax.set_title("Achieved against requested restitution (one free impact)")
     axr.set_xlabel("requested restitution $c_r$")
     axr.set_ylabel("achieved / requested")
     axr.set_xlim(0, 1)
     axr.set_yscale("log")
     axr.grid(alpha=0.3, which="both")
-    axr.set_title("Ratio (1 = the law restitutes what it is asked)")
+    if SHOW_TITLES:
+        axr.set_title("Ratio (1 = the law restitutes what it is asked)")
     fig.tight_layout()
     path = os.path.join(out, "restitution.png")
     fig.savefig(path, dpi=dpi)
@@ -175,7 +177,8 @@ def draw_loops(study, out, dpi, cr_pick=0.5):
     title = f"First impact, $c_r$ = {format_value(cr)}"
     if speed is not None:
         title += f", approach speed {format_value(speed)} m/s"
-    ax.set_title(title)
+    if SHOW_TITLES:
+        ax.set_title(title)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
@@ -185,6 +188,9 @@ def draw_loops(study, out, dpi, cr_pick=0.5):
     print(f"wrote {path}")
 
 
+SHOW_TITLES = True   # --no-title
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("results_dir")
@@ -192,7 +198,10 @@ def main():
     ap.add_argument("--dpi", type=int, default=130)
     ap.add_argument("--markdown", action="store_true",
                     help="also print the achieved-restitution table (Markdown) on stdout")
+    ap.add_argument("--no-title", action="store_true", help="no figure titles (for publication)")
     a = ap.parse_args()
+    global SHOW_TITLES
+    SHOW_TITLES = not a.no_title
     try:
         summary = read_summary(a.results_dir)[0]
     except NotAStudy as e:

@@ -52,15 +52,12 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
-from rodend_results import NotAStudy, format_value, open_study, short_key, unit_suffix  # noqa: E402
+from rodend_results import (DISPLAY_UNITS, NotAStudy, coordinate_label, format_value,  # noqa: E402
+                            open_study, short_key)
 
 # how each SI unit is shown on an axis: (shown unit, factor)
-DISPLAY = {
-    "m": ("mm", 1e3),
-    "rad": ("deg", 180.0 / math.pi),
-    "Pa": ("bar", 1e-5),
-    "m^3/s": ("L/min", 6e4),
-}
+# display units (value * factor): one table, shared with the legend labels of rodend_results
+DISPLAY = DISPLAY_UNITS
 POLAR_BINS = 72
 NONZERO_Z = 1e-9          # [m] a case with |z| above this leaves the xy-plane
 
@@ -219,8 +216,23 @@ def json_key(d):
     return tuple(sorted((k, format_value(v)) for k, v in d.items()))
 
 
+SHOW_TITLES = True        # --no-title: figures without their titles (for publication)
+
+
 def title(study, text):
     return f"{text}\nstudy {study.name} ({', '.join(study.scenes)}, {len(study.cases())} case(s))"
+
+
+def set_suptitle(fig, text, **kw):
+    """The figure's title, unless --no-title."""
+    if SHOW_TITLES:
+        fig.suptitle(text, **kw)
+
+
+def set_axes_title(ax, text, **kw):
+    """A one-axes figure's title, unless --no-title."""
+    if SHOW_TITLES:
+        ax.set_title(text, **kw)
 
 
 def case_legend(fig, cases, style, extra=()):
@@ -333,7 +345,7 @@ def fig_eccentricity_force(study, cases, style):
         ref = "6.12"
     elif study.scene == "rod-end-actuator":
         ref = "5.2, 6.12, 6.24"
-    fig.suptitle(title(study, f"Eccentricity and contact force (thesis fig. {ref})"))
+    set_suptitle(fig, title(study, f"Eccentricity and contact force (thesis fig. {ref})"))
     case_legend(fig, cases, style, extra)
     return fig
 
@@ -364,7 +376,7 @@ def fig_polar_relative_position(study, cases, style):
     ax.text(np.radians(112.5), rmax * 1.22 if rmax > 0 else 1, f"radius [{unit}]",
             ha="center", va="center", fontsize="small")
     ax.set_xlabel("angle of p_ball − p_socket in the xy-plane [deg] (x along the rod)")
-    fig.suptitle(title(study, "Ball centre relative to the socket centre, xy-plane "
+    set_suptitle(fig, title(study, "Ball centre relative to the socket centre, xy-plane "
                               "(thesis fig. 5.4, 5.11, 6.15)"))
     case_legend(fig, cases, style, extra)
     return fig
@@ -429,7 +441,7 @@ def fig_polar_force_wear(study, cases, style):
             handles.append((Line2D([], [], color="none"), "wear_indicator not recorded"))
         lax.legend([h for h, _ in handles], [l for _, l in handles], loc="upper center",
                    fontsize="x-small", frameon=False)
-    fig.suptitle(title(study, f"Contact force and wear over the contact angle in the xy-plane, "
+    set_suptitle(fig, title(study, f"Contact force and wear over the contact angle in the xy-plane, "
                               f"{POLAR_BINS} bins,\neach normalised to its maximum "
                               f"(thesis fig. 5.5, 6.29)"))
     return fig
@@ -484,8 +496,8 @@ def fig_surface_angle(study, cases, style):
     axes[-1, 0].set_xlabel(axis_label("time", cases[0].unit("time")))
     for a_ in axes[:, 0]:
         a_.grid(True, alpha=0.3)
-    fig.suptitle(title(study, "Control-surface angle (thesis fig. 5.17"
-                              + (", 6.11" if len(study.scenes) > 1 else "") + ")"))
+    set_suptitle(fig, title(study, "Control-surface angle (thesis fig. 5.17"
+                                   + (", 6.11" if len(study.scenes) > 1 else "") + ")"))
     case_legend(fig, cases, style)
     return fig
 
@@ -518,7 +530,7 @@ def fig_trajectories(study, cases, style):
         ax.grid(True, alpha=0.3)
     axy.set_title("xy-plane (fig. 5.19)")
     axz.set_title("xz-plane (fig. 5.20); the clearance sphere's outline")
-    fig.suptitle(title(study, "Trajectory of the ball relative to the socket (thesis fig. 5.18-5.20)"))
+    set_suptitle(fig, title(study, "Trajectory of the ball relative to the socket (thesis fig. 5.18-5.20)"))
     case_legend(fig, cases, style, extra)
     return fig
 
@@ -575,7 +587,7 @@ def fig_first_impact(study, cases, style):
         ax.set_xlabel(ylabel)
         ax.set_xlim(0, np.nanmax(y_all[rows_ok]) * 1.15)
         ax.grid(True, axis="x", alpha=0.3)
-        ax.set_title(title(study, f"First-impact peak contact force per case (thesis fig. 5.15); "
+        set_axes_title(ax, title(study, f"First-impact peak contact force per case (thesis fig. 5.15); "
                                   f"\n{short_key(xkey)} is zipped with other keys, so one bar "
                                   f"per case"), fontsize="medium")
         return fig
@@ -585,8 +597,7 @@ def fig_first_impact(study, cases, style):
         (h,) = ax.plot(x_all[rows], y_all[rows], "o-", color=plt.get_cmap("tab10")(i % 10),
                        ms=6, lw=1.2)
         handles.append(h)
-        parts = [f"{short_key(k)} = {v}{unit_suffix(study.summary_unit(k))}"
-                 for k, v in zip(others, key)]
+        parts = [coordinate_label(k, v, study.summary_unit(k)) for k, v in zip(others, key)]
         parts += [f"{short_key(k)} zipped with {short_key(xkey)}" for k in along]
         labels.append(", ".join(parts) if parts else
                       f"{len(rows)} case(s) with status ok of {len(study)}")
@@ -594,7 +605,7 @@ def fig_first_impact(study, cases, style):
     ax.set_ylabel(ylabel)
     ax.grid(True, alpha=0.3)
     ax.set_ylim(0, 1.1 * float(np.nanmax(y_all[rows_ok])))
-    ax.set_title(title(study, f"First-impact peak contact force against {short_key(xkey)} "
+    set_axes_title(ax, title(study, f"First-impact peak contact force against {short_key(xkey)} "
                               f"(thesis fig. 5.15)"))
     bottom_legend(fig, handles, labels)
     return fig
@@ -651,7 +662,7 @@ def fig_hydraulics(study, cases, style):
         if i + ncol >= len(drawn):                 # lowest visible axes of its column
             ax.set_xlabel(axis_label("time", time_unit))
             ax.xaxis.set_tick_params(labelbottom=True)
-    fig.suptitle(title(study, "Actuator chambers, flows, spool and load (thesis fig. 6.16-6.22)"))
+    set_suptitle(fig, title(study, "Actuator chambers, flows, spool and load (thesis fig. 6.16-6.22)"))
     case_legend(fig, sorted({c for d in drawn for c in d[3]}, key=lambda c: c.row), style)
     return fig
 
@@ -713,7 +724,7 @@ def fig_spring_forces(study, cases, style):
         if i + 2 >= len(panels):
             ax.set_xlabel(axis_label("time", cases[0].unit("time")))
             ax.xaxis.set_tick_params(labelbottom=True)
-    fig.suptitle(title(study, "3-D spring forces (on the socket and on the ball) and moments "
+    set_suptitle(fig, title(study, "3-D spring forces (on the socket and on the ball) and moments "
                               "(thesis fig. 5.3, 5.7, 5.8, 6.13-6.14, 6.27-6.28)"))
     case_legend(fig, cases, style)
     return fig
@@ -745,7 +756,7 @@ def fig_hinge_moment(study, cases, style):
     axes[-1].set_xlabel(axis_label("time", cases[0].unit("time")))
     for ax in axes:
         ax.grid(True, alpha=0.3)
-    fig.suptitle(title(study, "Applied hinge moment, surface angle and actuator position "
+    set_suptitle(fig, title(study, "Applied hinge moment, surface angle and actuator position "
                               "(thesis fig. 6.23-6.25)"))
     case_legend(fig, cases, style)
     return fig
@@ -781,7 +792,7 @@ def fig_phase_fft(study, cases, style):
     af.set_title("one-sided amplitude spectrum (Hann window, mean removed)")
     af.grid(True, which="major", alpha=0.3)
     af.minorticks_off()                         # minor log ticks cost more than they show
-    fig.suptitle(title(study, "Surface angular acceleration: phase diagram and spectrum"))
+    set_suptitle(fig, title(study, "Surface angular acceleration: phase diagram and spectrum"))
     case_legend(fig, cases, style)
     return fig
 
@@ -810,7 +821,7 @@ def fig_energy_audit(study, cases, style):
         vals = np.asarray(study.summary["energy_residual"], dtype=float)
         if np.isfinite(vals).any():
             rel = f" (largest |residual| / largest energy flow: {np.nanmax(vals):.2g})"
-    fig.suptitle(title(study, "Energy audit" + rel))
+    set_suptitle(fig, title(study, "Energy audit" + rel))
     case_legend(fig, cases, style)
     return fig
 
@@ -881,7 +892,7 @@ def time_rows(fig_title, study, cases, style, rows):
         ax.set_title(", ".join(names), fontsize="small", loc="left")
         ax.grid(True, alpha=0.3)
     axes[-1, 0].set_xlabel(axis_label("time", cases[0].unit("time")))
-    fig.suptitle(title(study, fig_title))
+    set_suptitle(fig, title(study, fig_title))
     extra = [legend[k] for k in sorted(legend)]
     if flat:
         extra.append((Line2D([], [], color="none"), "constant components not drawn"))
@@ -984,7 +995,7 @@ def fig_wear_maps(study, cases, style):
             ax.text(0.5, -0.12, "wear indicator ∫F·v_slip dt per contact angle (world xy-plane),"
                     + (" first duty cycle" if evolved else "") + " (thesis fig. 5.5)",
                     transform=ax.transAxes, ha="center", fontsize="x-small")
-    fig.suptitle(title(study, "Archard wear maps (unrolled spheres, body frames) and the "
+    set_suptitle(fig, title(study, "Archard wear maps (unrolled spheres, body frames) and the "
                               "wear indicator of the same case"))
     return fig
 
@@ -1018,7 +1029,7 @@ def fig_wear_evolution(study, cases, style):
         ax.set_xlabel("duty cycles")
         ax.grid(True, alpha=0.3)
     axes[0].legend(fontsize="x-small")
-    fig.suptitle(title(study, "Wear evolution: clearance, backlash and worn volume against "
+    set_suptitle(fig, title(study, "Wear evolution: clearance, backlash and worn volume against "
                               "cycles (dashed: cycles to limit)"))
     return fig
 
@@ -1099,7 +1110,7 @@ def fig_slider_acceleration(study, cases, style):
         ax2.grid(True, alpha=0.3)
     if orbits:
         extra.append((Line2D([], [], color="0.5", ls=":"), "clearance circle"))
-    fig.suptitle(title(study, "Slider acceleration, last full revolution; rod-slider orbits\n"
+    set_suptitle(fig, title(study, "Slider acceleration, last full revolution; rod-slider orbits\n"
                               "(journal centre relative to bearing centre)"))
     case_legend(fig, clear, style, extra)
     return fig
@@ -1125,7 +1136,11 @@ def main(argv=None):
     p.add_argument("--pdf", action="store_true", help="write a PDF beside each PNG")
     p.add_argument("--out", help="output folder (default: RESULTS_DIR/plots)")
     p.add_argument("--dpi", type=int, default=150, help="PNG resolution (default 150)")
+    p.add_argument("--no-title", action="store_true",
+                   help="no figure titles (for publication: the caption says it)")
     args = p.parse_args(argv)
+    global SHOW_TITLES
+    SHOW_TITLES = not args.no_title
 
     try:
         study = open_study(args.results_dir)

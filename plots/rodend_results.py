@@ -1,4 +1,5 @@
-"""Reading a rodend study's results (layout: README "Results layout", schema_version 1).
+"""Reading a rodend study's results (layout: README "Results layout", schema_version 2;
+schema 1 files, whose unit attribute was called `unit` instead of `units`, are read too).
 
 Only numpy and h5py (Debian's, under /usr/bin/python3).
 
@@ -35,6 +36,11 @@ def text(value):
     if isinstance(value, np.ndarray) and value.shape == ():
         return text(value[()])
     return str(value)
+
+
+def unit_of(ds):
+    """The unit attribute of a dataset: `units` (schema 2, CF) or `unit` (schema 1)."""
+    return text(ds.attrs.get("units", ds.attrs.get("unit", "")))
 
 
 def _column(ds):
@@ -77,7 +83,7 @@ def read_summary(results_dir):
                 if name not in g:
                     continue
                 columns[name] = _column(g[name])
-                units[name] = text(g[name].attrs.get("unit", ""))
+                units[name] = unit_of(g[name])
             attrs = {k: (text(v) if isinstance(v, (bytes, str, np.bytes_)) else v)
                      for k, v in f.attrs.items()}
     except NotAStudy:
@@ -115,7 +121,21 @@ def unit_suffix(unit):
     return "" if unit in ("", "1", "-", None) else " " + unit
 
 
+# display units of plots and labels (value * factor): axes and legends say the same unit
+DISPLAY_UNITS = {
+    "m": ("mm", 1e3),
+    "rad": ("deg", 180.0 / math.pi),
+    "Pa": ("bar", 1e-5),
+    "m^3/s": ("L/min", 6e4),
+}
+
+
 def coordinate_label(key, value, unit):
+    """"contact.clearance = 0.1 mm": a coordinate in the display unit its axes use."""
+    if unit in DISPLAY_UNITS and isinstance(value, (int, float, np.integer, np.floating)) \
+            and not isinstance(value, (bool, np.bool_)):
+        name, factor = DISPLAY_UNITS[unit]
+        return f"{short_key(key)} = {format_value(float(value) * factor)} {name}"
     return f"{short_key(key)} = {format_value(value)}{unit_suffix(unit)}"
 
 
@@ -158,7 +178,7 @@ class Case:
                         self.parameter_units.setdefault(k, p["unit"])
             self.signal_names = sorted(f["signals"].keys()) if "signals" in f else []
             for name in self.signal_names:
-                self._units[name] = text(f["signals"][name].attrs.get("unit", ""))
+                self._units[name] = unit_of(f["signals"][name])
 
     # --- signals -------------------------------------------------------------------------
     def has(self, *names):
@@ -195,7 +215,7 @@ class Case:
             if group not in f or name not in f[group]:
                 raise KeyError(f"{group}/{name} not in case {self.id}")
             d = f[group][name]
-            return d[()], text(d.attrs.get("unit", ""))
+            return d[()], unit_of(d)
 
     def has_array(self, group, name):
         with h5py.File(self.path, "r") as f:
@@ -230,7 +250,7 @@ class Case:
 
     @property
     def label(self):
-        """Legend label: "contact.clearance = 0.0001 m" (see describe)."""
+        """Legend label: "contact.clearance = 0.1 mm" (see describe)."""
         return self.describe()
 
     def __repr__(self):

@@ -94,6 +94,7 @@ def main():
     ap.add_argument("--repeats", type=int, default=3, help="runs for the minimum wall time")
     ap.add_argument("--threads", type=int, default=1, help="threads over cases (1: cleanest timing)")
     ap.add_argument("--skip-run", action="store_true", help="analyse existing results only")
+    ap.add_argument("--no-title", action="store_true", help="no figure title (for publication)")
     a = ap.parse_args()
     out = os.path.join("results", "work-precision-" + a.scene)
     os.makedirs(out, exist_ok=True)
@@ -238,8 +239,9 @@ def main():
         ax.set_ylabel("largest relative error over the metrics [-]")
         ax.grid(True, which="both", alpha=0.3)
     axes[0].legend(fontsize=8)
-    fig.suptitle(f"Work-precision, {a.scene}: thesis clearance study, one cycle per case "
-                 "(dashed: 1 % error)")
+    if not a.no_title:
+        fig.suptitle(f"Work-precision, {a.scene}: thesis clearance study, one cycle per case "
+                     "(dashed: 1 % error)")
     fig.tight_layout()
     png = os.path.join(out, "work_precision.png")
     fig.savefig(png, dpi=150)

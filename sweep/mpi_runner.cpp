@@ -284,7 +284,7 @@ int run_study_mpi(const Session& session, const fs::path& study_file, const fs::
   std::optional<Study> study;
   std::string error;
   try {
-    study = load_study(study_file, results_root);
+    study = load_study(study_file, results_root, opt.overrides);
   } catch (const std::exception& e) {
     error = e.what();
   }

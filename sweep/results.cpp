@@ -16,7 +16,7 @@
 //   (atomic on POSIX). A failed write removes the temporary file and throws; a partially
 //   written file never appears under the final name.
 //
-// Case file layout (stable interface, schema_version 1):
+// Case file layout (stable interface, schema_version 2; 1 is still read, see below):
 //   /            attributes: schema_version (int), case_id, case_index (int64), scene, status,
 //                message, t_reached_s, wall_time_s (double), steps_accepted, steps_rejected,
 //                rhs_calls (int64), started_utc, finished_utc, rodend_version, git_revision,
@@ -26,17 +26,25 @@
 //   /signals     one dataset per recorded signal (catalogue name): float64 (or float32 with
 //                output.history_precision), (samples,) or (samples, width), chunked (4096 rows),
 //                shuffle + deflate at output.compression_level (no filters at level 0; the
-//                standard filters, read by any HDF5 reader); attributes unit, description
+//                standard filters, read by any HDF5 reader); attributes units, long_name;
+//                /signals/time is the dimension scale "time" of axis 0 of every signal; axis
+//                1 of a width-w signal is the dimension /component<w> (netCDF dimension
+//                without a variable), so netCDF tools read the file as it is
 //   /metrics     one scalar double attribute per metric (catalogue name), NaN when not
 //                applicable; units_json = {"name": "unit"}
-// Summary: summary.h5 (group /summary, one 1-D dataset per column, attribute columns = JSON
-// array of the names in order) and summary.csv (one header line, one line per case).
+// Summary: summary.h5 (group /summary, one 1-D dataset per column with units (not for text)
+// and long_name, case_index the dimension scale of the others, attribute columns = JSON array
+// of the names in order) and summary.csv (one header line, one line per case, numbers as the
+// shortest decimal that reads back as the same double).
+// Schema 1 (before issue 22) named the attributes unit and description and had no dimension
+// scales; readers accept both.
 // All string attributes and string datasets are variable-length UTF-8.
 #include "sweep/results.hpp"
 #include "sweep/results_dir.hpp"
 
 #include <fcntl.h>
 #include <hdf5.h>
+#include <hdf5_hl.h>
 #include <libdeflate.h>
 #include <unistd.h>
 
@@ -44,6 +52,7 @@
 #include <array>
 #include <atomic>
 #include <bit>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -234,6 +243,39 @@ void attr_doubles(const Context& cx, hid_t obj, const std::string& name,
                   const std::vector<double>& v) {
   const Handle s = vector_space(cx, v.size());
   write_attribute(cx, obj, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, s.get(), v.data());
+}
+
+/// CF-style description of a dataset: `units` (UDUNITS spelling as the catalogues give it; none
+/// for text) and `long_name`, the attributes netCDF tools (xarray, ParaView, Panoply) read.
+void attr_units(const Context& cx, hid_t dataset, const std::string& units,
+                const std::string& long_name, bool text = false) {
+  if (!text) attr_string(cx, dataset, "units", units);
+  attr_string(cx, dataset, "long_name", long_name);
+}
+
+/// Makes `scale` the netCDF dimension `name` (a dimension scale, hdf5_hl) and attaches it as
+/// axis `axis` of every dataset in `datasets`.
+void attach_scale(const Context& cx, hid_t scale, const char* name,
+                  const std::vector<std::pair<hid_t, unsigned>>& datasets) {
+  const std::string what = std::string("cannot attach dimension scale ") + name;
+  if (!cx.yes(H5DSis_scale(scale), what)) cx.ok(H5DSset_scale(scale, name), what);
+  for (const auto& [d, axis] : datasets) cx.ok(H5DSattach_scale(d, scale, axis), what);
+}
+
+/// A netCDF dimension without a coordinate variable (`name`, `size` entries): an uninitialised
+/// float dataset marked as netCDF-C marks one, so that xarray and netCDF tools name the axis.
+Handle dimension_without_variable(const Context& cx, hid_t group, const std::string& name,
+                                  hsize_t size) {
+  const std::string what = "cannot create dimension " + name;
+  const Handle space = cx.own(H5Screate_simple(1, &size, nullptr), H5Sclose, what);
+  Handle d = cx.own(H5Dcreate2(group, name.c_str(), H5T_IEEE_F32BE, space.get(), H5P_DEFAULT,
+                               H5P_DEFAULT, H5P_DEFAULT),
+                    H5Dclose, what);
+  char label[96];
+  std::snprintf(label, sizeof label, "This is a netCDF dimension but not a netCDF variable.%10d",
+                static_cast<int>(size));
+  cx.ok(H5DSset_scale(d.get(), label), what);
+  return d;
 }
 
 Handle create_group(const Context& cx, hid_t parent, const std::string& name,
@@ -491,9 +533,35 @@ void write_signal(const Context& cx, hid_t group, const SignalSpec& s, const Enc
     cx.ok(H5Dwrite_chunk(d.get(), H5P_DEFAULT, 0, offset, e.chunks[k].size(), e.chunks[k].data()),
           what);
   }
-  attr_string(cx, d.get(), "unit", std::string(s.unit));
-  attr_string(cx, d.get(), "description", std::string(s.description));
+  attr_units(cx, d.get(), std::string(s.unit), std::string(s.description));
   cx.ok(d.close(), what);
+}
+
+/// netCDF dimensions of the histories: /signals/time is the dimension scale `time` of axis 0
+/// of every signal; axis 1 of a signal of width w is the dimension `component<w>`, a
+/// dimension without a variable in the root group (so /signals holds only signals).
+void attach_signal_dimensions(const Context& cx, hid_t root, hid_t signals, const History& h) {
+  const auto time_at = std::find(h.signals.begin(), h.signals.end(), SignalId::time);
+  if (time_at == h.signals.end()) return;  // no time axis recorded: nothing to attach
+  std::vector<Handle> open;
+  std::vector<std::pair<hid_t, unsigned>> on_time;
+  std::map<int, std::vector<std::pair<hid_t, unsigned>>> on_component;
+  for (SignalId id : h.signals) {
+    if (id == SignalId::time) continue;
+    const SignalSpec& s = signal_spec(id);
+    const std::string name(s.name);
+    open.push_back(cx.own(H5Dopen2(signals, name.c_str(), H5P_DEFAULT), H5Dclose,
+                          "cannot open signal " + name));
+    on_time.emplace_back(open.back().get(), 0u);
+    if (s.width > 1) on_component[s.width].emplace_back(open.back().get(), 1u);
+  }
+  const Handle time = cx.own(H5Dopen2(signals, "time", H5P_DEFAULT), H5Dclose, "no time signal");
+  attach_scale(cx, time.get(), "time", on_time);
+  for (const auto& [width, datasets] : on_component) {
+    const std::string name = "component" + std::to_string(width);
+    const Handle dim = dimension_without_variable(cx, root, name, static_cast<hsize_t>(width));
+    attach_scale(cx, dim.get(), name.c_str(), datasets);
+  }
 }
 
 void write_case_signals(const Context& cx, hid_t root, const History& h,
@@ -501,6 +569,42 @@ void write_case_signals(const Context& cx, hid_t root, const History& h,
   const Handle g = create_group(cx, root, "signals");
   for (std::size_t i = 0; i < h.signals.size(); ++i)
     write_signal(cx, g.get(), signal_spec(h.signals[i]), encoded[i], out);
+  attach_signal_dimensions(cx, root, g.get(), h);
+}
+
+/// The netCDF dimensions of the per-case arrays (CaseArray::dim_names): a dimension named
+/// after a 1-D array of the group is that array (a coordinate), else one without a variable.
+void attach_array_dimensions(const Context& cx, const History& h,
+                             const std::map<std::string, Handle>& groups) {
+  // group -> dimension -> (dataset, axis) to attach
+  std::map<std::string, std::map<std::string, std::vector<std::pair<std::string, unsigned>>>> uses;
+  std::map<std::string, std::map<std::string, hsize_t>> sizes;
+  for (const CaseArray& a : h.arrays)
+    for (std::size_t k = 0; k < a.dim_names.size() && k < a.dims.size(); ++k) {
+      const std::string& dim = a.dim_names[k];
+      if (!(a.dims.size() == 1 && a.name == dim))
+        uses[a.group][dim].emplace_back(a.name, static_cast<unsigned>(k));
+      sizes[a.group][dim] = static_cast<hsize_t>(a.dims[k]);
+    }
+  for (const auto& [group, dims] : sizes) {
+    const hid_t g = groups.at(group).get();
+    for (const auto& [dim, size] : dims) {
+      const bool has_variable = std::any_of(h.arrays.begin(), h.arrays.end(), [&](const auto& a) {
+        return a.group == group && a.name == dim && a.dims.size() == 1;
+      });
+      const std::string what = "cannot attach dimension " + group + "/" + dim;
+      const Handle scale = has_variable
+                               ? cx.own(H5Dopen2(g, dim.c_str(), H5P_DEFAULT), H5Dclose, what)
+                               : dimension_without_variable(cx, g, dim, size);
+      std::vector<Handle> open;
+      std::vector<std::pair<hid_t, unsigned>> targets;
+      for (const auto& [name, axis] : uses[group][dim]) {
+        open.push_back(cx.own(H5Dopen2(g, name.c_str(), H5P_DEFAULT), H5Dclose, what));
+        targets.emplace_back(open.back().get(), axis);
+      }
+      attach_scale(cx, scale.get(), dim.c_str(), targets);
+    }
+  }
 }
 
 void write_case_arrays(const Context& cx, hid_t root, const History& h) {
@@ -524,10 +628,10 @@ void write_case_arrays(const Context& cx, hid_t root, const History& h) {
     if (n > 0)
       cx.ok(H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, a.values.data()),
             what);
-    attr_string(cx, d.get(), "unit", a.unit);
-    attr_string(cx, d.get(), "description", a.description);
+    attr_units(cx, d.get(), a.unit, a.description);
     cx.ok(d.close(), what);
   }
+  attach_array_dimensions(cx, h, groups);
 }
 
 void write_case_metrics(const Context& cx, hid_t root, const MetricValues& m) {
@@ -593,8 +697,11 @@ CaseRecord read_case_locked(const fs::path& path) {
   {
     const Handle root = cx.own(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose, "no root");
     const hid_t g = root.get();
-    if (read_attr_int64(cx, g, "schema_version") != kResultsSchemaVersion)
-      cx.fail("unsupported schema_version");
+    if (const long long v = read_attr_int64(cx, g, "schema_version");
+        v < kOldestReadableSchemaVersion || v > kResultsSchemaVersion)
+      cx.fail("schema_version " + std::to_string(v) + " is not readable by this rodend (it reads " +
+              std::to_string(kOldestReadableSchemaVersion) + " to " +
+              std::to_string(kResultsSchemaVersion) + ")");
     r.id = read_attr_string(cx, g, "case_id");
     r.index = static_cast<long>(read_attr_int64(cx, g, "case_index"));
     r.scene = read_attr_string(cx, g, "scene");
@@ -755,8 +862,7 @@ void write_summary_column(const Context& cx, hid_t group, const Column& c) {
                                H5P_DEFAULT, H5P_DEFAULT),
                     H5Dclose, what);
   if (n > 0) cx.ok(H5Dwrite(d.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), what);
-  attr_string(cx, d.get(), "unit", c.unit);
-  attr_string(cx, d.get(), "description", c.description);
+  attr_units(cx, d.get(), c.unit, c.description, c.kind == Column::Kind::text);
   cx.ok(d.close(), what);
 }
 
@@ -786,6 +892,19 @@ void write_summary_h5(const fs::path& final_path, const fs::path& temp, const St
       names.push_back(c.name);
     }
     attr_string(cx, summary.get(), "columns", names.dump());
+    // case_index is the netCDF dimension of every column: the table is one call away,
+    // xarray.open_dataset(path, engine="h5netcdf", group="summary").to_dataframe()
+    std::vector<Handle> open;
+    std::vector<std::pair<hid_t, unsigned>> columns;
+    for (const Column& c : cols)
+      if (c.name != "case_index") {
+        open.push_back(cx.own(H5Dopen2(summary.get(), c.name.c_str(), H5P_DEFAULT), H5Dclose,
+                              "cannot open summary column " + c.name));
+        columns.emplace_back(open.back().get(), 0u);
+      }
+    const Handle index = cx.own(H5Dopen2(summary.get(), "case_index", H5P_DEFAULT), H5Dclose,
+                                "no case_index column");
+    attach_scale(cx, index.get(), "case_index", columns);
   }
   cx.ok(file.close(), "cannot close " + temp.string());
 }
@@ -801,10 +920,7 @@ std::string csv_field(const std::string& s) {
 }
 
 std::string csv_number(double v) {
-  if (std::isnan(v)) return "nan";
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
+  return shortest_decimal(v);
 }
 
 void write_summary_csv(const fs::path& final_path, const fs::path& temp,
@@ -848,12 +964,41 @@ void write_summary_csv(const fs::path& final_path, const fs::path& temp,
 // -------------------------------------------------------------------------------------------
 // Public interface
 
+std::string shortest_decimal(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char buf[40];
+  // the shortest digits that read back exactly, as d.ddde±XX
+  const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::scientific);
+  const std::string sci(buf, r.ptr);
+  const auto e = sci.find('e');
+  const int exp = std::stoi(sci.substr(e + 1));
+  if (exp < -4 || exp >= 16) return sci;  // 1e-17, 1.5e+20
+  const bool negative = sci[0] == '-';
+  std::string digits;
+  for (std::size_t i = negative ? 1 : 0; i < e; ++i)
+    if (sci[i] != '.') digits += sci[i];
+  std::string out = negative ? "-" : "";
+  if (exp < 0) {
+    out += "0." + std::string(static_cast<std::size_t>(-exp - 1), '0') + digits;  // 0.0005
+  } else {
+    const auto whole = static_cast<std::size_t>(exp + 1);
+    if (digits.size() <= whole)
+      out += digits + std::string(whole - digits.size(), '0');  // 12345678901
+    else
+      out += digits.substr(0, whole) + "." + digits.substr(whole);  // 1.25
+  }
+  return out;
+}
+
 Json provenance(const Study& study) {
   char host[256] = {};
   if (::gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
-  return Json{{"rodend_version", RODEND_VERSION}, {"git_revision", RODEND_GIT_REVISION},
-              {"host", std::string(host)},        {"study_file", study.file.string()},
-              {"study_name", study.name},         {"created_utc", utc_now_iso8601()}};
+  Json p{{"rodend_version", RODEND_VERSION}, {"git_revision", RODEND_GIT_REVISION},
+         {"host", std::string(host)},        {"study_file", study.file.string()},
+         {"study_name", study.name},         {"created_utc", utc_now_iso8601()}};
+  if (!study.overrides.empty()) p["overrides"] = study.overrides;  // rodend run --set
+  return p;
 }
 
 void write_case_file(const fs::path& path, const CaseSpec& spec, const CaseRecord& record,
@@ -936,8 +1081,10 @@ std::vector<std::string> group_members(const Context& cx, hid_t group) {
 }
 
 std::string read_dataset_unit(const Context& cx, hid_t d) {
-  if (!cx.yes(H5Aexists(d, "unit"), "cannot look up a unit")) return {};
-  return read_attr_string(cx, d, "unit");
+  // `units` (CF, schema 2); `unit` in schema 1 files
+  for (const char* name : {"units", "unit"})
+    if (cx.yes(H5Aexists(d, name), "cannot look up a unit")) return read_attr_string(cx, d, name);
+  return {};
 }
 
 }  // namespace
@@ -952,6 +1099,11 @@ SummaryTable read_summary(const fs::path& dir) {
       cx.own(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, "cannot open the file");
   SummaryTable t;
   {
+    const Handle root = cx.own(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose, "no root");
+    if (cx.yes(H5Aexists(root.get(), "provenance_json"), "cannot look up provenance_json"))
+      t.provenance = Json::parse(read_attr_string(cx, root.get(), "provenance_json"), nullptr,
+                                 /*allow_exceptions=*/false);
+    if (!t.provenance.is_object()) t.provenance = Json::object();
     const Handle g =
         cx.own(H5Gopen2(file.get(), "/summary", H5P_DEFAULT), H5Gclose, "no /summary group");
     const Json cols = Json::parse(read_attr_string(cx, g.get(), "columns"));

@@ -22,8 +22,11 @@
 
 namespace rodend {
 
-/// Layout version of the results files; bumped on any incompatible change.
-inline constexpr int kResultsSchemaVersion = 1;
+/// Layout version of the results files; bumped on any incompatible change. 2: CF `units` and
+/// `long_name` attributes (1: `unit`, `description`), netCDF dimension scales (time, case_index).
+inline constexpr int kResultsSchemaVersion = 2;
+/// The oldest layout the readers (resume, merge, compare) still accept.
+inline constexpr int kOldestReadableSchemaVersion = 1;
 
 /// A per-case array that is not a time history (wear maps, wear-evolution histories): written
 /// as dataset `group/name` with its unit and description as attributes.
@@ -31,6 +34,10 @@ struct CaseArray {
   std::string group, name, unit, description;
   std::vector<std::size_t> dims;  ///< row-major
   std::vector<double> values;
+  /// netCDF dimension name of each axis (empty: none attached). An axis named after a 1-D
+  /// array of the same group has that array as its coordinate (dimension scale); otherwise the
+  /// dimension is created without a variable.
+  std::vector<std::string> dim_names = {};
 };
 
 /// Sampled histories of one case: for each recorded signal, n_samples x width values, row-major.
@@ -63,6 +70,7 @@ struct SummaryTable {
   std::map<std::string, std::vector<std::string>> texts;  ///< text columns
   std::map<std::string, std::string> units;               ///< unit of each column
   std::size_t rows = 0;
+  Json provenance = Json::object();  ///< the root attribute provenance_json (rodend report)
   bool is_text(const std::string& c) const { return texts.count(c) > 0; }
 };
 /// Reads `dir/summary.h5`; throws std::runtime_error naming the file when it is missing or not
@@ -83,6 +91,11 @@ struct SignalData {
 std::vector<std::string> list_signals(const std::filesystem::path& case_file);
 /// One signal of a case file; throws std::runtime_error.
 SignalData read_signal(const std::filesystem::path& case_file, const std::string& name);
+
+/// The shortest decimal that reads back as the same double, in the form Python's repr and
+/// nlohmann::json use: fixed notation for exponents -4 to 15 (2e-4 is "0.0002", not
+/// "0.00020000000000000001"), else d.ddde±XX ("1e-17"); "nan", "inf", "-inf".
+std::string shortest_decimal(double v);
 
 /// Process-wide provenance: rodend version and git revision, host, study file.
 Json provenance(const Study& study);

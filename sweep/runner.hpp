@@ -28,6 +28,7 @@ struct RunOptions {
   int shard_index = 1;        ///< run only the shard_index-th of shard_count slices (1-based)
   int shard_count = 1;
   bool wait = false;  ///< wait for another run of the same study instead of refusing
+  std::vector<std::string> overrides;  ///< --set key=value, applied to the study (MPI ranks)
 };
 
 /// Runs one case in memory: builds the scene, integrates, records histories and metrics.

@@ -163,8 +163,9 @@ const Json& need_object(const Json& v, const std::string& key) {
 fs::path output_path(const Json& v, const std::string& key) {
   const std::string s = need_string(v, key);
   if (s.empty())
-    throw InputError(key, "expected a non-empty directory path (or no \"output\" key: "
-                          "results/<name>)");
+    throw InputError(key,
+                     "expected a non-empty directory path (or no \"output\" key: "
+                     "results/<name>)");
   return fs::path(s);
 }
 
@@ -218,6 +219,102 @@ struct Draft {
   bool skip_absent_parameters = false;
 };
 
+/// Checks of the wear_evolution numbers: finite and > lo (open) or >= lo.
+double wear_number(const Json& v, const std::string& key, double lo, bool open) {
+  const double x = need_number(v, key);
+  if (!std::isfinite(x) || (open ? !(x > lo) : !(x >= lo)))
+    throw InputError(key, std::string("expected a finite number ") + (open ? "> " : ">= ") +
+                              std::to_string(static_cast<int>(lo)));
+  return x;
+}
+double metrics_number(const Json& v, const std::string& key) {
+  const double x = need_number(v, key);
+  if (!(x >= 0.0) || !std::isfinite(x)) throw InputError(key, "expected a finite number >= 0");
+  return x;
+}
+
+/// A setting of a section: what it is (StudyField, also what `rodend schema` prints) and how
+/// the loader applies it.
+struct Field {
+  StudyField info;
+  void (*set)(Draft&, const Json&, const std::string& key);
+};
+
+// clang-format off
+/// Strings of a list of names (the choices of a field).
+template <class Names>
+std::vector<std::string> strings(const Names& names) {
+  return std::vector<std::string>(names.begin(), names.end());
+}
+
+/// Every setting of the integrator, time, health, metrics and wear_evolution sections: the one
+/// list the loader (apply) and the schema (study_fields) use.
+const std::vector<Field>& fields() {
+  static const std::vector<Field> kFields{
+  {{"integrator", "preset", "string", "", "named integrator settings, applied before the keys beside it", strings(preset_names())},
+   [](Draft& d, const Json& v, const std::string& key) {
+     const std::string name = need_string(v, key);
+     const auto p = preset_settings(d.scene, name);
+     if (!p) throw InputError(key, "unknown preset '" + name + "'; expected fast, balanced or reference");
+     d.integrator = *p;
+   }},
+  {{"integrator", "method", "string", "", "integration method (README \"The integrator menu\")", strings(integrator_methods())},
+   [](Draft& d, const Json& v, const std::string& key) { d.integrator.method = need_string(v, key); }},
+  {{"integrator", "abs_tol", "number", "1", "absolute tolerance on the scaled state", {}},
+   [](Draft& d, const Json& v, const std::string& key) { d.integrator.abs_tol = need_number(v, key); }},
+  {{"integrator", "rel_tol", "number", "1", "relative tolerance", {}},
+   [](Draft& d, const Json& v, const std::string& key) { d.integrator.rel_tol = need_number(v, key); }},
+  {{"integrator", "step", "number", "s", "rk4 step, or the first trial step of adaptive methods", {}},
+   [](Draft& d, const Json& v, const std::string& key) { d.integrator.step = need_number(v, key); }},
+  {{"integrator", "max_step", "number", "s", "largest step of adaptive methods", {}},
+   [](Draft& d, const Json& v, const std::string& key) { d.integrator.max_step = need_number(v, key); }},
+  {{"integrator", "min_step", "number", "s", "below this an adaptive step is an underflow", {}},
+   [](Draft& d, const Json& v, const std::string& key) { d.integrator.min_step = need_number(v, key); }},
+  {{"integrator", "max_steps", "integer", "1", "budget on accepted plus rejected steps", {}},
+   [](Draft& d, const Json& v, const std::string& key) { d.integrator.max_steps = need_integer(v, key); }},
+  {{"integrator", "max_rhs_calls", "integer", "1", "budget on right-hand-side calls", {}},
+   [](Draft& d, const Json& v, const std::string& key) { d.integrator.max_rhs_calls = need_integer(v, key); }},
+  {{"integrator", "contact_onset", "string", "", "how contact onset is latched", {"locate", "step-end"}},
+   [](Draft& d, const Json& v, const std::string& key) { d.integrator.contact_onset = need_string(v, key); }},
+  {{"time", "end", "number", "s", "end time", {}},
+   [](Draft& d, const Json& v, const std::string& key) { d.time.end = need_number(v, key); }},
+  {{"time", "sample_interval", "number", "s", "history sample interval", {}},
+   [](Draft& d, const Json& v, const std::string& key) { d.time.sample_interval = need_number(v, key); }},
+  {{"health", "max_penetration_fraction", "number", "1", "penetration / clearance beyond which a run fails", {}},
+   [](Draft& d, const Json& v, const std::string& key) { d.health.max_penetration_fraction = need_number(v, key); validate(d.health); }},
+  {{"health", "max_energy_residual", "number", "1", "energy-audit residual relative to the largest energy flow beyond which a run fails", {}},
+   [](Draft& d, const Json& v, const std::string& key) { d.health.max_energy_residual = need_number(v, key); validate(d.health); }},
+  {{"health", "energy_flow_floor", "number", "J", "the energy check starts once the largest energy flow exceeds this", {}},
+   [](Draft& d, const Json& v, const std::string& key) { d.health.energy_flow_floor = need_number(v, key); validate(d.health); }},
+  {{"health", "max_tracking_error", "number", "m", "actuator |command - position| beyond which it is not following", {}},
+   [](Draft& d, const Json& v, const std::string& key) { d.health.max_tracking_error = need_number(v, key); validate(d.health); }},
+  {{"health", "tracking_window", "number", "s", "how long the tracking error may exceed its limit", {}},
+   [](Draft& d, const Json& v, const std::string& key) { d.health.tracking_window = need_number(v, key); validate(d.health); }},
+  {{"metrics", "post_impact_window", "number", "s", "window after the first impact of the post-impact metrics", {}},
+   [](Draft& d, const Json& v, const std::string& key) { d.metrics.post_impact_window = metrics_number(v, key); }},
+  {{"metrics", "surface_motion_threshold", "number", "rad", "surface rotation that counts as motion", {}},
+   [](Draft& d, const Json& v, const std::string& key) { d.metrics.surface_motion_threshold = metrics_number(v, key); }},
+  {{"wear_evolution", "cycles_per_update", "number", "1", "duty cycles one update stands for", {}},
+   [](Draft& d, const Json& v, const std::string& key) { d.wear_evolution.cycles_per_update = wear_number(v, key, 0.0, true); }},
+  {{"wear_evolution", "max_depth_change", "number", "m", "adaptive rule: deepest depth change of an update (0 = off)", {}},
+   [](Draft& d, const Json& v, const std::string& key) { d.wear_evolution.max_depth_change = wear_number(v, key, 0.0, false); }},
+  {{"wear_evolution", "max_cycles", "number", "1", "stop after this many duty cycles", {}},
+   [](Draft& d, const Json& v, const std::string& key) { d.wear_evolution.max_cycles = wear_number(v, key, 0.0, true); }},
+  {{"wear_evolution", "clearance_limit", "number", "m", "axial clearance at which the joint is worn out (0 = none)", {}},
+   [](Draft& d, const Json& v, const std::string& key) { d.wear_evolution.clearance_limit = wear_number(v, key, 0.0, false); }},
+  {{"wear_evolution", "backlash_limit", "number", "rad", "surface backlash at which the joint is worn out (0 = none)", {}},
+   [](Draft& d, const Json& v, const std::string& key) { d.wear_evolution.backlash_limit = wear_number(v, key, 0.0, false); }},
+  {{"wear_evolution", "max_updates", "integer", "1", "bound on the number of updates (1 to 100000)", {}},
+   [](Draft& d, const Json& v, const std::string& key) {
+     d.wear_evolution.max_updates = need_integer(v, key);
+     if (d.wear_evolution.max_updates < 1 || d.wear_evolution.max_updates > 100000)
+       throw InputError(key, "expected an integer from 1 to 100000");
+   }},
+  };
+  return kFields;
+}
+// clang-format on
+
 /// Applies one setting addressed by a full key path (parameters.*, integrator.*, time.*,
 /// health.*, metrics.*). Throws InputError with that key path.
 void apply(Draft& d, const std::string& key, const Json& v) {
@@ -235,112 +332,22 @@ void apply(Draft& d, const std::string& key, const Json& v) {
     }
     return;
   }
-  if (section == "integrator") {
-    auto& s = d.integrator;
-    if (field == "preset") {
-      const std::string name = need_string(v, key);
-      const auto p = preset_settings(d.scene, name);
-      if (!p)
-        throw InputError(key,
-                         "unknown preset '" + name + "'; expected fast, balanced or reference");
-      s = *p;
-    } else if (field == "method")
-      s.method = need_string(v, key);
-    else if (field == "abs_tol")
-      s.abs_tol = need_number(v, key);
-    else if (field == "rel_tol")
-      s.rel_tol = need_number(v, key);
-    else if (field == "step")
-      s.step = need_number(v, key);
-    else if (field == "max_step")
-      s.max_step = need_number(v, key);
-    else if (field == "min_step")
-      s.min_step = need_number(v, key);
-    else if (field == "max_steps")
-      s.max_steps = need_integer(v, key);
-    else if (field == "max_rhs_calls")
-      s.max_rhs_calls = need_integer(v, key);
-    else if (field == "contact_onset")
-      s.contact_onset = need_string(v, key);
-    else
-      throw InputError(key,
-                       "unknown integrator setting; expected one of preset, method, abs_tol, "
-                       "rel_tol, step, max_step, min_step, max_steps, max_rhs_calls, "
-                       "contact_onset");
-    return;
+  if (section == "wear_evolution") d.wear_evolution.enabled = true;
+  const std::vector<Field>& kFields = fields();
+  for (const Field& f : kFields) {
+    if (f.info.section != section) continue;
+    if (f.info.name == field) {
+      f.set(d, v, key);
+      return;
+    }
   }
-  if (section == "time") {
-    if (field == "end")
-      d.time.end = need_number(v, key);
-    else if (field == "sample_interval")
-      d.time.sample_interval = need_number(v, key);
-    else
-      throw InputError(key, "unknown time setting; expected end or sample_interval");
-    return;
-  }
-  if (section == "health") {
-    auto& h = d.health;
-    if (field == "max_penetration_fraction")
-      h.max_penetration_fraction = need_number(v, key);
-    else if (field == "max_energy_residual")
-      h.max_energy_residual = need_number(v, key);
-    else if (field == "energy_flow_floor")
-      h.energy_flow_floor = need_number(v, key);
-    else if (field == "max_tracking_error")
-      h.max_tracking_error = need_number(v, key);
-    else if (field == "tracking_window")
-      h.tracking_window = need_number(v, key);
-    else
-      throw InputError(key,
-                       "unknown health setting; expected one of max_penetration_fraction, "
-                       "max_energy_residual, energy_flow_floor, max_tracking_error, "
-                       "tracking_window");
-    validate(d.health);  // the others are defaults or were checked when set
-    return;
-  }
-  if (section == "metrics") {
-    if (field == "post_impact_window")
-      d.metrics.post_impact_window = need_number(v, key);
-    else if (field == "surface_motion_threshold")
-      d.metrics.surface_motion_threshold = need_number(v, key);
-    else
-      throw InputError(key,
-                       "unknown metrics setting; expected post_impact_window or "
-                       "surface_motion_threshold");
-    if (const double x = need_number(v, key); !(x >= 0.0) || !std::isfinite(x))
-      throw InputError(key, "expected a finite number >= 0");
-    return;
-  }
-  if (section == "wear_evolution") {
-    auto& w = d.wear_evolution;
-    w.enabled = true;
-    auto number = [&](double lo, bool open) {
-      const double x = need_number(v, key);
-      if (!std::isfinite(x) || (open ? !(x > lo) : !(x >= lo)))
-        throw InputError(key, std::string("expected a finite number ") + (open ? "> " : ">= ") +
-                                  std::to_string(static_cast<int>(lo)));
-      return x;
-    };
-    if (field == "cycles_per_update")
-      w.cycles_per_update = number(0.0, true);
-    else if (field == "max_depth_change")
-      w.max_depth_change = number(0.0, false);
-    else if (field == "max_cycles")
-      w.max_cycles = number(0.0, true);
-    else if (field == "clearance_limit")
-      w.clearance_limit = number(0.0, false);
-    else if (field == "backlash_limit")
-      w.backlash_limit = number(0.0, false);
-    else if (field == "max_updates") {
-      w.max_updates = need_integer(v, key);
-      if (w.max_updates < 1 || w.max_updates > 100000)
-        throw InputError(key, "expected an integer from 1 to 100000");
-    } else
-      throw InputError(key,
-                       "unknown wear_evolution setting; expected one of cycles_per_update, "
-                       "max_depth_change, max_cycles, clearance_limit, backlash_limit, "
-                       "max_updates");
-    return;
+  if (std::any_of(kFields.begin(), kFields.end(),
+                  [&](const Field& f) { return f.info.section == section; })) {
+    std::string names;
+    for (const Field& f : kFields)
+      if (f.info.section == section)
+        names += (names.empty() ? "" : ", ") + std::string(f.info.name);
+    throw InputError(key, "unknown " + section + " setting; expected one of " + names);
   }
   throw InputError(key, "unknown section '" + section +
                             "'; expected parameters, integrator, time, health, metrics or "
@@ -526,8 +533,20 @@ std::optional<std::string> find_nul(const Json& doc) {
   return std::nullopt;
 }
 
-
 }  // namespace
+
+std::vector<StudyField> study_fields() {
+  std::vector<StudyField> out;
+  for (const Field& f : fields()) out.push_back(f.info);
+  return out;
+}
+
+const std::vector<std::string>& study_keys() {
+  static const std::vector<std::string> keys{
+      "name",    "description", "scene",   "parameters", "integrator", "time",
+      "signals", "health",      "metrics", "grid",       "output",     "wear_evolution"};
+  return keys;
+}
 
 Study parse_study(const Json& doc, const fs::path& file, const fs::path& results_root) {
   const std::string fname = file.string();
@@ -540,9 +559,7 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
       throw InputError(*nul,
                        "a string with a NUL character (\\u0000); expected text without "
                        "NUL");
-    static const std::vector<std::string> kKeys{
-        "name",    "description", "scene",   "parameters", "integrator", "time",
-        "signals", "health",      "metrics", "grid",       "output",     "wear_evolution"};
+    const std::vector<std::string>& kKeys = study_keys();
     for (auto it = doc.begin(); it != doc.end(); ++it)
       if (std::find(kKeys.begin(), kKeys.end(), it.key()) == kKeys.end())
         throw InputError(it.key(),
@@ -869,14 +886,137 @@ struct KeyTracker {
   }
 };
 
-}  // namespace
-
-Study load_study(const fs::path& file, const fs::path& results_root) {
-  return parse_study_text(read_study_text(file), file, results_root);
+/// Removes the value at dotted `path` from `obj`, written nested ({"contact": {"clearance":
+/// ...}}), dotted ("contact.clearance") or mixed; empty objects left behind go too.
+void erase_path(Json& obj, const std::string& path) {
+  if (!obj.is_object()) return;
+  std::vector<std::string> gone;
+  for (auto it = obj.begin(); it != obj.end(); ++it) {
+    const std::string& k = it.key();
+    if (k == path) {
+      gone.push_back(k);
+    } else if (path.size() > k.size() && path.compare(0, k.size(), k) == 0 &&
+               path[k.size()] == '.' && it->is_object()) {
+      erase_path(*it, path.substr(k.size() + 1));
+      if (it->empty()) gone.push_back(k);
+    }
+  }
+  for (const std::string& k : gone) obj.erase(k);
 }
 
-Study parse_study_text(const std::string& text, const fs::path& file,
-                       const fs::path& results_root) {
+/// Levenshtein distance (for "did you mean" in --set errors).
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diag = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] != b[j - 1] ? 1 : 0)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+/// A key path `--set` does not know: names the nearest one that exists, with its type and unit.
+[[noreturn]] void unknown_override_key(const std::string& key, const std::string& section,
+                                       const std::string& rest, const ParameterSet& params,
+                                       const std::string& scene) {
+  std::string best, type, unit;
+  std::size_t best_d = std::string::npos;
+  auto consider = [&](const std::string& name, const std::string& t, const std::string& u) {
+    const std::size_t dist = edit_distance(rest, name);
+    if (dist < best_d) best_d = dist, best = name, type = t, unit = u;
+  };
+  if (section == "parameters") {
+    const Json leaves = params.leaves();  // outlives items()
+    for (const auto& [p, leaf] : leaves.items())
+      consider(p, describe(leaf["value"]), leaf.value("unit", ""));
+  } else {
+    for (const StudyField& f : study_fields())
+      if (f.section == section)
+        consider(f.name, f.type == "integer" ? "an integer" : "a " + f.type, f.unit);
+  }
+  std::string m = section == "parameters" ? "unknown parameter of scene " + scene +
+                                                " (see `rodend params " + scene + "`)"
+                                          : "unknown " + section + " setting (see `rodend schema`)";
+  if (!best.empty())
+    m += "; nearest: " + section + "." + best + ", expected " + type +
+         (unit.empty() || unit == "1" ? "" : " [" + unit + "]");
+  throw InputError(key, m);
+}
+
+}  // namespace
+
+Json apply_overrides(Json doc, const std::vector<std::string>& overrides, const fs::path& file) {
+  for (const std::string& o : overrides) {
+    const auto eq = o.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw InputError("--set", "expected key.path=value, got '" + o + "'", file.string());
+    const std::string key = o.substr(0, eq), text = o.substr(eq + 1);
+    Json value;
+    try {
+      value = Json::parse(text);
+    } catch (const Json::exception&) {
+      value = text;  // not JSON: a string (--set scene=gravity-drop)
+    }
+    const std::string from = " (from --set " + o + ")";
+    try {
+      if (!doc.is_object()) throw InputError("", "a study must be a JSON object");
+      const auto dot = key.find('.');
+      const std::string section = key.substr(0, dot);
+      const auto& keys = study_keys();
+      if (std::find(keys.begin(), keys.end(), section) == keys.end()) {
+        std::string list;
+        for (const auto& k : keys) list += (list.empty() ? "" : ", ") + k;
+        throw InputError(key, "unknown key; expected one of " + list + " (with a dotted path " +
+                                  "for parameters, integrator, time, health, metrics and " +
+                                  "wear_evolution)");
+      }
+      if (dot == std::string::npos) {  // a whole top-level value (parse_study checks it)
+        doc[key] = value;
+        continue;
+      }
+      const std::string rest = key.substr(dot + 1);
+      const bool settings = section == "parameters" || section == "integrator" ||
+                            section == "time" || section == "health" || section == "metrics" ||
+                            section == "wear_evolution";
+      if (!settings)
+        throw InputError(key, "'" + section + "' takes a whole value: --set " + section + "=...");
+      // check the key and the type of the value as the loader will, on the study's scene
+      if (!doc.contains("scene") || !doc["scene"].is_string())
+        throw InputError("scene", "missing: which scene to run");
+      Draft d;
+      d.scene = doc["scene"].get<std::string>();
+      d.parameters = ParameterSet::defaults_for(d.scene);
+      const auto& fs_ = study_fields();
+      const bool known = section == "parameters"
+                             ? d.parameters.has(rest)
+                             : std::any_of(fs_.begin(), fs_.end(), [&](const StudyField& f) {
+                                 return f.section == section && f.name == rest;
+                               });
+      if (!known) unknown_override_key(key, section, rest, d.parameters, d.scene);
+      apply(d, key, value);
+      if (doc.contains(section) && !doc[section].is_object())
+        throw InputError(section, "expected an object, got " + describe(doc[section]));
+      erase_path(doc[section], rest);
+      doc[section][rest] = value;
+    } catch (const InputError& e) {
+      throw InputError(e.key_path(), e.problem() + from, file.string());
+    }
+  }
+  return doc;
+}
+
+Study load_study(const fs::path& file, const fs::path& results_root,
+                 const std::vector<std::string>& overrides) {
+  return parse_study_text(read_study_text(file), file, results_root, overrides);
+}
+
+Study parse_study_text(const std::string& text, const fs::path& file, const fs::path& results_root,
+                       const std::vector<std::string>& overrides) {
   if (text.find('\0') != std::string::npos) {
     const auto [line, col] = line_column(text, text.find('\0'));
     throw InputError("",
@@ -941,7 +1081,10 @@ Study parse_study_text(const std::string& text, const fs::path& file,
                          std::to_string(col) + ": " + detail,
                      file.string());
   }
-  return parse_study(doc, file, results_root);
+  if (overrides.empty()) return parse_study(doc, file, results_root);
+  Study study = parse_study(apply_overrides(std::move(doc), overrides, file), file, results_root);
+  study.overrides = overrides;
+  return study;
 }
 
 }  // namespace rodend

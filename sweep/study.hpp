@@ -89,12 +89,35 @@ struct Study {
   /// every scene the study runs, in order of first use: {scene}, or the values of the grid
   /// axis "scene" (kinematic and full-system runs side by side in one study)
   std::vector<std::string> scenes;
-  std::filesystem::path output_dir;  ///< "output" (or "output.directory"), else results/<name>
-  OutputSettings output;             ///< "output.compression_level", ".history_precision"
+  std::filesystem::path output_dir;    ///< "output" (or "output.directory"), else results/<name>
+  OutputSettings output;               ///< "output.compression_level", ".history_precision"
   std::vector<std::string> axis_keys;  ///< grid coordinate keys, in axis order
   std::vector<CaseSpec> cases;
-  Json source;  ///< the study file as parsed
+  Json source;  ///< the study file as parsed, with the --set overrides applied
+  std::vector<std::string> overrides;  ///< the --set key=value overrides, in order
 };
+
+/// One setting of a study section (integrator, time, health, metrics, wear_evolution), from the
+/// list the loader applies settings with; `rodend schema` describes the sections from it.
+struct StudyField {
+  std::string section, name;
+  std::string type;  ///< JSON type: "number", "integer" or "string"
+  std::string unit;  ///< SI unit ("1" when dimensionless, "" for strings)
+  std::string description;
+  std::vector<std::string> choices;  ///< the allowed strings (empty: any)
+};
+/// Every setting of the sections, in the loader's order.
+std::vector<StudyField> study_fields();
+/// The top-level keys of a study file.
+const std::vector<std::string>& study_keys();
+
+/// Applies `--set key.path=value` overrides (value: JSON, or else taken as a string) to a
+/// parsed study document before parse_study: each replaces the value at its key path (a
+/// parameter written nested or dotted is replaced wherever it was). A key path that no study
+/// has, or a value of the wrong type, throws InputError naming `file`, the key and what was
+/// expected. Returns the document with the overrides applied.
+Json apply_overrides(Json doc, const std::vector<std::string>& overrides,
+                     const std::filesystem::path& file);
 
 /// FNV-1a 64-bit hash of a string, as 16 lowercase hex digits.
 std::string fnv1a64_hex(std::string_view text);
@@ -106,11 +129,13 @@ std::string case_id(const CaseSpec& c);
 /// file, the key path and, for a grid, the case. The file must be a regular file of at most
 /// 16 MiB; duplicate keys and NUL characters are refused.
 Study load_study(const std::filesystem::path& file,
-                 const std::filesystem::path& results_root = "results");
+                 const std::filesystem::path& results_root = "results",
+                 const std::vector<std::string>& overrides = {});
 /// The same from the file's text (what load_study does after reading the file): NUL bytes,
 /// JSON syntax, duplicate keys, then parse_study.
 Study parse_study_text(const std::string& text, const std::filesystem::path& file,
-                       const std::filesystem::path& results_root = "results");
+                       const std::filesystem::path& results_root = "results",
+                       const std::vector<std::string>& overrides = {});
 /// The same from an already parsed document; `file` is used in messages and for the name.
 Study parse_study(const Json& doc, const std::filesystem::path& file,
                   const std::filesystem::path& results_root = "results");

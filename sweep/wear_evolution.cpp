@@ -19,8 +19,21 @@ double& metric(MetricValues& m, MetricId id) {
 
 CaseArray array(std::string group, std::string name, std::string unit, std::string description,
                 std::vector<std::size_t> dims, std::vector<double> values) {
-  return {std::move(group),       std::move(name), std::move(unit),
-          std::move(description), std::move(dims), std::move(values)};
+  // netCDF dimensions: a wear map is latitude x longitude cells, a per-row array is per
+  // latitude, the radii are per body (ball, socket), an evolution column per update
+  std::vector<std::string> dim_names;
+  if (group == "evolution")
+    dim_names = {"update"};
+  else if (name == "longitude")
+    dim_names = {"longitude"};
+  else if (name == "radius")
+    dim_names = {"body"};
+  else if (dims.size() == 2)
+    dim_names = {"latitude", "longitude"};
+  else
+    dim_names = {"latitude"};
+  return {std::move(group), std::move(name),   std::move(unit),     std::move(description),
+          std::move(dims),  std::move(values), std::move(dim_names)};
 }
 
 }  // namespace

@@ -6,6 +6,9 @@
 #include <atomic>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -294,11 +297,28 @@ TEST_CASE("the summary has one header line and one line per case", "[results]") 
   for (const MetricSpec& m : metric_catalogue()) header += "," + std::string(m.name);
   CHECK(lines[0] == header);
 
-  // first row: the id, index, the coordinate at full precision, empty message
+  // first row: the id, index, scene, the coordinate as the shortest decimal that reads back as
+  // the same double (5e-4 is 0.0005, not %.17g's 0.00050000000000000001), empty message
   CHECK(lines[1].rfind(rows[0].id + ",0," + study.cases[0].scene +
-                           ",0.00050000000000000001,ok,,0.25,1.5,12345678901,17,98765,"
+                           ",0.0005,ok,,0.25,1.5,12345678901,17,98765,"
                            "2024-05-01T10:00:00Z,2024-05-01T10:00:02Z,",
                        0) == 0);
+  // every metric reads back exactly (0.125 i + 1e-17 needs 17 digits for i = 0 only)
+  {
+    std::vector<std::string> fields;
+    std::stringstream in(lines[1]);
+    for (std::string f; std::getline(in, f, ',');) fields.push_back(f);
+    const std::size_t first_metric = 12;
+    REQUIRE(fields.size() == first_metric + rows[0].metrics.size());
+    for (std::size_t i = 0; i < rows[0].metrics.size(); ++i) {
+      INFO("metric " << i << ": " << fields[first_metric + i]);
+      if (std::isnan(rows[0].metrics[i]))
+        CHECK(fields[first_metric + i] == "nan");
+      else
+        CHECK(std::stod(fields[first_metric + i]) == rows[0].metrics[i]);
+    }
+    CHECK(fields[first_metric] == "1e-17");
+  }
   // second row: a message with a comma and quotes is quoted, quotes doubled
   CHECK(lines[2].find(",penetration_limit,\"penetration, \"\"deep\"\", at t = 0.01 s\",") !=
         std::string::npos);
@@ -418,4 +438,29 @@ TEST_CASE("compression makes the histories smaller, float32 halves them", "[resu
   CHECK(raw > 640e3);
   CHECK(raw32 < 0.55 * raw);
   CHECK(packed < 0.5 * raw);
+}
+
+TEST_CASE("numbers are written as the shortest decimal that reads back exactly", "[results]") {
+  CHECK(shortest_decimal(2e-4) == "0.0002");
+  CHECK(shortest_decimal(5e-4) == "0.0005");
+  CHECK(shortest_decimal(0.1 + 0.2) == "0.30000000000000004");  // not 0.3: that is another double
+  CHECK(shortest_decimal(1e-17) == "1e-17");
+  CHECK(shortest_decimal(-1.25) == "-1.25");
+  CHECK(shortest_decimal(12345678901.0) == "12345678901");
+  CHECK(shortest_decimal(1.5e20) == "1.5e+20");
+  CHECK(shortest_decimal(0.0) == "0");
+  CHECK(shortest_decimal(std::numeric_limits<double>::quiet_NaN()) == "nan");
+  CHECK(shortest_decimal(-std::numeric_limits<double>::infinity()) == "-inf");
+  // every double reads back as itself: a deterministic sweep over bit patterns of all magnitudes
+  std::uint64_t bits = 0x9E3779B97F4A7C15ull;
+  int bad = 0;
+  for (int i = 0; i < 200000; ++i) {
+    bits ^= bits << 13, bits ^= bits >> 7, bits ^= bits << 17;  // xorshift64
+    double v;
+    std::memcpy(&v, &bits, sizeof v);
+    if (!std::isfinite(v)) continue;
+    const std::string s = shortest_decimal(v);
+    if (std::strtod(s.c_str(), nullptr) != v || s.size() > 24) ++bad;
+  }
+  CHECK(bad == 0);
 }

@@ -116,6 +116,20 @@ with tempfile.TemporaryDirectory() as tmp:
                    {"eccentricity_force", "polar_relative_position", "polar_force_wear",
                     "surface_angle", "phase_fft", "energy_audit",
                     "spring_forces", "hinge_moment", "hydraulics", "actuator_response"})
+    # rodend report: one self-contained page with the summary, the figures and the provenance
+    r = run(["report", kin])
+    page = os.path.join(kin, "report.html")
+    check(r.returncode == 0 and r.stdout.strip() == page, f"report: {r.returncode} {r.stderr}")
+    with open(page, encoding="utf-8") as f:
+        html = f.read()
+    n_png = len(glob.glob(os.path.join(kin, "plots", "*.png")))
+    check(html.count('src="data:image/png;base64,') == n_png and n_png >= 5,
+          f"report: {html.count('data:image/png')} embedded figures, {n_png} drawn")
+    check("max_contact_force [N]" in html and "git_revision" in html and "<h1>Study kin</h1>" in html,
+          "report: no summary table header with units, provenance or title")
+    check("src=\"plots/" not in html and "href=" not in html, "report links to files: not self-contained")
+    r = run(["report", os.path.join(tmp, "nope")])
+    check(r.returncode == 2 and "nope" in r.stderr, f"report of a missing folder: {r.returncode} {r.stderr}")
 
     # a scene without a mechanism, one case, no grid
     drop = simulate(tmp, {
@@ -132,6 +146,29 @@ with tempfile.TemporaryDirectory() as tmp:
               for l in r.stdout.splitlines()), f"gravity-drop: phase-diagram skip reason:\n{r.stdout}")
     check(any(l.startswith("skip first-impact") and "grid" in l for l in r.stdout.splitlines()),
           f"gravity-drop: first-impact skip reason:\n{r.stdout}")
+
+    # --no-title: the same figures without titles; legends give lengths in the axes' unit (mm)
+    sys.path.insert(0, PLOTS)
+    import matplotlib
+    matplotlib.use("Agg")
+    import plot_study
+    from rodend_results import coordinate_label, open_study
+    check(coordinate_label("parameters.contact.clearance", 1e-4, "m") ==
+          "contact.clearance = 0.1 mm", "legend label of a length is not in mm")
+    check(coordinate_label("parameters.contact.restitution", 0.8, "1") ==
+          "contact.restitution = 0.8", "legend label of a number")
+    r = plot([kin, "--no-title", "--out", os.path.join(tmp, "notitle")])
+    check(r.returncode == 0, f"--no-title: exit {r.returncode}\n{r.stderr}")
+    study = open_study(kin)
+    for titled in (True, False):
+        plot_study.SHOW_TITLES = titled
+        fig = plot_study.fig_eccentricity_force(study, study.cases(), plot_study.Style(study))
+        has = fig._suptitle is not None and fig._suptitle.get_text() != ""
+        check(has == titled, f"eccentricity_force: title {'missing' if titled else 'drawn'}")
+        legend = [t.get_text() for leg in fig.legends for t in leg.get_texts()]
+        check(any("mm" in t for t in legend) and not any(t.endswith(" m") for t in legend),
+              f"eccentricity_force legend units: {legend}")
+        matplotlib.pyplot.close(fig)
 
     # only two signals recorded: no crash, only the figure that fits
     few = simulate(tmp, {

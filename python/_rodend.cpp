@@ -1,0 +1,190 @@
+// rodend._rodend: the C++ side of the Python module (python/rodend/__init__.py is the API).
+// Everything goes through the same loader, runner and results code as the command line, so a
+// bad input raises rodend.InputError with the CLI's message (file, key path, what was
+// expected), and results are the same bits. The GIL is released while cases run.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <filesystem>
+#include <sstream>
+
+#include "core/scene.hpp"
+#include "sweep/results.hpp"
+#include "sweep/runner.hpp"
+#include "sweep/schema.hpp"
+#include "sweep/study.hpp"
+
+namespace py = pybind11;
+using namespace rodend;
+
+namespace {
+
+/// A std::vector<double> handed to numpy without a copy (the capsule owns it).
+py::array_t<double> to_numpy(std::vector<double>&& v, std::vector<py::ssize_t> shape) {
+  auto* owned = new std::vector<double>(std::move(v));
+  py::capsule free_when_done(owned, [](void* p) { delete static_cast<std::vector<double>*>(p); });
+  return py::array_t<double>(shape, owned->data(), free_when_done);
+}
+
+/// Python objects from JSON (via the json module: exact, and nothing hand-converted).
+py::object from_json(const Json& j) {
+  return py::module_::import("json").attr("loads")(j.dump());
+}
+
+py::dict record_dict(const CaseRecord& r) {
+  py::dict d;
+  d["case_id"] = r.id;
+  d["case_index"] = r.index;
+  d["status"] = r.status;
+  d["message"] = r.message;
+  d["t_reached_s"] = r.t_reached;
+  d["wall_time_s"] = r.wall_time;
+  d["steps_accepted"] = r.steps_accepted;
+  d["steps_rejected"] = r.steps_rejected;
+  d["rhs_calls"] = r.rhs_calls;
+  d["started_utc"] = r.started_utc;
+  d["finished_utc"] = r.finished_utc;
+  py::dict metrics, units;
+  const auto cat = metric_catalogue();
+  for (std::size_t i = 0; i < cat.size() && i < r.metrics.size(); ++i) {
+    metrics[py::str(std::string(cat[i].name))] = r.metrics[i];
+    units[py::str(std::string(cat[i].name))] = std::string(cat[i].unit);
+  }
+  d["metrics"] = metrics;
+  d["metric_units"] = units;
+  return d;
+}
+
+/// Runs the one case of a study document; histories as numpy arrays. Writes its case file to
+/// `write` when given (the same file `rodend run` writes).
+py::dict py_run_case(const std::string& doc_text, const std::string& origin,
+                     const std::string& write) {
+  Json doc;
+  try {
+    doc = Json::parse(doc_text);
+  } catch (const Json::exception& e) {
+    throw InputError("", std::string("not JSON: ") + e.what(), origin);
+  }
+  const Study study = parse_study(doc, origin);
+  if (study.cases.size() != 1)
+    throw InputError("grid",
+                     "run_case runs one case; this has " + std::to_string(study.cases.size()) +
+                         " (use run_study for a grid)",
+                     origin);
+  const CaseSpec& spec = study.cases.front();
+  History h;
+  CaseRecord rec;
+  {
+    py::gil_scoped_release release;
+    rec = rodend::run_case(spec, h);
+    if (!write.empty()) write_case_file(write, spec, rec, h, provenance(study));
+  }
+  py::dict out = record_dict(rec);
+  py::dict signals, units, names;
+  for (std::size_t i = 0; i < h.signals.size(); ++i) {
+    const SignalSpec& s = signal_spec(h.signals[i]);
+    std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(h.samples)};
+    if (s.width > 1) shape.push_back(s.width);
+    const py::str name(std::string(s.name));
+    signals[name] = to_numpy(std::move(h.values[i]), shape);
+    units[name] = std::string(s.unit);
+    names[name] = std::string(s.description);
+  }
+  py::dict arrays;
+  for (CaseArray& a : h.arrays) {
+    std::vector<py::ssize_t> shape(a.dims.begin(), a.dims.end());
+    py::dict entry;
+    entry["values"] = to_numpy(std::move(a.values), shape);
+    entry["units"] = a.unit;
+    entry["long_name"] = a.description;
+    entry["dims"] = a.dim_names;
+    arrays[py::str(a.group + "/" + a.name)] = entry;
+  }
+  out["signals"] = signals;
+  out["units"] = units;
+  out["long_names"] = names;
+  out["arrays"] = arrays;
+  out["parameters"] = from_json(spec.parameters.leaves());
+  out["case"] = from_json(spec.canonical());
+  return out;
+}
+
+/// Loads a study (with --set overrides) as the CLI does: what it would run, where.
+py::dict py_load_study(const std::string& path, const std::string& results_root,
+                       const std::vector<std::string>& overrides) {
+  const Study s = load_study(path, results_root, overrides);
+  py::dict d;
+  d["name"] = s.name;
+  d["scene"] = s.scene;
+  d["output_dir"] = s.output_dir.string();
+  d["axis_keys"] = s.axis_keys;
+  d["source"] = from_json(s.source);
+  py::list cases;
+  for (const CaseSpec& c : s.cases) {
+    py::dict e;
+    e["case_id"] = c.id;
+    e["case_index"] = c.index;
+    e["coordinates"] = from_json(c.coordinates);
+    cases.append(e);
+  }
+  d["cases"] = cases;
+  return d;
+}
+
+/// Runs a study as `rodend run` does (resume, results files); returns (exit code, results dir).
+py::tuple py_run_study(const std::string& path, int threads, const std::string& results_root,
+                       const std::vector<std::string>& overrides, bool rerun_failed,
+                       bool progress) {
+  if (threads < 1) throw InputError("threads", "expected an integer >= 1", path);
+  const Study study = load_study(path, results_root, overrides);
+  RunOptions opt;
+  opt.threads = threads;
+  opt.rerun_failed = rerun_failed;
+  opt.progress = progress;
+  opt.overrides = overrides;
+  int rc = 0;
+  {
+    py::gil_scoped_release release;
+    rc = rodend::run_study(study, opt);
+  }
+  return py::make_tuple(rc, study.output_dir.string());
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_rodend, m) {
+  m.doc() = "rodend C++ core (use the rodend package)";
+  static py::exception<InputError> input_error(m, "InputError", PyExc_ValueError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const InputError& e) {
+      input_error(e.what());
+    }
+  });
+  m.attr("__version__") = RODEND_VERSION;
+  m.attr("git_revision") = RODEND_GIT_REVISION;
+  m.attr("schema_version") = kResultsSchemaVersion;
+  m.def("run_case", &py_run_case, py::arg("doc"), py::arg("origin"), py::arg("write") = "");
+  m.def("load_study", &py_load_study, py::arg("path"), py::arg("results_root") = "results",
+        py::arg("overrides") = std::vector<std::string>{});
+  m.def("run_study", &py_run_study, py::arg("path"), py::arg("threads"), py::arg("results_root"),
+        py::arg("overrides"), py::arg("rerun_failed"), py::arg("progress"));
+  m.def("schema", [] { return study_schema().dump(); });
+  m.def("scenes", [] {
+    std::vector<std::string> names;
+    for (const auto& s : scene_catalogue()) names.emplace_back(s.name);
+    return names;
+  });
+  m.def("parameters", [](const std::string& scene) {
+    return from_json(ParameterSet::defaults_for(scene).leaves());
+  });
+  m.def("signal_catalogue", [] {
+    py::list out;
+    for (const auto& s : signal_catalogue())
+      out.append(py::make_tuple(std::string(s.name), std::string(s.unit), s.width,
+                                std::string(s.description)));
+    return out;
+  });
+}

@@ -1,0 +1,147 @@
+#include "sweep/schema.hpp"
+
+#include <set>
+
+#include "core/scene.hpp"
+#include "core/signals.hpp"
+#include "sweep/study.hpp"
+
+namespace rodend {
+namespace {
+
+/// " [unit]" for a unit worth printing.
+std::string unit_note(const std::string& unit) {
+  return unit.empty() || unit == "1" ? "" : " [" + unit + "]";
+}
+
+/// The schema of one parameter value, from the type of its default (what ParameterSet::set
+/// accepts: the same JSON type, a numeric array of the same length, one of the choices).
+Json parameter_schema(const Json& leaf) {
+  const Json& v = leaf["value"];
+  Json s;
+  if (v.is_number())
+    s = {{"type", "number"}};
+  else if (v.is_boolean())
+    s = {{"type", "boolean"}};
+  else if (v.is_string()) {
+    s = {{"type", "string"}};
+    if (leaf.contains("choices")) s["enum"] = leaf["choices"];
+  } else if (v.is_array())
+    s = {{"type", "array"},
+         {"items", {{"type", "number"}}},
+         {"minItems", v.size()},
+         {"maxItems", v.size()}};
+  std::string d = leaf.contains("note") ? leaf["note"].get<std::string>() : std::string();
+  s["description"] = d + unit_note(leaf.value("unit", ""));
+  s["default"] = v;
+  return s;
+}
+
+}  // namespace
+
+Json study_schema() {
+  Json scenes = Json::array(), signals = Json::array();
+  for (const auto& s : scene_catalogue()) scenes.push_back(std::string(s.name));
+  for (const auto& s : signal_catalogue()) signals.push_back(std::string(s.name));
+
+  // the sections of settings, from the loader's field list
+  Json props = Json::object();
+  std::set<std::string> sections{"parameters"};
+  for (const StudyField& f : study_fields()) {
+    sections.insert(f.section);
+    Json& sec = props[f.section];
+    if (sec.is_null())
+      sec = {{"type", "object"}, {"additionalProperties", false}, {"properties", Json::object()}};
+    Json p = {{"type", f.type}, {"description", f.description + unit_note(f.unit)}};
+    if (!f.choices.empty()) p["enum"] = f.choices;
+    sec["properties"][f.name] = p;
+  }
+  props["time"]["required"] = {"end", "sample_interval"};
+  props["integrator"]["description"] =
+      "integrator settings; a study without them uses the balanced preset";
+  props["time"]["description"] = "end time and history sample interval";
+  props["health"]["description"] = "limits beyond which a run stops as failed";
+  props["metrics"]["description"] = "settings of the summary metrics";
+  props["wear_evolution"]["description"] =
+      "makes every case a wear evolution (needs parameters wear.model \"archard\")";
+
+  std::string key_pattern;
+  for (const std::string& s : sections) key_pattern += (key_pattern.empty() ? "" : "|") + s;
+  key_pattern = "^(" + key_pattern + ")\\.";
+
+  props["name"] = {{"type", "string"},
+                   {"pattern", "^[^/]+$"},
+                   {"description",
+                    "study name; results go to results/<name>/ (default: the "
+                    "file's stem)"}};
+  props["description"] = {{"type", "string"}, {"description", "what the study is for"}};
+  props["scene"] = {{"enum", scenes}, {"description", "the scene (rodend scenes)"}};
+  props["parameters"] = {
+      {"type", "object"},
+      {"description",
+       "overrides of the scene's defaults, by dotted key path (\"contact.clearance\": 1e-4) or "
+       "nested objects (rodend params SCENE)"}};
+  props["signals"] = {
+      {"description", "\"all\" (default) or a list of signal names (rodend signals)"},
+      {"oneOf", {{{"const", "all"}}, {{"type", "array"}, {"items", {{"enum", signals}}}}}}};
+  props["grid"] = {{"type", "array"},
+                   {"description", "axes combined as a cartesian product, last axis fastest"},
+                   {"items", {{"$ref", "#/$defs/grid_entry"}}}};
+  props["output"] = {{"type", "string"}, {"description", "results directory"}};
+
+  // the top-level keys are the loader's list: fail loudly if the two ever disagree
+  for (const std::string& k : study_keys())
+    if (!props.contains(k)) throw std::logic_error("study_schema: no schema for key " + k);
+
+  const Json number3 = {
+      {"type", "array"},
+      {"prefixItems",
+       {{{"type", "number"}}, {{"type", "number"}}, {{"type", "integer"}, {"minimum", 1}}}},
+      {"minItems", 3},
+      {"maxItems", 3}};
+  const Json axis = {
+      {"type", "object"},
+      {"required", {"key"}},
+      {"additionalProperties", false},
+      {"properties",
+       {{"key", {{"type", "string"}, {"pattern", key_pattern}, {"description", "full key path"}}},
+        {"values", {{"type", "array"}, {"minItems", 1}}},
+        {"linspace", number3},
+        {"logspace", number3}}},
+      {"oneOf",
+       {{{"required", {"values"}}}, {{"required", {"linspace"}}}, {{"required", {"logspace"}}}}}};
+  const Json zip = {
+      {"type", "object"},
+      {"required", {"zip"}},
+      {"additionalProperties", false},
+      {"properties",
+       {{"zip", {{"type", "array"}, {"minItems", 1}, {"items", {{"$ref", "#/$defs/axis"}}}}}}}};
+
+  // per scene, its parameters by dotted key path (nested objects are accepted as they are)
+  Json per_scene = Json::array();
+  for (const auto& s : scene_catalogue()) {
+    Json params = Json::object();
+    const Json leaves = ParameterSet::defaults_for(s.name).leaves();  // outlives items()
+    for (const auto& [path, leaf] : leaves.items()) params[path] = parameter_schema(leaf);
+    per_scene.push_back(
+        {{"if",
+          {{"properties", {{"scene", {{"const", std::string(s.name)}}}}}, {"required", {"scene"}}}},
+         {"then", {{"properties", {{"parameters", {{"properties", params}}}}}}}});
+  }
+
+  return {{"$schema", "https://json-schema.org/draft/2020-12/schema"},
+          {"$id", "urn:rodend:study"},
+          {"title", "rodend study"},
+          {"description",
+           "A rodend study file (README \"Studies\"), generated by `rodend schema` from the "
+           "loader's own lists. The loader checks more than this (ranges, the scene's physical "
+           "checks, grid sizes)."},
+          {"type", "object"},
+          {"required", {"scene", "time"}},
+          {"additionalProperties", false},
+          {"properties", props},
+          {"allOf", per_scene},
+          {"$defs", {{"axis", axis}, {"grid_entry", {{"oneOf", {axis, zip}}}}}}};
+}
+
+}  // namespace rodend
