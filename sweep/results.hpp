@@ -46,6 +46,7 @@ struct CaseRecord {
   std::string id;
   long index = 0;
   std::string scene;  ///< the case's scene
+  Features features;  ///< what the scene has (written to the case file; not read back)
   Json coordinates = Json::object();
   std::string status;      ///< "ok" or a RunStatus name
   std::string message;     ///< empty when ok
@@ -84,6 +85,9 @@ std::vector<std::string> list_signals(const std::filesystem::path& case_file);
 /// One signal of a case file; throws std::runtime_error.
 SignalData read_signal(const std::filesystem::path& case_file, const std::string& name);
 
+/// The current UTC time, ISO 8601 ("2024-05-01T10:00:00Z"): the time stamps of case records
+/// and the provenance.
+std::string utc_now();
 /// Process-wide provenance: rodend version and git revision, host, study file.
 Json provenance(const Study& study);
 

@@ -163,8 +163,9 @@ const Json& need_object(const Json& v, const std::string& key) {
 fs::path output_path(const Json& v, const std::string& key) {
   const std::string s = need_string(v, key);
   if (s.empty())
-    throw InputError(key, "expected a non-empty directory path (or no \"output\" key: "
-                          "results/<name>)");
+    throw InputError(key,
+                     "expected a non-empty directory path (or no \"output\" key: "
+                     "results/<name>)");
   return fs::path(s);
 }
 
@@ -526,7 +527,6 @@ std::optional<std::string> find_nul(const Json& doc) {
   return std::nullopt;
 }
 
-
 }  // namespace
 
 Study parse_study(const Json& doc, const fs::path& file, const fs::path& results_root) {
@@ -763,7 +763,7 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
         check_history_size(d.time, scene_signals[which]);
         {
           const auto scene = build_checked(d.scene, d.parameters);  // the scene's own checks
-          if (d.wear_evolution.enabled && !scene->wear_model())
+          if (d.wear_evolution.enabled && !scene->features().has(Feature::wear))
             throw InputError("parameters.wear.model",
                              "a wear_evolution study needs a scene with a wear model and "
                              "wear.model \"archard\"");
