@@ -103,7 +103,7 @@ Study three_drops(const fs::path& dir, const std::string& method) {
     "integrator": {"method": ")" +
                            method + R"(", "abs_tol": 1e-8, "rel_tol": 1e-8},
     "time": {"end": 0.02, "sample_interval": 1e-3},
-    "grid": {"parameters.contact.clearance": [5e-4, 1e-3, 2e-3]}})";
+    "grid": [{"key": "parameters.contact.clearance", "values": [5e-4, 1e-3, 2e-3]}]})";
   return parse_study_text(text, dir / "faulty.json", dir / "results");
 }
 
