@@ -117,8 +117,10 @@ TEST_CASE("rod-end kinematic: stiff and tight, the surface follows the ideal sli
   }
   const double c = 1e-6;
   p.set("contact.clearance", c);
-  // slow: 60 mm in 5 s out and 5 s back (peak 24 mm/s), the full +-35 deg stroke of §4
+  // slow: 60 mm in 5 s out and 5 s back to zero (peak 24 mm/s), the +33.4 deg half of §4's
+  // stroke
   p.set("motion.extension", 0.06);
+  p.set("motion.retraction", 0.0);
   p.set("motion.extension_time", 5.0);
   p.set("motion.retraction_time", 5.0);
   const SliderCrank ideal(p.number("geometry.crank"), p.number("geometry.frame"),
@@ -165,8 +167,14 @@ TEST_CASE("rod-end kinematic: stiff and tight, the surface follows the ideal sli
 
 // --- b. §5.1 physics ---------------------------------------------------------------------------
 
-TEST_CASE("rod-end kinematic: thesis §5.1 physics with the defaults", "[rod-end-kinematic]") {
-  const ParameterSet p = ParameterSet::defaults_for("rod-end-kinematic");
+TEST_CASE("rod-end kinematic: thesis §5.1 physics on the 0 -> +50 mm -> 0 profile",
+          "[rod-end-kinematic]") {
+  // the defaults but the command: the windows and measured values below were set on the profile
+  // that was the default before the thesis's +-60 mm (docs/thesis-deviations.md), out to +50 mm
+  // and back to zero, where the retraction starts from the extension's contact side
+  ParameterSet p = ParameterSet::defaults_for("rod-end-kinematic");
+  p.set("motion.extension", 0.05);
+  p.set("motion.retraction", 0.0);
   REQUIRE(p.number("socket.misalignment_z") == 0.0);
   const double c = p.number("contact.clearance");
   Recorder rec = physics_recorder();
@@ -501,7 +509,9 @@ TEST_CASE("rod-end kinematic: a retraction the mechanism cannot follow names the
     CAPTURE(msg);
     CHECK(e.key_path() == "motion.retraction");
     CHECK(msg.find("t = ") != std::string::npos);
-    CHECK(msg.find("rod length 0.27") != std::string::npos);  // at the bottom of the range
+    // at the bottom of the range (the first sample beyond it, just below 0.27 m)
+    CHECK(msg.find("rod length 0.2") != std::string::npos);
+    CHECK(msg.find("rod length 0.2") < msg.find("(0.27, 0.49)"));
   }
   // and the largest retraction that closes is accepted
   p.set("motion.retraction", 0.099);

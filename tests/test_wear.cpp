@@ -50,6 +50,7 @@ ParameterSet worn_rod_end(double misalignment_z = 0.0) {
   p.set("wear.model", "archard");
   p.set("hinge.kind", "proportional");
   p.set("hinge.stiffness", 40.0);
+  p.set("motion.extension", 0.05);  // +-50 mm, as studies/wear-evolution.json
   p.set("motion.retraction", 0.05);
   p.set("motion.extension_time", 0.3);
   p.set("motion.retraction_time", 0.3);
@@ -208,7 +209,8 @@ TEST_CASE("wear evolution: halving the update interval changes cycles-to-limit b
            {{"model", "archard"}, {"ball_coefficient", 1e-3}, {"socket_coefficient", 1e-3}}},
           {"hinge", {{"kind", "proportional"}, {"stiffness", 40.0}}},
           {"motion",
-           {{"retraction", 0.05},
+           {{"extension", 0.05},
+            {"retraction", 0.05},
             {"extension_time", 0.3},
             {"retraction_time", 0.3},
             {"hold_time", 0.05}}}}},
