@@ -11,10 +11,8 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
-#include <ctime>
 #include <fstream>
 #include <iostream>
-#include <limits>
 #include <mutex>
 #include <ostream>
 
