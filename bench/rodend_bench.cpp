@@ -147,6 +147,7 @@ class RecordingScene final : public Scene {
   RecordingScene(const Scene& inner, long long stride) : inner_(inner), stride_(stride) {}
 
   std::string_view name() const override { return inner_.name(); }
+  Features features() const override { return inner_.features(); }
   int state_size() const override { return inner_.state_size(); }
   void initial_state(double* x) const override { inner_.initial_state(x); }
   void state_scale(double* s) const override { inner_.state_scale(s); }

@@ -39,6 +39,8 @@ std::string_view to_string(RunStatus s) {
       return "energy_residual_limit";
     case RunStatus::actuator_saturation:
       return "actuator_saturation";
+    case RunStatus::internal_error:
+      return "internal_error";
   }
   return "unknown";
 }
@@ -143,12 +145,11 @@ class Driver {
     discrete_.contacts.assign(static_cast<std::size_t>(scene.contact_count()), ContactLatch{});
     const auto sig = scene.signals();
     auto provides = [&](SignalId id) { return std::find(sig.begin(), sig.end(), id) != sig.end(); };
-    provides_force_ = provides(SignalId::contact_force);
-    checks_energy_ = provides(SignalId::energy_residual) && provides(SignalId::input_work) &&
-                     provides(SignalId::dissipated_energy);
-    has_kinetic_ = provides(SignalId::kinetic_energy);
-    checks_tracking_ =
-        provides(SignalId::actuator_command) && provides(SignalId::actuator_position);
+    const Features features = scene.features();
+    provides_force_ = features.has(Feature::contact);
+    checks_energy_ = features.has(Feature::energy_audit);
+    has_kinetic_ = provides(SignalId::kinetic_energy);  // a term of the audit's scale, if written
+    checks_tracking_ = features.has(Feature::actuator);
     signals_.assign(sig.begin(), sig.end());
     for (SignalId id : kStepSignals)
       if (provides(id)) step_signals_.push_back(id);
@@ -179,6 +180,12 @@ class Driver {
     } catch (const odeint::step_adjustment_error& e) {
       result.status = RunStatus::step_size_underflow;
       result.message = std::string("step size underflow: ") + e.what();
+    } catch (const std::exception& e) {
+      // not a numerical failure: a bug, or a resource the run could not get
+      std::ostringstream m;
+      m << "internal error after t = " << stats_.t_reached << " s: " << e.what();
+      result.status = RunStatus::internal_error;
+      result.message = m.str();
     }
     stats_.rhs_calls = sys_.calls;
     if (stepper_) {

@@ -73,6 +73,9 @@ enum class RunStatus {
   penetration_limit,
   energy_residual_limit,  ///< energy-audit residual beyond health.max_energy_residual
   actuator_saturation,    ///< actuator tracking error beyond health.max_tracking_error too long
+  /// not a numerical failure: an exception from the scene, an observer or the library (a bug,
+  /// or memory the run could not get); the message carries the exception's
+  internal_error,
 };
 std::string_view to_string(RunStatus s);
 
@@ -145,7 +148,9 @@ std::string budget_shortfall(const IntegratorSettings& s, const TimeSettings& t)
 void validate(const HealthLimits& h);
 
 /// Runs `scene` from its initial state to `time.end`. Never throws for numerical trouble: a
-/// failed run returns its status, a message and the time reached.
+/// failed run returns its status, a message and the time reached. An exception thrown while it
+/// runs (by the scene, the observer or a library) ends the run as internal_error, with the
+/// exception's message and the time reached.
 RunResult simulate(const Scene& scene, const IntegratorSettings& settings, const TimeSettings& time,
                    RunObserver& observer, const HealthLimits& health = {});
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/contact.hpp"
+#include "core/features.hpp"
 #include "core/params.hpp"
 #include "core/signals.hpp"
 #include "core/wear.hpp"
@@ -74,6 +75,9 @@ class Scene {
  public:
   virtual ~Scene() = default;
   virtual std::string_view name() const = 0;
+  /// What this scene has (core/features.def), for these parameters (e.g. wear only with
+  /// wear.model archard): whoever needs to know asks this, never the signal list.
+  virtual Features features() const = 0;
 
   // --- state --------------------------------------------------------------------------------
   /// Number of continuous states.
@@ -156,5 +160,17 @@ std::string_view scene_default_parameters_json(std::string_view scene);
 
 /// Builds a scene by name from parameters (defaults plus overrides).
 std::unique_ptr<Scene> make_scene(std::string_view name, const ParameterSet& params);
+
+/// For tests: while it lives, make_scene builds scene `name` with `make` instead of the
+/// catalogue's factory (the name, the defaults and the study's checks stay the catalogue's), e.g.
+/// to wrap a scene in one that fails. One at a time; create and destroy it while no study loads
+/// or runs.
+class SceneFactoryOverride {
+ public:
+  SceneFactoryOverride(std::string_view name, SceneFactory make);
+  ~SceneFactoryOverride();
+  SceneFactoryOverride(const SceneFactoryOverride&) = delete;
+  SceneFactoryOverride& operator=(const SceneFactoryOverride&) = delete;
+};
 
 }  // namespace rodend

@@ -1,5 +1,7 @@
 // The scene catalogue, built from scenes/scenes.def.
 #include <array>
+#include <stdexcept>
+#include <string>
 
 #include "core/scene.hpp"
 
@@ -48,12 +50,30 @@ std::string_view scene_default_parameters_json(std::string_view scene) {
   return embedded_scene_defaults(scene);
 }
 
+namespace {
+// the scene a SceneFactoryOverride builds instead, and its factory (null: none)
+std::string g_override_name;
+SceneFactory g_override_make = nullptr;
+}  // namespace
+
 std::unique_ptr<Scene> make_scene(std::string_view name, const ParameterSet& params) {
   const SceneEntry* e = find_scene(name);
   if (!e)
     throw InputError(
         "scene", "unknown scene '" + std::string(name) + "'; expected one of: " + known_scenes());
+  if (g_override_make && name == g_override_name) return g_override_make(params);
   return e->make(params);
+}
+
+SceneFactoryOverride::SceneFactoryOverride(std::string_view name, SceneFactory make) {
+  if (g_override_make) throw std::logic_error("a SceneFactoryOverride is already in place");
+  g_override_name = std::string(name);
+  g_override_make = make;
+}
+
+SceneFactoryOverride::~SceneFactoryOverride() {
+  g_override_make = nullptr;
+  g_override_name.clear();
 }
 
 }  // namespace rodend

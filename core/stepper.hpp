@@ -44,8 +44,6 @@ class Stepper {
   virtual void step(double t_limit) = 0;
   /// State at t in [t_prev, t_now] on the method's interpolant.
   virtual void interpolate(double t, state_t& out) = 0;
-  /// A cheaper interpolant for bisection (the same by default).
-  virtual void interpolate_cheap(double t, state_t& out) { interpolate(t, out); }
   /// Whether the interpolant is as accurate as the method everywhere in the step (dense
   /// output): then steps need not land on sample times.
   virtual bool dense() const = 0;

@@ -9,7 +9,9 @@
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
+#include <exception>
 #include <sstream>
+#include <utility>
 
 #include "core/stepper.hpp"
 
@@ -80,6 +82,7 @@ class CvodeStepper final : public Stepper {
     check(CVodeSetStopTime(mem_, t_limit), "CVodeSetStopTime");
     double t = t_prev;
     const int flag = CVode(mem_, t_limit, y_, &t, CV_ONE_STEP);
+    rethrow_pending();
     if (flag < 0) {
       std::ostringstream m;
       m << "CVODE failed at t = " << t_prev << " s: " << CVodeGetReturnFlagName(flag);
@@ -125,11 +128,16 @@ class CvodeStepper final : public Stepper {
     auto* self = static_cast<CvodeStepper*>(user);
     const double* yy = N_VGetArrayPointer(y);
     self->z_buf_.assign(yy, yy + self->n_);
+    // nothing may unwind through CVODE (C): a failure is kept, CVODE stops (-1: unrecoverable)
+    // and step() throws it again
     try {
       self->sys_(self->z_buf_, self->dz_buf_, t);
     } catch (const RunFailure& f) {
       self->pending_ = f;
-      return -1;  // unrecoverable: CVODE returns, the driver reports the budget failure
+      return -1;
+    } catch (...) {
+      self->pending_error_ = std::current_exception();
+      return -1;
     }
     std::copy(self->dz_buf_.begin(), self->dz_buf_.end(), N_VGetArrayPointer(ydot));
     return 0;
@@ -139,13 +147,24 @@ class CvodeStepper final : public Stepper {
     const double* yy = N_VGetArrayPointer(y);
     state_t& x = self->sys_.x;
     for (std::size_t i = 0; i < x.size(); ++i) x[i] = yy[i] * self->sys_.scale[i];
-    for (int c = 0; c < self->scene_.contact_count(); ++c)
-      g[c] = self->scene_.contact_gap(c, x.data()).penetration;
+    try {
+      for (int c = 0; c < self->scene_.contact_count(); ++c)
+        g[c] = self->scene_.contact_gap(c, x.data()).penetration;
+    } catch (...) {
+      self->pending_error_ = std::current_exception();
+      return -1;
+    }
     return 0;
+  }
+  /// Throws what a callback kept (a RunFailure, or another exception), if anything.
+  void rethrow_pending() {
+    if (pending_error_) std::rethrow_exception(std::exchange(pending_error_, nullptr));
+    if (pending_.status != RunStatus::ok)
+      throw std::exchange(pending_, RunFailure{RunStatus::ok, {}});
   }
   void check(int flag, const char* what) {
     if (flag < 0) {
-      if (pending_.status != RunStatus::ok) throw pending_;
+      rethrow_pending();
       fail(std::string(what) + " failed: " + CVodeGetReturnFlagName(flag));
     }
   }
@@ -167,6 +186,7 @@ class CvodeStepper final : public Stepper {
   std::vector<int> found_;
   long counted_steps_ = 0, counted_fails_ = 0;
   RunFailure pending_{RunStatus::ok, {}};
+  std::exception_ptr pending_error_;
 };
 
 }  // namespace

@@ -118,8 +118,8 @@ class Dopri5Stepper final : public Stepper {
 
 /// An embedded Runge-Kutta pair without dense output (Cash-Karp 5(4), Fehlberg 7(8)) under
 /// odeint's step-size controller. Steps land on sample times; for contact onsets the driver
-/// bisects on a cubic Hermite interpolant (interpolate_cheap) and restarts from the state the
-/// method itself gives when it re-takes the step to the located time (interpolate).
+/// bisects on the method's own re-take of the step to a trial time (interpolate), the state it
+/// then restarts from at the located time.
 template <class ErrorStepper>
 class ControlledStepper final : public Stepper {
  public:
@@ -159,15 +159,6 @@ class ControlledStepper final : public Stepper {
   void interpolate(double t, state_t& out) override {
     out = z_prev;
     if (t > t_prev) ctrl_.stepper().do_step(std::ref(sys_), out, dz_prev, t_prev, t - t_prev);
-  }
-  void interpolate_cheap(double t, state_t& out) override {
-    // cubic Hermite on the two end states and derivatives
-    const double h = t_now - t_prev, s = (t - t_prev) / h;
-    const double h00 = (1 + 2 * s) * (1 - s) * (1 - s), h10 = s * (1 - s) * (1 - s);
-    const double h01 = s * s * (3 - 2 * s), h11 = s * s * (s - 1);
-    out.resize(z_now.size());
-    for (std::size_t i = 0; i < out.size(); ++i)
-      out[i] = h00 * z_prev[i] + h10 * h * dz_prev[i] + h01 * z_now[i] + h11 * h * dz_now[i];
   }
   bool dense() const override { return false; }
   double suggested_dt() const override { return dt_; }

@@ -505,6 +505,9 @@ def fig_surface_angle(study, cases, style):
 @figure("trajectories_xy_xz", "xy and xz trajectories (fig. 5.18-5.20)")
 def fig_trajectories(study, cases, style):
     cases = with_signals(cases, "relative_position")
+    cases = [c for c in cases if not c.has_feature("planar")]
+    if not cases:
+        raise Skip("planar scene: no out-of-plane motion to show")
     z_moves = any(np.nanmax(np.abs(sig(c, "relative_position")[:, 2]), initial=0.0) > NONZERO_Z
                   for c in cases)
     grid_mis = "parameters.socket.misalignment_z" in study.varying_keys
@@ -902,7 +905,8 @@ def time_rows(fig_title, study, cases, style, rows):
 
 @figure("ball_motion", "ball motion (fig. 3.24, 3.26)")
 def fig_ball_motion(study, cases, style):
-    if study.scene.startswith("rod-end"):
+    cases = [c for c in cases if not c.has_feature("mechanism")]
+    if not cases:
         raise Skip(f"scene {study.scene} has a mechanism (its ball follows the crank: "
                    "see the other figures)")
     cases = with_signals(cases, "ball_position")

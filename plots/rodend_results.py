@@ -139,6 +139,20 @@ def coordinate_label(key, value, unit):
     return f"{short_key(key)} = {format_value(value)}{unit_suffix(unit)}"
 
 
+# signals that only a scene with the feature writes: the guess for case files written before
+# rodend stored the scene's features (root attribute features_json)
+FEATURE_SIGNALS = {"contact": "contact_force", "mechanism": "surface_angle",
+                   "actuator": "actuator_command", "wear": "sliding_work",
+                   "energy_audit": "energy_residual"}
+
+
+def guess_features(signal_names):
+    """The features of an older case file, from the signals it recorded (a study that records
+    only some signals hides the others' features)."""
+    names = set(signal_names)
+    return frozenset(f for f, s in FEATURE_SIGNALS.items() if s in names)
+
+
 class Case:
     """One case file. Signals are read on demand and kept."""
 
@@ -179,6 +193,16 @@ class Case:
             self.signal_names = sorted(f["signals"].keys()) if "signals" in f else []
             for name in self.signal_names:
                 self._units[name] = unit_of(f["signals"][name])
+            try:
+                self.features = frozenset(json.loads(text(a["features_json"])))
+            except (KeyError, ValueError, TypeError):
+                self.features = guess_features(self.signal_names)
+
+    # --- features --------------------------------------------------------------------------
+    def has_feature(self, name):
+        """Whether the case's scene has a feature (core/features.def: contact, mechanism,
+        actuator, wear, planar, energy_audit)."""
+        return name in self.features
 
     # --- signals -------------------------------------------------------------------------
     def has(self, *names):

@@ -47,6 +47,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+from rodend_results import guess_features  # noqa: E402
+
 METRICS = ["first_contact_time", "first_impact_speed", "first_impact_peak_force",
            "max_contact_force", "wear_integral", "max_eccentricity", "final_surface_angle",
            "max_chamber_pressure"]
@@ -82,9 +84,14 @@ def history(study_dir, case_id, name):
         return f["signals/time"][()], f["signals/" + name][()]
 
 
-def has_signal(study_dir, case_id, name):
+def case_features(study_dir, case_id):
+    """The features of a case's scene (root attribute features_json; guessed from the recorded
+    signals for files written before it)."""
     with h5py.File(os.path.join(study_dir, "cases", case_id + ".h5"), "r") as f:
-        return "signals/" + name in f
+        if "features_json" in f.attrs:
+            v = f.attrs["features_json"]
+            return set(json.loads(v.decode() if isinstance(v, bytes) else v))
+        return set(guess_features(f["signals"].keys()))
 
 
 def main():
@@ -143,7 +150,7 @@ def main():
             err["history_before_first_impact"] = (float(np.max(np.abs(e[m_] - er[m_]))) / c
                                                   if ok and m_.any() else math.inf)
             # peak pressure of each chamber (actuator scenes), relative to its swing in the reference
-            if has_signal(ref_dir, ref["case_id"], "chamber_pressures"):
+            if "actuator" in case_features(ref_dir, ref["case_id"]):
                 _, p = history(os.path.join(out, "run0", names[key]), r["case_id"], "chamber_pressures")
                 _, pr = history(ref_dir, ref["case_id"], "chamber_pressures")
                 for j in range(pr.shape[1]):

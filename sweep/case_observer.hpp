@@ -1,9 +1,9 @@
 // What one case collects while it runs: sampled histories, the metrics of every step, and the
-// wear maps of a scene that models wear. Shared by run_case and the wear evolution.
+// wear maps of a scene that models wear. Shared by run_case (sweep/runner.cpp) and the wear
+// evolution (sweep/wear_evolution.hpp).
 #pragma once
 
 #include <optional>
-#include <string>
 
 #include "core/integrator.hpp"
 #include "core/scene.hpp"
@@ -14,8 +14,9 @@
 
 namespace rodend {
 
-/// Current UTC time, ISO 8601.
-std::string utc_now();
+/// A record with the case's identity (id, index, scene, coordinates), its start time and every
+/// metric NaN: what run_case and the wear evolution fill in.
+CaseRecord start_record(const CaseSpec& spec);
 
 /// Collects the sampled histories of the recorded signals (when given a History), the metrics
 /// of every step, and the wear the driver deposits.
@@ -54,9 +55,10 @@ class CaseObserver final : public RunObserver {
 /// into `h.arrays` (group "wear").
 void record_wear_maps(const WearMap& ball, const WearMap& socket, MetricValues& m, History& h);
 
-/// Runs a case of a study with a wear_evolution section (see WearEvolutionSettings): the first
-/// duty cycle's histories and metrics, the evolution's histories (group "evolution"), the
-/// final worn maps and the evolution metrics.
-CaseRecord run_wear_evolution(const CaseSpec& spec, History& history);
+/// A per-case array with its netCDF dimension names (the wear maps' latitude x longitude, the
+/// radii per body, the wear evolution's columns per update).
+CaseArray case_array(std::string group, std::string name, std::string unit,
+                     std::string description, std::vector<std::size_t> dims,
+                     std::vector<double> values);
 
 }  // namespace rodend

@@ -37,21 +37,19 @@ std::span<const MetricSpec> metric_catalogue() {
 
 MetricsAccumulator::MetricsAccumulator(const Scene& scene, const MetricsSettings& settings)
     : settings_(settings),
-      has_contact_(provides(scene, SignalId::contact_force)),
-      has_surface_(provides(scene, SignalId::surface_angle)),
-      has_energy_(provides(scene, SignalId::energy_residual)),
-      has_rates_(provides(scene, SignalId::penetration_rate) &&
-                 provides(scene, SignalId::impact_speed)),
-      has_chambers_(provides(scene, SignalId::chamber_pressures)),
-      has_kinetic_(provides(scene, SignalId::kinetic_energy)),
-      has_command_(provides(scene, SignalId::surface_angle_command)),
+      has_contact_(scene.features().has(Feature::contact)),
+      has_surface_(scene.features().has(Feature::mechanism)),
+      has_energy_(scene.features().has(Feature::energy_audit)),
+      has_chambers_(scene.features().has(Feature::actuator)),
+      has_kinetic_(provides(scene, SignalId::kinetic_energy)),  // a term of the audit's scale
+      has_command_(scene.features().has(Feature::mechanism)),
       has_crank_(provides(scene, SignalId::crank_angle) &&
                  provides(scene, SignalId::slider_acceleration)),
       has_joint_forces_(provides(scene, SignalId::joint_normal_forces)),
       has_crank_rate_(provides(scene, SignalId::surface_rate)),
       // the rod-extension command: the actuator's, else the prescribed motion itself
-      command_signal_(provides(scene, SignalId::actuator_command) ? SignalId::actuator_command
-                                                                  : SignalId::actuator_position) {
+      command_signal_(scene.features().has(Feature::actuator) ? SignalId::actuator_command
+                                                              : SignalId::actuator_position) {
   v_.fill(kNaN);
   if (has_contact_) {
     for (MetricId id : {MetricId::first_impact_peak_force, MetricId::max_contact_force,
@@ -93,7 +91,7 @@ void MetricsAccumulator::on_step(const SignalFrame& f) {
         // along the approach from this first step end inside it (not before the previous one)
         if (onsets_ > 0) {
           first_onset_ = at(v_, MetricId::first_contact_time);
-        } else if (has_rates_) {
+        } else {
           const double rate = f.get(SignalId::penetration_rate);
           first_onset_ = rate > 0.0 ? t - pen / rate : t;
           if (!first_step_) first_onset_ = std::max(first_onset_, t_prev_);
@@ -103,7 +101,7 @@ void MetricsAccumulator::on_step(const SignalFrame& f) {
       }
     }
     const double exit_rate = f.get(SignalId::penetration_rate);
-    if (!touching && in_contact_ && episode_ == 1 && has_rates_ && exit_rate < 0.0) {
+    if (!touching && in_contact_ && episode_ == 1 && exit_rate < 0.0) {
       // the first episode ended during this step: this step end is the first after it. The
       // rate here is the exit speed delta'+ once the bodies fly freely (no force after the
       // end); the end is extrapolated back along it, not before the previous step end. (A

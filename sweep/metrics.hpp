@@ -54,7 +54,8 @@ class MetricsAccumulator {
 
  private:
   MetricsSettings settings_;
-  bool has_contact_ = false, has_surface_ = false, has_energy_ = false, has_rates_ = false;
+  // what the scene has (Scene::features)
+  bool has_contact_ = false, has_surface_ = false, has_energy_ = false;
   bool has_chambers_ = false, has_kinetic_ = false, has_command_ = false;
   bool has_crank_ = false, has_joint_forces_ = false, has_crank_rate_ = false;
   double t_prev_ = 0.0, force_prev_ = 0.0, wear_prev_ = 0.0;

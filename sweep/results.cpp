@@ -300,15 +300,6 @@ std::string prov_text(const Json& prov, const char* key) {
   return it != prov.end() && it->is_string() ? it->get<std::string>() : std::string();
 }
 
-std::string utc_now_iso8601() {
-  const std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
-
 // ---------------------------------------------------------------------------------------------
 // Atomic file replacement
 
@@ -389,6 +380,7 @@ void write_case_root(const Context& cx, hid_t root, const CaseSpec& spec, const 
   attr_string(cx, root, "case_id", r.id);
   attr_int64(cx, root, "case_index", r.index);
   attr_string(cx, root, "scene", spec.scene);
+  attr_string(cx, root, "features_json", Json(r.features.names()).dump());
   attr_string(cx, root, "status", r.status);
   attr_string(cx, root, "message", r.message);
   attr_double(cx, root, "t_reached_s", r.t_reached);
@@ -991,12 +983,21 @@ std::string shortest_decimal(double v) {
   return out;
 }
 
+std::string utc_now() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
 Json provenance(const Study& study) {
   char host[256] = {};
   if (::gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
   Json p{{"rodend_version", RODEND_VERSION}, {"git_revision", RODEND_GIT_REVISION},
          {"host", std::string(host)},        {"study_file", study.file.string()},
-         {"study_name", study.name},         {"created_utc", utc_now_iso8601()}};
+         {"study_name", study.name},         {"created_utc", utc_now()}};
   if (!study.overrides.empty()) p["overrides"] = study.overrides;  // rodend run --set
   return p;
 }

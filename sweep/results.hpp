@@ -53,6 +53,7 @@ struct CaseRecord {
   std::string id;
   long index = 0;
   std::string scene;  ///< the case's scene
+  Features features;  ///< what the scene has (written to the case file; not read back)
   Json coordinates = Json::object();
   std::string status;      ///< "ok" or a RunStatus name
   std::string message;     ///< empty when ok
@@ -97,6 +98,9 @@ SignalData read_signal(const std::filesystem::path& case_file, const std::string
 /// "0.00020000000000000001"), else d.ddde±XX ("1e-17"); "nan", "inf", "-inf".
 std::string shortest_decimal(double v);
 
+/// The current UTC time, ISO 8601 ("2024-05-01T10:00:00Z"): the time stamps of case records
+/// and the provenance.
+std::string utc_now();
 /// Process-wide provenance: rodend version and git revision, host, study file.
 Json provenance(const Study& study);
 

@@ -11,7 +11,6 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
-#include <ctime>
 #include <fstream>
 #include <iostream>
 #include <mutex>
@@ -19,18 +18,10 @@
 
 #include "core/scene.hpp"
 #include "sweep/case_observer.hpp"
+#include "sweep/wear_evolution.hpp"
 
 namespace rodend {
 namespace fs = std::filesystem;
-
-std::string utc_now() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
 
 namespace {
 
@@ -146,25 +137,16 @@ bool in_shard(const CaseSpec& c, const RunOptions& o) {
   return o.shard_count <= 1 || (c.index % o.shard_count) + 1 == o.shard_index;
 }
 
-CaseRecord run_case(const CaseSpec& spec, History& history) {
-  if (spec.wear_evolution.enabled) return run_wear_evolution(spec, history);
-  CaseRecord rec;
-  rec.id = spec.id;
-  rec.index = spec.index;
-  rec.scene = spec.scene;
-  rec.coordinates = spec.coordinates;
-  rec.started_utc = utc_now();
+namespace {
+
+/// A case without its wear evolution: one run of its scene.
+CaseRecord run_single_case(const CaseSpec& spec, History& history) {
+  CaseRecord rec = start_record(spec);
   const auto t0 = std::chrono::steady_clock::now();
   const auto scene = make_scene(spec.scene, spec.parameters);
+  rec.features = scene->features();
   CaseObserver obs(*scene, spec, &history);
-  RunResult r;
-  try {
-    r = simulate(*scene, spec.integrator, spec.time, obs, spec.health);
-  } catch (const std::exception& e) {
-    // anything else the physics throws is this case's failure, not the study's
-    r.status = RunStatus::non_finite_state;
-    r.message = std::string("internal error: ") + e.what();
-  }
+  const RunResult r = simulate(*scene, spec.integrator, spec.time, obs, spec.health);
   rec.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   rec.finished_utc = utc_now();
   rec.status = std::string(to_string(r.status));
@@ -176,6 +158,25 @@ CaseRecord run_case(const CaseSpec& spec, History& history) {
   rec.metrics = obs.finish(r.stats);
   obs.record_wear(rec.metrics, history);
   return rec;
+}
+
+}  // namespace
+
+CaseRecord run_case(const CaseSpec& spec, History& history) {
+  try {
+    return spec.wear_evolution.enabled ? run_wear_evolution(spec, history)
+                                       : run_single_case(spec, history);
+  } catch (const std::exception& e) {
+    // outside the integration (simulate() keeps its own: internal_error with the time reached):
+    // building the scene, the observer, the wear evolution's bookkeeping. This case's failure,
+    // not the study's; what it recorded so far is dropped.
+    CaseRecord rec = start_record(spec);
+    rec.finished_utc = rec.started_utc;
+    rec.status = std::string(to_string(RunStatus::internal_error));
+    rec.message = std::string("internal error outside the integration, at t = 0 s: ") + e.what();
+    history = History{};
+    return rec;
+  }
 }
 
 RunPlan plan_run(const Study& study, const RunOptions& opt) {

@@ -32,8 +32,9 @@ struct RunOptions {
 };
 
 /// Runs one case in memory: builds the scene, integrates, records histories and metrics.
-/// Never throws for numerical trouble (the record's status says it); throws InputError only
-/// for a case that does not build.
+/// Never throws: numerical trouble is the record's status, and any exception (a scene that
+/// fails to build or throws while it runs, an internal bug) is stored as internal_error with
+/// its message, so the other cases of a study go on.
 CaseRecord run_case(const CaseSpec& spec, History& history);
 
 /// Runs a study and writes its results. Returns the process exit code: 0 when every case is ok,

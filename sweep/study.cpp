@@ -780,7 +780,7 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
         check_history_size(d.time, scene_signals[which]);
         {
           const auto scene = build_checked(d.scene, d.parameters);  // the scene's own checks
-          if (d.wear_evolution.enabled && !scene->wear_model())
+          if (d.wear_evolution.enabled && !scene->features().has(Feature::wear))
             throw InputError("parameters.wear.model",
                              "a wear_evolution study needs a scene with a wear model and "
                              "wear.model \"archard\"");

@@ -1,4 +1,6 @@
-// The case observer's wear bookkeeping, and the wear-evolution loop (issue 11).
+// The wear-evolution loop (issue 11): duty cycles on surfaces worn by the cycles before.
+#include "sweep/wear_evolution.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -7,6 +9,7 @@
 #include <string>
 
 #include "sweep/case_observer.hpp"
+#include "sweep/results.hpp"
 
 namespace rodend {
 namespace {
@@ -17,110 +20,16 @@ double& metric(MetricValues& m, MetricId id) {
   return m[static_cast<std::size_t>(id)];
 }
 
-CaseArray array(std::string group, std::string name, std::string unit, std::string description,
-                std::vector<std::size_t> dims, std::vector<double> values) {
-  // netCDF dimensions: a wear map is latitude x longitude cells, a per-row array is per
-  // latitude, the radii are per body (ball, socket), an evolution column per update
-  std::vector<std::string> dim_names;
-  if (group == "evolution")
-    dim_names = {"update"};
-  else if (name == "longitude")
-    dim_names = {"longitude"};
-  else if (name == "radius")
-    dim_names = {"body"};
-  else if (dims.size() == 2)
-    dim_names = {"latitude", "longitude"};
-  else
-    dim_names = {"latitude"};
-  return {std::move(group), std::move(name),   std::move(unit),     std::move(description),
-          std::move(dims),  std::move(values), std::move(dim_names)};
-}
 
 }  // namespace
 
-CaseObserver::CaseObserver(const Scene& scene, const CaseSpec& spec, History* h)
-    : history_(h), metrics_(scene, spec.metrics), sliding_work_(kNaN) {
-  if (h) {
-    h->signals = spec.signals;
-    h->values.assign(spec.signals.size(), {});
-    h->samples = 0;
-    h->arrays.clear();
-    const auto n =
-        static_cast<std::size_t>(std::floor(spec.time.end / spec.time.sample_interval + 1e-9) + 1);
-    for (std::size_t i = 0; i < spec.signals.size(); ++i)
-      h->values[i].reserve(n * static_cast<std::size_t>(signal_spec(spec.signals[i]).width));
-  }
-  if (const WearModel* w = scene.wear_model()) wear_.emplace(*w);
-}
-
-void CaseObserver::on_sample(const SignalFrame& f) {
-  if (wear_) sliding_work_ = f.get(SignalId::sliding_work);
-  if (!history_) return;
-  for (std::size_t i = 0; i < history_->signals.size(); ++i) {
-    const SignalId id = history_->signals[i];
-    const double* v = f.data(id);
-    history_->values[i].insert(history_->values[i].end(), v, v + signal_spec(id).width);
-  }
-  ++history_->samples;
-}
-
-void CaseObserver::record_wear(MetricValues& m, History& h) const {
-  if (!wear_) return;
-  metric(m, MetricId::sliding_work) = sliding_work_;
-  record_wear_maps(wear_->ball(), wear_->socket(), m, h);
-}
-
-void record_wear_maps(const WearMap& ball, const WearMap& socket, MetricValues& m, History& h) {
-  metric(m, MetricId::worn_volume_ball) = ball.volume();
-  metric(m, MetricId::worn_volume_socket) = socket.volume();
-  const WearMap::Extreme b = ball.max_depth(), s = socket.max_depth();
-  metric(m, MetricId::max_wear_depth_ball) = b.depth;
-  metric(m, MetricId::max_wear_depth_ball_longitude) = b.longitude;
-  metric(m, MetricId::max_wear_depth_ball_latitude) = b.latitude;
-  metric(m, MetricId::max_wear_depth_socket) = s.depth;
-  metric(m, MetricId::max_wear_depth_socket_longitude) = s.longitude;
-  metric(m, MetricId::max_wear_depth_socket_latitude) = s.latitude;
-
-  const auto nlon = static_cast<std::size_t>(ball.n_longitude());
-  const auto nlat = static_cast<std::size_t>(ball.n_latitude());
-  std::vector<double> lon(nlon), lat(nlat), area_b(nlat), area_s(nlat);
-  for (std::size_t i = 0; i < nlon; ++i) lon[i] = ball.longitude(static_cast<int>(i));
-  for (std::size_t j = 0; j < nlat; ++j) {
-    lat[j] = ball.latitude(static_cast<int>(j));
-    area_b[j] = ball.cell_area(static_cast<int>(j));
-    area_s[j] = socket.cell_area(static_cast<int>(j));
-  }
-  const std::string g = "wear";
-  h.arrays.push_back(array(g, "longitude", "rad",
-                           "cell-centre longitude about the body's z axis, from +x", {nlon}, lon));
-  h.arrays.push_back(
-      array(g, "latitude", "rad", "cell-centre latitude from the body's xy-plane", {nlat}, lat));
-  h.arrays.push_back(array(g, "ball_depth", "m",
-                           "worn depth of the ball, latitude x longitude cells, ball frame",
-                           {nlat, nlon}, ball.depths()));
-  h.arrays.push_back(array(g, "socket_depth", "m",
-                           "worn depth of the socket, latitude x longitude cells, socket frame",
-                           {nlat, nlon}, socket.depths()));
-  h.arrays.push_back(array(g, "ball_cell_area", "m^2",
-                           "area of a ball cell in each latitude row (depth x area = volume)",
-                           {nlat}, area_b));
-  h.arrays.push_back(array(g, "socket_cell_area", "m^2",
-                           "area of a socket cell in each latitude row", {nlat}, area_s));
-  h.arrays.push_back(array(g, "radius", "m", "radii of the ball and socket maps", {2},
-                           {ball.radius(), socket.radius()}));
-}
-
 CaseRecord run_wear_evolution(const CaseSpec& spec, History& history) {
-  CaseRecord rec;
-  rec.id = spec.id;
-  rec.index = spec.index;
-  rec.scene = spec.scene;
-  rec.coordinates = spec.coordinates;
-  rec.started_utc = utc_now();
+  CaseRecord rec = start_record(spec);
   const auto clock0 = std::chrono::steady_clock::now();
   const WearEvolutionSettings& ev = spec.wear_evolution;
 
   const auto base = make_scene(spec.scene, spec.parameters);
+  rec.features = base->features();
   const WearModel& model = *base->wear_model();  // checked when the study was loaded
   auto worn = std::make_shared<WornSurfaces>();
   worn->ball = WearMap(model.ball_radius, model.n_longitude, model.n_latitude);
@@ -163,13 +72,8 @@ CaseRecord run_wear_evolution(const CaseSpec& spec, History& history) {
       scene = owned.get();
     }
     CaseObserver obs(*scene, spec, updates == 0 ? &history : nullptr);
-    RunResult r;
-    try {
-      r = simulate(*scene, spec.integrator, spec.time, obs, spec.health);
-    } catch (const std::exception& e) {
-      r.status = RunStatus::non_finite_state;
-      r.message = std::string("internal error: ") + e.what();
-    }
+    // an exception inside the run is its internal_error; one outside it, run_case's
+    RunResult r = simulate(*scene, spec.integrator, spec.time, obs, spec.health);
     rec.steps_accepted += r.stats.steps_accepted;
     rec.steps_rejected += r.stats.steps_rejected;
     rec.rhs_calls += r.stats.rhs_calls;
@@ -230,24 +134,24 @@ CaseRecord run_wear_evolution(const CaseSpec& spec, History& history) {
   const std::string g = "evolution";
   const std::size_t rows = cycles_col.size();
   history.arrays.push_back(
-      array(g, "cycles", "1", "duty cycles applied so far", {rows}, cycles_col));
-  history.arrays.push_back(array(g, "cycles_per_update", "1",
+      case_array(g, "cycles", "1", "duty cycles applied so far", {rows}, cycles_col));
+  history.arrays.push_back(case_array(g, "cycles_per_update", "1",
                                  "duty cycles the update stands for (0 in row 0)", {rows},
                                  per_update_col));
-  history.arrays.push_back(array(g, "axial_clearance", "m",
+  history.arrays.push_back(case_array(g, "axial_clearance", "m",
                                  "half the free play of the ball along the rod axis", {rows},
                                  axial_col));
-  history.arrays.push_back(array(g, "max_clearance", "m",
+  history.arrays.push_back(case_array(g, "max_clearance", "m",
                                  "largest local clearance over directions in the mechanism plane",
                                  {rows}, max_col));
-  history.arrays.push_back(array(g, "surface_backlash", "rad",
+  history.arrays.push_back(case_array(g, "surface_backlash", "rad",
                                  "free play of the surface angle (backlash at the surface)", {rows},
                                  backlash_col));
   history.arrays.push_back(
-      array(g, "worn_volume", "m^3", "worn volume of ball and socket", {rows}, volume_col));
+      case_array(g, "worn_volume", "m^3", "worn volume of ball and socket", {rows}, volume_col));
   history.arrays.push_back(
-      array(g, "max_depth_ball", "m", "deepest cell of the ball's map", {rows}, depth_ball_col));
-  history.arrays.push_back(array(g, "max_depth_socket", "m", "deepest cell of the socket's map",
+      case_array(g, "max_depth_ball", "m", "deepest cell of the ball's map", {rows}, depth_ball_col));
+  history.arrays.push_back(case_array(g, "max_depth_socket", "m", "deepest cell of the socket's map",
                                  {rows}, depth_socket_col));
   return rec;
 }

@@ -87,6 +87,7 @@ class BlowUpScene final : public Scene {
  public:
   explicit BlowUpScene(double bad_output_from = -1.0) : bad_from_(bad_output_from) {}
   std::string_view name() const override { return "blow-up"; }
+  Features features() const override { return {}; }  // no contact, no energy audit
   int state_size() const override { return 1; }
   void initial_state(double* x) const override { x[0] = 1.0; }
   void state_scale(double* s) const override { s[0] = 1.0; }

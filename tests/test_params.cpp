@@ -1,5 +1,6 @@
 // Parameter sets: the embedded defaults of every scene, the form of every leaf (unit and
 // provenance), overrides by key path, and the physical checks made when a scene is built.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <functional>
 #include <string>
@@ -170,4 +171,88 @@ TEST_CASE("unknown scenes are an InputError", "[params]") {
         "scene");
   CHECK(thrown_input_error([] { make_scene("no-such-scene", ParameterSet{}); }).key_path() ==
         "scene");
+}
+
+namespace {
+
+/// What a feature means in signals: those every scene with it writes and no scene without it
+/// writes (`own`), and those a scene with it writes besides (`also`).
+struct FeatureSignals {
+  std::vector<SignalId> own, also;
+};
+
+FeatureSignals feature_signals(Feature f) {
+  using S = SignalId;
+  switch (f) {
+    case Feature::contact:
+      return {
+          {S::eccentricity, S::penetration, S::penetration_rate, S::impact_speed, S::contact_force},
+          {}};
+    case Feature::mechanism:
+      return {{S::surface_angle, S::surface_angle_command, S::surface_rate, S::hinge_moment},
+              {S::actuator_position}};
+    case Feature::actuator:
+      return {{S::actuator_command, S::spool_position, S::chamber_pressures},
+              {S::actuator_position}};
+    case Feature::wear:
+      return {{S::sliding_work, S::worn_volume}, {}};
+    case Feature::planar:
+      return {};  // no signal of its own: it says which components stay zero
+    case Feature::energy_audit:
+      return {{S::input_work, S::dissipated_energy, S::energy_residual}, {S::mechanical_energy}};
+    case Feature::count_:
+      break;
+  }
+  FAIL("feature " << static_cast<int>(f) << " has no entry in feature_signals");
+  return {};
+}
+
+}  // namespace
+
+TEST_CASE("every scene declares its features, and they agree with what it writes", "[params]") {
+  std::vector<std::pair<std::string, ParameterSet>> variants;
+  for (const std::string& scene : scene_names()) {
+    ParameterSet p = ParameterSet::defaults_for(scene);
+    variants.emplace_back(scene, p);
+    if (p.has("wear.model")) {  // the same scene with wear
+      p.set("wear.model", "archard");
+      variants.emplace_back(scene + " (wear.model archard)", p);
+    }
+  }
+  int with_wear = 0;
+  for (const auto& [label, p] : variants) {
+    const std::string scene = label.substr(0, label.find(' '));
+    CAPTURE(label);
+    const auto s = make_scene(scene, p);
+    const Features has = s->features();
+    const auto sig = s->signals();
+    auto writes = [&](SignalId id) { return std::find(sig.begin(), sig.end(), id) != sig.end(); };
+    for (std::size_t i = 0; i < feature_catalogue().size(); ++i) {
+      const auto f = static_cast<Feature>(i);
+      CAPTURE(feature_catalogue()[i].name);
+      const FeatureSignals fs = feature_signals(f);
+      for (SignalId id : fs.own) {
+        CAPTURE(signal_spec(id).name);
+        CHECK(writes(id) == has.has(f));
+      }
+      if (has.has(f))
+        for (SignalId id : fs.also) {
+          CAPTURE(signal_spec(id).name);
+          CHECK(writes(id));
+        }
+    }
+    // what the driver and the wear bookkeeping ask of the scene itself
+    CHECK((s->contact_count() > 0) == has.has(Feature::contact));
+    CHECK((s->wear_model() != nullptr) == has.has(Feature::wear));
+    // the audit's time integrals (input work and/or dissipation) are states of the scene
+    if (has.has(Feature::energy_audit)) CHECK_FALSE(s->audit_offsets().empty());
+    with_wear += has.has(Feature::wear) ? 1 : 0;
+  }
+  CHECK(with_wear == 2);  // rod-end-kinematic and rod-end-actuator with wear.model archard
+  // as declared (scenes.def): the mechanism scenes, the actuator scenes
+  CHECK(
+      make_scene("rod-end-actuator", ParameterSet::defaults_for("rod-end-actuator"))->features() ==
+      Features{Feature::contact, Feature::mechanism, Feature::actuator, Feature::energy_audit});
+  CHECK(make_scene("free-body", ParameterSet::defaults_for("free-body"))->features() ==
+        Features{Feature::energy_audit});
 }

@@ -170,6 +170,15 @@ TEST_CASE("a case file reads back as the record written", "[results]") {
   require_same_record(*back, record);
   // complete file under its final name, no temporary file left beside it
   CHECK(entries(file.parent_path()) == std::vector<std::string>{spec.id + ".h5"});
+  // the histories read back value for value (make_history: t = 1e-3 i, position 10 i + k)
+  const SignalData t = read_signal(file, "time"), pos = read_signal(file, "ball_position");
+  REQUIRE(t.samples == 5000);
+  REQUIRE(pos.samples == 5000);
+  REQUIRE(pos.width == 3);
+  for (std::size_t i : {std::size_t{0}, std::size_t{1}, std::size_t{4095}, std::size_t{4999}}) {
+    CHECK(t.at(i) == 1e-3 * static_cast<double>(i));
+    for (int k = 0; k < 3; ++k) CHECK(pos.at(i, k) == static_cast<double>(10 * i + k));
+  }
 
   SECTION("rewriting replaces the file") {
     CaseRecord again = record;
@@ -193,6 +202,18 @@ TEST_CASE("a case with no samples still writes its signals", "[results]") {
   const auto back = read_case_record(file);
   REQUIRE(back.has_value());
   require_same_record(*back, record);
+  // every recorded signal is there, with no rows, its width and its unit
+  CHECK(list_signals(file) == std::vector<std::string>{"ball_position", "time"});
+  const SignalData t = read_signal(file, "time");
+  CHECK(t.samples == 0);
+  CHECK(t.values.empty());
+  CHECK(t.width == 1);
+  CHECK(t.unit == "s");
+  const SignalData p = read_signal(file, "ball_position");
+  CHECK(p.samples == 0);
+  CHECK(p.values.empty());
+  CHECK(p.width == 3);
+  CHECK(p.unit == "m");
 }
 
 TEST_CASE("a failed case write leaves nothing behind", "[results]") {

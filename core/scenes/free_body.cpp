@@ -40,6 +40,7 @@ class FreeBodyScene final : public Scene {
         q0_(quat_from_rotation_vector(p.vec3("body.initial_rotation_vector"))) {}
 
   std::string_view name() const override { return "free-body"; }
+  Features features() const override { return Features{Feature::energy_audit}; }
   int state_size() const override { return kStates; }
   void initial_state(double* x) const override {
     body_initial_state(x + kBody, p0_, v0_, q0_, w0_);

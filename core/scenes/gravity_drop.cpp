@@ -62,6 +62,7 @@ class GravityDropScene final : public Scene {
   }
 
   std::string_view name() const override { return "gravity-drop"; }
+  Features features() const override { return Features{Feature::contact, Feature::energy_audit}; }
   int state_size() const override { return kStates; }
   void initial_state(double* x) const override {
     body_initial_state(x + kBall, offset_, v0_);

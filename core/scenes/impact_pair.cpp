@@ -85,6 +85,7 @@ class ImpactPairScene final : public Scene {
   }
 
   std::string_view name() const override { return "impact-pair"; }
+  Features features() const override { return Features{Feature::contact, Feature::energy_audit}; }
   int state_size() const override { return dissipated_ + 1; }
   void initial_state(double* x) const override {
     const double gap = kInitialGapFraction * contact_.clearance;

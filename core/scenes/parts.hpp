@@ -15,11 +15,6 @@ namespace rodend {
 /// `<prefix>.mass` [kg] > 0 and `<prefix>.inertia` [kg m^2] (3 principal moments) > 0.
 RigidBodyParams read_body(const ParameterSet& p, const std::string& prefix);
 
-/// Moment of inertia of a solid sphere, 2/5 m R^2 [kg m^2], for bodies given as spheres.
-inline double solid_sphere_inertia(double mass, double radius) {
-  return 0.4 * mass * radius * radius;
-}
-
 /// The clearance contact under `<prefix>` (geometry, clearance, ball_radius, bearing_length,
 /// materials, stiffness_scale, law, restitution, min_impact_speed) and the friction under
 /// `<friction_prefix>`. `geometry` "sphere" (Hertz, ball in a conformal socket) or "cylinder"

@@ -224,6 +224,11 @@ class PlanarSliderCrankScene final : public Scene {
   }
   std::span<const int> audit_offsets() const override { return audit_; }
 
+  Features features() const override {
+    Features f{Feature::planar, Feature::energy_audit};
+    if (!joints_.empty()) f.set(Feature::contact);  // a clearance joint: a latched contact
+    return f;
+  }
   int contact_count() const override { return static_cast<int>(joints_.size()); }
   double contact_clearance(int c) const override {
     return models_[static_cast<std::size_t>(c)].clearance;

@@ -52,6 +52,9 @@ class RodEndActuatorScene final : public Scene {
   }
 
   std::string_view name() const override { return "rod-end-actuator"; }
+  Features features() const override {
+    return mech_.features().set(Feature::actuator).set(Feature::energy_audit);
+  }
   int state_size() const override { return kStates + (wears() ? 1 : 0); }
   void initial_state(double* x) const override {
     mech_.initial_state(x + kMech);

@@ -83,6 +83,12 @@ class RodEndMechanism {
   /// and worn_volume.
   std::vector<SignalId> scene_signals(std::span<const SignalId> own) const;
 
+  /// What the mechanism brings to a rod-end scene: the mechanism, its contact and, with a wear
+  /// model, wear.
+  Features features() const {
+    return Features{Feature::mechanism, Feature::contact}.set(Feature::wear, wear_.has_value());
+  }
+
   // wear (core/wear.hpp): null / nothing when wear.model is "none"
   const WearModel* wear_model() const { return wear_ ? &*wear_ : nullptr; }
   /// Worn volume per joule of sliding work, k_b/H_b + k_s/H_s [m^3/J].
@@ -100,7 +106,6 @@ class RodEndMechanism {
   JointPlay joint_play(const Eval& e) const;
   const ClearanceContactModel& contact() const { return contact_; }
   const SliderCrank& geometry() const { return geometry_; }
-  double surface_inertia() const { return surface_inertia_; }
 
   /// Checks that the mechanism closes over a rod-extension history; throws InputError naming
   /// `key` with the offending time and rod length (or `short_key`, if given, when the rod is too

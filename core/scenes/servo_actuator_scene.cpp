@@ -47,6 +47,7 @@ class ServoActuatorScene final : public Scene {
   }
 
   std::string_view name() const override { return "servo-actuator"; }
+  Features features() const override { return Features{Feature::actuator, Feature::energy_audit}; }
   int state_size() const override { return kStates; }
   void initial_state(double* x) const override {
     act_.initial_state(x + kAct);

@@ -62,6 +62,7 @@ class SpringContactScene final : public Scene {
         gravity_(p.vec3("gravity")) {}
 
   std::string_view name() const override { return "spring-contact"; }
+  Features features() const override { return Features{Feature::contact, Feature::energy_audit}; }
   int state_size() const override { return kStates; }
   void initial_state(double* x) const override {
     body_initial_state(x + kBall, Vec3::Zero());

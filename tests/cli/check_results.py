@@ -24,7 +24,7 @@ import numpy as np
 
 STATUSES = {"ok", "step_budget_exhausted", "rhs_budget_exhausted", "step_size_underflow",
             "non_finite_state", "penetration_limit", "energy_residual_limit",
-            "actuator_saturation"}
+            "actuator_saturation", "internal_error"}
 
 
 def text(v):

@@ -4,11 +4,14 @@ survives studies that record only some signals.
 
 Usage (CTest): test_plots.py PLOTS_DIR, with RODEND set to the rodend executable."""
 import glob
+import json
 import os
 import shutil
 import subprocess
 import sys
 import tempfile
+
+import h5py
 
 from common import check, finish, run, write_study
 
@@ -169,6 +172,29 @@ with tempfile.TemporaryDirectory() as tmp:
         check(any("mm" in t for t in legend) and not any(t.endswith(" m") for t in legend),
               f"eccentricity_force legend units: {legend}")
         matplotlib.pyplot.close(fig)
+    # the figures ask the scene's features (case attribute features_json), not its signals: the
+    # same gravity-drop files declared to have a mechanism lose ball_motion; files without the
+    # attribute (older rodend) fall back to guessing from the signals
+    for study, want in ((kin, ["contact", "mechanism", "energy_audit"]),
+                        (drop, ["contact", "energy_audit"])):
+        for path in glob.glob(os.path.join(study, "cases", "*.h5")):
+            with h5py.File(path, "r") as f:
+                got = json.loads(f.attrs["features_json"])
+            check(got == want, f"{path}: features_json {got}, expected {want}")
+    for what, features, drawn in (
+            ("declared mechanism", json.dumps(["contact", "mechanism", "energy_audit"]),
+             {"eccentricity_force", "polar_relative_position", "polar_force_wear", "energy_audit"}),
+            ("no features_json", None,
+             {"eccentricity_force", "polar_relative_position", "polar_force_wear", "energy_audit",
+              "ball_motion"})):
+        copy = os.path.join(tmp, "drop-" + what.replace(" ", "-"))
+        shutil.copytree(drop, copy, ignore=shutil.ignore_patterns("plots"))
+        for path in glob.glob(os.path.join(copy, "cases", "*.h5")):
+            with h5py.File(path, "r+") as f:
+                del f.attrs["features_json"]
+                if features is not None:
+                    f.attrs["features_json"] = features
+        expect_figures(f"gravity-drop, {what}", plot([copy]), os.path.join(copy, "plots"), drawn)
 
     # only two signals recorded: no crash, only the figure that fits
     few = simulate(tmp, {

@@ -1,0 +1,158 @@
+// Running a study: a case whose scene throws an exception that is not a numerical failure is
+// stored as internal_error with the exception's message, and the other cases of the study go on.
+#include <unistd.h>
+
+#include <atomic>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "core/scene.hpp"
+#include "sweep/runner.hpp"
+
+namespace fs = std::filesystem;
+using namespace rodend;
+
+namespace {
+
+/// A fresh empty directory under the system temporary directory, removed at scope exit.
+class TempDir {
+ public:
+  TempDir() {
+    static std::atomic<int> counter{0};
+    path_ = fs::temp_directory_path() /
+            ("rodend-test-runner-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+constexpr double kFaultyClearance = 1e-3;  // [m] the grid case whose scene throws
+constexpr double kThrowAfter = 5e-3;       // [s] ... once its derivatives are asked past this
+constexpr const char* kWhat = "test scene: a bug in the derivatives";
+
+/// The gravity-drop scene as the catalogue builds it, except that, for contact.clearance
+/// kFaultyClearance, its derivatives throw std::logic_error past kThrowAfter (a bug, not a
+/// numerical failure). Everything else is the wrapped scene's.
+class FaultyScene final : public Scene {
+ public:
+  explicit FaultyScene(const ParameterSet& p)
+      : inner_(find_scene("gravity-drop")->make(p)),
+        throw_after_(p.number("contact.clearance") == kFaultyClearance
+                         ? kThrowAfter
+                         : std::numeric_limits<double>::infinity()) {}
+  std::string_view name() const override { return inner_->name(); }
+  Features features() const override { return inner_->features(); }
+  int state_size() const override { return inner_->state_size(); }
+  void initial_state(double* x) const override { inner_->initial_state(x); }
+  void state_scale(double* s) const override { inner_->state_scale(s); }
+  std::span<const int> quaternion_offsets() const override { return inner_->quaternion_offsets(); }
+  std::span<const int> audit_offsets() const override { return inner_->audit_offsets(); }
+  void derivatives(double t, const double* x, const DiscreteState& d, double* dxdt) const override {
+    if (t > throw_after_) throw std::logic_error(kWhat);
+    inner_->derivatives(t, x, d, dxdt);
+  }
+  int contact_count() const override { return inner_->contact_count(); }
+  ContactGap contact_gap(int c, const double* x) const override {
+    return inner_->contact_gap(c, x);
+  }
+  double contact_clearance(int c) const override { return inner_->contact_clearance(c); }
+  std::span<const SignalId> signals() const override { return inner_->signals(); }
+  void outputs(double t, const double* x, const DiscreteState& d, SignalFrame& f) const override {
+    inner_->outputs(t, x, d, f);
+  }
+  void step_outputs(double t, const double* x, const DiscreteState& d,
+                    SignalFrame& f) const override {
+    inner_->step_outputs(t, x, d, f);
+  }
+  ContactSnapshot contact_snapshot(int c, double t, const double* x,
+                                   const DiscreteState& d) const override {
+    return inner_->contact_snapshot(c, t, x, d);
+  }
+  EnergyTerms energy(double t, const double* x, const DiscreteState& d) const override {
+    return inner_->energy(t, x, d);
+  }
+
+ private:
+  std::unique_ptr<Scene> inner_;
+  double throw_after_;
+};
+
+std::unique_ptr<Scene> make_faulty_scene(const ParameterSet& p) {
+  return std::make_unique<FaultyScene>(p);
+}
+
+std::unique_ptr<Scene> make_unbuildable_scene(const ParameterSet&) {
+  throw std::runtime_error("test scene: cannot be built");
+}
+
+/// Three gravity drops, the middle one (clearance kFaultyClearance) on the faulty scene.
+Study three_drops(const fs::path& dir, const std::string& method) {
+  const std::string text = R"({"name": "faulty", "scene": "gravity-drop",
+    "integrator": {"method": ")" +
+                           method + R"(", "abs_tol": 1e-8, "rel_tol": 1e-8},
+    "time": {"end": 0.02, "sample_interval": 1e-3},
+    "grid": [{"key": "parameters.contact.clearance", "values": [5e-4, 1e-3, 2e-3]}]})";
+  return parse_study_text(text, dir / "faulty.json", dir / "results");
+}
+
+}  // namespace
+
+TEST_CASE("a case whose scene throws is internal_error; the other cases go on", "[runner]") {
+  const std::string method = GENERATE(as<std::string>{}, "dopri5", "cvode_bdf");
+  CAPTURE(method);
+  TempDir tmp;
+  const SceneFactoryOverride faulty("gravity-drop", &make_faulty_scene);
+  const Study study = three_drops(tmp.path(), method);
+  REQUIRE(study.cases.size() == 3);
+  RunOptions opt;
+  opt.progress = false;
+  CHECK(run_study(study, opt) == 1);  // a case failed
+
+  const SummaryTable t = read_summary(study.output_dir);
+  REQUIRE(t.rows == 3);
+  const auto& status = t.texts.at("status");
+  const auto& message = t.texts.at("message");
+  CHECK(status[0] == "ok");
+  CHECK(status[2] == "ok");
+  REQUIRE(status[1] == "internal_error");
+  // the exception's message, and the time the run reached before it (the last accepted step)
+  CHECK_THAT(message[1], Catch::Contains(kWhat) && Catch::Contains("internal error after t = "));
+  const double t_reached = t.numbers.at("t_reached_s")[1];
+  CHECK(t_reached > 0.0);
+  CHECK(t_reached <= kThrowAfter);
+  CHECK(t.numbers.at("t_reached_s")[0] == 0.02);
+
+  // the case file says the same
+  const auto rec = read_case_record(study.output_dir / "cases" / (study.cases[1].id + ".h5"));
+  REQUIRE(rec.has_value());
+  CHECK(rec->status == "internal_error");
+  CHECK(rec->message == message[1]);
+  CHECK(rec->t_reached == t_reached);
+}
+
+TEST_CASE("a scene that cannot be built at run time is internal_error", "[runner]") {
+  TempDir tmp;
+  const Study study = three_drops(tmp.path(), "dopri5");  // loaded with the real scene
+  const SceneFactoryOverride unbuildable("gravity-drop", &make_unbuildable_scene);
+  History h;
+  const CaseRecord r = run_case(study.cases[0], h);
+  CHECK(r.status == "internal_error");
+  CHECK_THAT(r.message, Catch::Contains("test scene: cannot be built") &&
+                            Catch::Contains("outside the integration, at t = 0 s"));
+  CHECK(r.t_reached == 0.0);
+  CHECK(h.samples == 0);
+  CHECK(h.signals.empty());
+  for (double m : r.metrics) CHECK(std::isnan(m));
+}
