@@ -18,9 +18,8 @@ double& metric(MetricValues& m, MetricId id) {
 
 }  // namespace
 
-CaseArray case_array(std::string group, std::string name, std::string unit,
-                     std::string description, std::vector<std::size_t> dims,
-                     std::vector<double> values) {
+CaseArray case_array(std::string group, std::string name, std::string unit, std::string description,
+                     std::vector<std::size_t> dims, std::vector<double> values) {
   // netCDF dimensions: a wear map is latitude x longitude cells, a per-row array is per
   // latitude, the radii are per body (ball, socket), an evolution column per update
   std::vector<std::string> dim_names;
@@ -103,22 +102,23 @@ void record_wear_maps(const WearMap& ball, const WearMap& socket, MetricValues& 
   }
   const std::string g = "wear";
   h.arrays.push_back(case_array(g, "longitude", "rad",
-                           "cell-centre longitude about the body's z axis, from +x", {nlon}, lon));
-  h.arrays.push_back(
-      case_array(g, "latitude", "rad", "cell-centre latitude from the body's xy-plane", {nlat}, lat));
+                                "cell-centre longitude about the body's z axis, from +x", {nlon},
+                                lon));
+  h.arrays.push_back(case_array(g, "latitude", "rad",
+                                "cell-centre latitude from the body's xy-plane", {nlat}, lat));
   h.arrays.push_back(case_array(g, "ball_depth", "m",
-                           "worn depth of the ball, latitude x longitude cells, ball frame",
-                           {nlat, nlon}, ball.depths()));
-  h.arrays.push_back(case_array(g, "socket_depth", "m",
-                           "worn depth of the socket, latitude x longitude cells, socket frame",
-                           {nlat, nlon}, socket.depths()));
+                                "worn depth of the ball, latitude x longitude cells, ball frame",
+                                {nlat, nlon}, ball.depths()));
+  h.arrays.push_back(case_array(
+      g, "socket_depth", "m", "worn depth of the socket, latitude x longitude cells, socket frame",
+      {nlat, nlon}, socket.depths()));
   h.arrays.push_back(case_array(g, "ball_cell_area", "m^2",
-                           "area of a ball cell in each latitude row (depth x area = volume)",
-                           {nlat}, area_b));
+                                "area of a ball cell in each latitude row (depth x area = volume)",
+                                {nlat}, area_b));
   h.arrays.push_back(case_array(g, "socket_cell_area", "m^2",
-                           "area of a socket cell in each latitude row", {nlat}, area_s));
+                                "area of a socket cell in each latitude row", {nlat}, area_s));
   h.arrays.push_back(case_array(g, "radius", "m", "radii of the ball and socket maps", {2},
-                           {ball.radius(), socket.radius()}));
+                                {ball.radius(), socket.radius()}));
 }
 
 }  // namespace rodend

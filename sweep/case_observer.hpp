@@ -57,8 +57,7 @@ void record_wear_maps(const WearMap& ball, const WearMap& socket, MetricValues& 
 
 /// A per-case array with its netCDF dimension names (the wear maps' latitude x longitude, the
 /// radii per body, the wear evolution's columns per update).
-CaseArray case_array(std::string group, std::string name, std::string unit,
-                     std::string description, std::vector<std::size_t> dims,
-                     std::vector<double> values);
+CaseArray case_array(std::string group, std::string name, std::string unit, std::string description,
+                     std::vector<std::size_t> dims, std::vector<double> values);
 
 }  // namespace rodend

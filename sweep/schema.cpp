@@ -67,7 +67,8 @@ Json study_schema() {
 
   std::string key_pattern;
   for (const std::string& s : sections) key_pattern += (key_pattern.empty() ? "" : "|") + s;
-  key_pattern = "^(" + key_pattern + ")\\.";
+  // a full key path, or "scene": the scene as a grid axis (then no top-level "scene")
+  key_pattern = "^((" + key_pattern + ")\\.|scene$)";
 
   props["name"] = {{"type", "string"},
                    {"pattern", "^[^/]+$"},
@@ -137,7 +138,9 @@ Json study_schema() {
            "loader's own lists. The loader checks more than this (ranges, the scene's physical "
            "checks, grid sizes)."},
           {"type", "object"},
-          {"required", {"scene", "time"}},
+          {"required", {"time"}},
+          // the scene, or a grid whose axis "scene" names the scenes
+          {"anyOf", Json::array({{{"required", {"scene"}}}, {{"required", {"grid"}}}})},
           {"additionalProperties", false},
           {"properties", props},
           {"allOf", per_scene},

@@ -20,7 +20,6 @@ double& metric(MetricValues& m, MetricId id) {
   return m[static_cast<std::size_t>(id)];
 }
 
-
 }  // namespace
 
 CaseRecord run_wear_evolution(const CaseSpec& spec, History& history) {
@@ -136,23 +135,23 @@ CaseRecord run_wear_evolution(const CaseSpec& spec, History& history) {
   history.arrays.push_back(
       case_array(g, "cycles", "1", "duty cycles applied so far", {rows}, cycles_col));
   history.arrays.push_back(case_array(g, "cycles_per_update", "1",
-                                 "duty cycles the update stands for (0 in row 0)", {rows},
-                                 per_update_col));
+                                      "duty cycles the update stands for (0 in row 0)", {rows},
+                                      per_update_col));
   history.arrays.push_back(case_array(g, "axial_clearance", "m",
-                                 "half the free play of the ball along the rod axis", {rows},
-                                 axial_col));
-  history.arrays.push_back(case_array(g, "max_clearance", "m",
-                                 "largest local clearance over directions in the mechanism plane",
-                                 {rows}, max_col));
+                                      "half the free play of the ball along the rod axis", {rows},
+                                      axial_col));
+  history.arrays.push_back(case_array(
+      g, "max_clearance", "m", "largest local clearance over directions in the mechanism plane",
+      {rows}, max_col));
   history.arrays.push_back(case_array(g, "surface_backlash", "rad",
-                                 "free play of the surface angle (backlash at the surface)", {rows},
-                                 backlash_col));
+                                      "free play of the surface angle (backlash at the surface)",
+                                      {rows}, backlash_col));
   history.arrays.push_back(
       case_array(g, "worn_volume", "m^3", "worn volume of ball and socket", {rows}, volume_col));
-  history.arrays.push_back(
-      case_array(g, "max_depth_ball", "m", "deepest cell of the ball's map", {rows}, depth_ball_col));
-  history.arrays.push_back(case_array(g, "max_depth_socket", "m", "deepest cell of the socket's map",
-                                 {rows}, depth_socket_col));
+  history.arrays.push_back(case_array(g, "max_depth_ball", "m", "deepest cell of the ball's map",
+                                      {rows}, depth_ball_col));
+  history.arrays.push_back(case_array(
+      g, "max_depth_socket", "m", "deepest cell of the socket's map", {rows}, depth_socket_col));
   return rec;
 }
 
