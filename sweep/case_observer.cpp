@@ -12,10 +12,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-double& metric(MetricValues& m, MetricId id) {
-  return m[static_cast<std::size_t>(id)];
-}
-
 }  // namespace
 
 CaseArray case_array(std::string group, std::string name, std::string unit, std::string description,

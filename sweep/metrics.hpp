@@ -28,6 +28,10 @@ struct MetricSpec {
 std::span<const MetricSpec> metric_catalogue();
 
 using MetricValues = std::array<double, metric_count>;
+/// The value of metric `id` in `v`.
+inline double& metric(MetricValues& v, MetricId id) {
+  return v[static_cast<std::size_t>(id)];
+}
 
 /// Settings of the metrics (study key "metrics").
 struct MetricsSettings {

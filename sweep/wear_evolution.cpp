@@ -16,10 +16,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-double& metric(MetricValues& m, MetricId id) {
-  return m[static_cast<std::size_t>(id)];
-}
-
 }  // namespace
 
 CaseRecord run_wear_evolution(const CaseSpec& spec, History& history) {

@@ -189,8 +189,10 @@ FeatureSignals feature_signals(Feature f) {
           {S::eccentricity, S::penetration, S::penetration_rate, S::impact_speed, S::contact_force},
           {}};
     case Feature::mechanism:
-      return {{S::surface_angle, S::surface_angle_command, S::surface_rate, S::hinge_moment},
-              {S::actuator_position}};
+      // surface_rate is not the mechanism's own: the planar slider-crank writes its crank's
+      // rate there
+      return {{S::surface_angle, S::surface_angle_command, S::hinge_moment},
+              {S::actuator_position, S::surface_rate}};
     case Feature::actuator:
       return {{S::actuator_command, S::spool_position, S::chamber_pressures},
               {S::actuator_position}};
