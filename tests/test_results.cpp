@@ -17,32 +17,14 @@
 #include <thread>
 #include <vector>
 
+#include "fixture.hpp"
 #include "sweep/results.hpp"
 
 namespace fs = std::filesystem;
+using rodend::test::TempDir;
 using namespace rodend;
 
 namespace {
-
-/// A fresh empty directory under the system temporary directory, removed at scope exit.
-class TempDir {
- public:
-  TempDir() {
-    static std::atomic<int> counter{0};
-    path_ = fs::temp_directory_path() /
-            ("rodend-test-results-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
 
 std::vector<std::string> entries(const fs::path& dir) {
   std::vector<std::string> names;

@@ -11,32 +11,14 @@
 #include <string>
 
 #include "core/scene.hpp"
+#include "fixture.hpp"
 #include "sweep/runner.hpp"
 
 namespace fs = std::filesystem;
+using rodend::test::TempDir;
 using namespace rodend;
 
 namespace {
-
-/// A fresh empty directory under the system temporary directory, removed at scope exit.
-class TempDir {
- public:
-  TempDir() {
-    static std::atomic<int> counter{0};
-    path_ = fs::temp_directory_path() /
-            ("rodend-test-runner-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
 
 constexpr double kFaultyClearance = 1e-3;  // [m] the grid case whose scene throws
 constexpr double kThrowAfter = 5e-3;       // [s] ... once its derivatives are asked past this
