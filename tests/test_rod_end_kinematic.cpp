@@ -510,8 +510,14 @@ TEST_CASE("rod-end kinematic: a retraction the mechanism cannot follow names the
     CHECK(e.key_path() == "motion.retraction");
     CHECK(msg.find("t = ") != std::string::npos);
     // at the bottom of the range (the first sample beyond it, just below 0.27 m)
-    CHECK(msg.find("rod length 0.2") != std::string::npos);
-    CHECK(msg.find("rod length 0.2") < msg.find("(0.27, 0.49)"));
+    const auto at = msg.find("rod length ");
+    REQUIRE(at != std::string::npos);
+    CHECK(at < msg.find("(0.27, 0.49)"));
+    // the first sample beyond the closable range: just below its bottom, 0.27 m (the command
+    // reaches 0.26 m), within one sample's travel
+    const double length = std::stod(msg.substr(at + 11));
+    CHECK(length < 0.27);
+    CHECK(length > 0.2699);
   }
   // and the largest retraction that closes is accepted
   p.set("motion.retraction", 0.099);
