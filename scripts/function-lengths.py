@@ -1,0 +1,92 @@
+#!/usr/bin/env python3
+"""Lists the functions of C++ sources with their length in lines (signature to closing brace),
+longest first, and fails (exit 1) when one is longer than the limit.
+
+  scripts/function-lengths.py [--limit 60] [--all] PATH...   (files or directories)
+
+A function is a brace block at namespace or class level whose head (the text since the last
+';', '{' or '}') ends in ')' plus qualifiers, or is a constructor's initialiser list; control
+statements, classes, namespaces, enums and initialisers are not. Lambdas and local classes
+count towards the function that contains them. Comments, strings and character literals are
+blanked first, so braces in them do not count.
+"""
+import argparse
+import pathlib
+import re
+import sys
+
+CONTROL = re.compile(r"^\s*(if|for|while|switch|catch|do|else|try|return)\b")
+TYPE_HEAD = re.compile(r"\b(class|struct|union|enum|namespace)\b[^()]*$")
+QUALIFIERS = r"(\s|const|override|final|noexcept(\([^()]*\))?|mutable|->\s*[\w:<>,\s*&]+)*"
+FUNC_TAIL = re.compile(r"\)" + QUALIFIERS + r"$")
+INIT_LIST = re.compile(r"\)\s*:\s*[\w:]+\s*[({]")  # Ctor(...) : member(...), ... {
+
+
+def blank(src: str) -> str:
+    """Comments, string and character literals replaced by spaces (newlines kept)."""
+    pat = re.compile(
+        r'//[^\n]*|/\*.*?\*/|R"(?P<d>[^(]*)\(.*?\)(?P=d)"|"(\\.|[^"\\\n])*"|\'(\\.|[^\'\\\n])*\'',
+        re.S)
+    return pat.sub(lambda m: re.sub(r"[^\n]", " ", m.group(0)), src)
+
+
+def functions(path: pathlib.Path):
+    text = blank(path.read_text())
+    depth = 0
+    head_start = 0  # offset where the current head begins
+    func_depth = None  # depth at which the enclosing function body opened
+    func_begin = 0
+    func_name = ""
+    for i, ch in enumerate(text):
+        if ch == "{":
+            if func_depth is None:
+                head = text[head_start:i]
+                flat = " ".join(head.split())
+                is_func = (
+                    flat
+                    and not CONTROL.match(flat)
+                    and not TYPE_HEAD.search(flat)
+                    and not flat.endswith("=")
+                    and (FUNC_TAIL.search(flat) or INIT_LIST.search(flat))
+                )
+                if is_func:
+                    func_depth = depth
+                    lead = len(head) - len(head.lstrip())
+                    func_begin = text.count("\n", 0, head_start + lead) + 1
+                    name = re.search(r"([~\w:]+(<[^()]*>)?|operator\s*\S+)\s*\(", flat)
+                    func_name = name.group(1) if name else flat[:40]
+            depth += 1
+            head_start = i + 1
+        elif ch == "}":
+            depth -= 1
+            if func_depth is not None and depth == func_depth:
+                end = text.count("\n", 0, i) + 1
+                yield func_name, func_begin, end - func_begin + 1
+                func_depth = None
+            head_start = i + 1
+        elif ch == ";":
+            if func_depth is None:
+                head_start = i + 1
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("paths", nargs="+")
+    ap.add_argument("--limit", type=int, default=60)
+    ap.add_argument("--all", action="store_true", help="list every function, not only the long")
+    a = ap.parse_args()
+    files = []
+    for p in map(pathlib.Path, a.paths):
+        files += sorted(q for q in p.rglob("*") if q.suffix in (".cpp", ".hpp")) if p.is_dir() else [p]
+    rows = [(n, f, name, line) for f in files for name, line, n in functions(f)]
+    rows.sort(key=lambda r: -r[0])
+    long = [r for r in rows if r[0] > a.limit]
+    for n, f, name, line in rows if a.all else long:
+        print(f"{n:5d}  {f}:{line}  {name}")
+    print(f"{len(rows)} functions in {len(files)} files; {len(long)} longer than {a.limit} lines",
+          file=sys.stderr)
+    return 1 if long else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
