@@ -6,8 +6,10 @@
 #include <boost/numeric/odeint.hpp>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <sstream>
+#include <utility>
 
 namespace rodend {
 namespace odeint = boost::numeric::odeint;
@@ -139,6 +141,7 @@ class Driver {
         sys_(scene, discrete_, scale_, s.max_rhs_calls),
         x_(n_),
         z_tmp_(n_) {
+    sys_.watch = &watch_;
     scene.state_scale(scale_.data());
     // bookkeeping integrals: scaled so that they never limit the step size
     for (int o : scene.audit_offsets()) scale_[static_cast<std::size_t>(o)] *= 1e12;
@@ -154,6 +157,7 @@ class Driver {
     for (SignalId id : kStepSignals)
       if (provides(id)) step_signals_.push_back(id);
     ends_.assign(static_cast<std::size_t>(scene.contact_count()), ContactEnd{});
+    touched_.assign(ends_.size(), 0);
     wears_ = scene.wear_model() != nullptr && obs.wants_wear();
     n_samples_ = static_cast<long long>(std::floor(time.end / time.sample_interval + 1e-9)) + 1;
   }
@@ -165,8 +169,9 @@ class Driver {
       scene_.initial_state(x_.data());
       for (std::size_t i = 0; i < n_; ++i) z0[i] = x_[i] / scale_[i];
       // an initial penetration starts latched, with its current approach speed
-      latch_time_ = 0.0;
-      for (int c = 0; c < scene_.contact_count(); ++c) latch_if_touching(c, x_.data());
+      for (int c = 0; c < scene_.contact_count(); ++c)
+        if (const ContactGap g = scene_.contact_gap(c, x_.data()); g.penetration > 0.0)
+          latch(c, g, 0.0);
       stepper_ = detail::make_stepper(sys_, scene_, settings_);
       stepper_->reset(z0, 0.0, settings_.step);
       emit_sample(0, z0);
@@ -286,43 +291,217 @@ class Driver {
     }
   }
 
-  double penetration_at(int c, const state_t& z) {
+  ContactGap gap_at(int c, const state_t& z) {
     unscale(z, x_);
-    return scene_.contact_gap(c, x_.data()).penetration;
+    return scene_.contact_gap(c, x_.data());
   }
 
-  void latch_if_touching(int c, const double* x) {
-    const ContactGap g = scene_.contact_gap(c, x);
+  bool latched(int c) const { return discrete_.contacts[static_cast<std::size_t>(c)].in_contact; }
+
+  /// Latches contact c's episode at time t with the approach speed delta'^- of gap g.
+  void latch(int c, const ContactGap& g, double t) {
     ContactLatch& l = discrete_.contacts[static_cast<std::size_t>(c)];
-    if (g.penetration > 0.0 && !l.in_contact) {
-      l.in_contact = true;
-      l.impact_speed = std::max(g.penetration_rate, 0.0);
-      ++stats_.contact_onsets;
-      obs_.on_contact_onset(latch_time_, c, l.impact_speed);
-    }
+    l.in_contact = true;
+    l.impact_speed = std::max(g.penetration_rate, 0.0);
+    ++stats_.contact_onsets;
+    obs_.on_contact_onset(t, c, l.impact_speed);
+    ends_[static_cast<std::size_t>(c)].valid = false;  // its force changes law
+    touched_[static_cast<std::size_t>(c)] = 0;
   }
 
-  /// Earliest onset time in (t_prev, t_now] of a contact not yet latched, by bisection on the
-  /// interpolant; returns t_now when nothing needs locating.
-  double locate_onset() {
-    double t_event = stepper_->t_now;
-    for (int c = 0; c < scene_.contact_count(); ++c) {
-      if (discrete_.contacts[static_cast<std::size_t>(c)].in_contact) continue;
-      if (penetration_at(c, stepper_->z_now) <= 0.0) continue;
-      if (penetration_at(c, stepper_->z_prev) > 0.0) continue;  // latched at the step end
-      double lo = stepper_->t_prev, hi = t_event;
-      // 60 halvings reach the resolution of double time for any step length
-      for (int it = 0; it < 60 && hi - lo > 4e-16 * std::max(1.0, std::abs(hi)); ++it) {
-        const double mid = 0.5 * (lo + hi);
-        stepper_->interpolate(mid, z_tmp_);  // the method itself: consistent with the re-take
-        if (penetration_at(c, z_tmp_) > 0.0)
-          hi = mid;
-        else
-          lo = mid;
-      }
-      t_event = std::min(t_event, hi);
+  /// An event of the last step: the earliest time in (t_prev, t_now] at which a contact changes
+  /// state (onset of an unlatched one, separation of a latched one), and which (none: no event).
+  struct Event {
+    double t = 0.0;
+    std::vector<int> contacts;
+    bool from_method = false;  ///< found by the method's own root finding (CVODE)
+    /// a stage of the method felt an onset at t that its solution does not show: the step was
+    /// too long for the contact's stiffness (its stages left the solution), re-taken up to t
+    bool stage_only = false;
+    bool any() const { return !contacts.empty() || stage_only; }
+  };
+
+  /// Whether contact c, at t on the last step's interpolant, is in the other state than its
+  /// latch: penetrating while unlatched, or out of contact while latched.
+  bool changed_at(int c, double t) {
+    stepper_->interpolate(t, z_tmp_);
+    const double p = gap_at(c, z_tmp_).penetration;
+    return latched(c) ? p <= 0.0 : p > 0.0;
+  }
+
+  /// The cubic Hermite model of a penetration over a step, from its values p0, p1 and scaled
+  /// rates m0 = h p'0, m1 = h p'1 at the two ends (exact for a free flight: a quadratic):
+  /// p(s) = (2s^3 - 3s^2 + 1) p0 + (s^3 - 2s^2 + s) m0 + (3s^2 - 2s^3) p1 + (s^3 - s^2) m1,
+  /// s in [0, 1]. Returns where inside the step it is largest (onset: `above` true; positive
+  /// there) or smallest (separation; <= 0 there), or -1 when it does not get there.
+  static double hermite_crossing(double p0, double m0, double p1, double m1, bool above) {
+    auto p = [&](double s) {
+      const double s2 = s * s, s3 = s2 * s;
+      return (2 * s3 - 3 * s2 + 1) * p0 + (s3 - 2 * s2 + s) * m0 + (3 * s2 - 2 * s3) * p1 +
+             (s3 - s2) * m1;
+    };
+    // p'(s) = a s^2 + b s + c
+    const double a = 6 * p0 + 3 * m0 - 6 * p1 + 3 * m1, b = -6 * p0 - 4 * m0 + 6 * p1 - 2 * m1;
+    const double c = m0;
+    double roots[2] = {-1.0, -1.0};
+    if (std::abs(a) < 1e-14 * (std::abs(b) + std::abs(c))) {
+      if (b != 0.0) roots[0] = -c / b;
+    } else if (const double d = b * b - 4 * a * c; d >= 0.0) {
+      const double q = -0.5 * (b + std::copysign(std::sqrt(d), b));  // no cancellation
+      roots[0] = q / a;
+      if (q != 0.0) roots[1] = c / q;
     }
-    return t_event;
+    double best = -1.0;
+    for (double s : roots)
+      if (s > 0.0 && s < 1.0 && (above ? p(s) > 0.0 : p(s) <= 0.0) &&
+          (best < 0.0 || (above ? p(s) > p(best) : p(s) < p(best))))
+        best = s;
+    return best;
+  }
+
+  /// The earliest time in (t_prev, t_now] at which contact c changes state on the step's
+  /// interpolant, or +inf. A change at the step end is bracketed by the step; a change inside
+  /// it with neither end changed (an impact stepped over, or a separation followed by a new
+  /// onset) by the Hermite model's extremum, confirmed on the interpolant; then bisection.
+  double change_time(int c) {
+    const bool in = latched(c);
+    const ContactGap g0 = gap_at(c, stepper_->z_prev), g1 = gap_at(c, stepper_->z_now);
+    if (in && !touched_[static_cast<std::size_t>(c)] && g1.penetration_rate < 0.0)
+      return deepest_time(c);
+    auto changed = [in](double p) { return in ? p <= 0.0 : p > 0.0; };
+    constexpr double none = std::numeric_limits<double>::infinity();
+    if (changed(g0.penetration)) return none;  // at a restart point: latched at the step end
+    const double t0 = stepper_->t_prev, h = stepper_->t_now - t0;
+    double hi = stepper_->t_now;
+    if (changed(g1.penetration)) {
+      if (in) return none;  // a separation at the step end is latched there (accept_step)
+    } else {
+      // candidates: the Hermite model's extremum, and (onsets) the earliest stage that felt one
+      const double s = hermite_crossing(g0.penetration, h * g0.penetration_rate, g1.penetration,
+                                        h * g1.penetration_rate, !in);
+      const double t_stage = in ? none : watch_.earliest;
+      hi = none;
+      for (double t : {s >= 0.0 ? t0 + s * h : none, t_stage})
+        if (hi == none && t > t0 && t < stepper_->t_now && changed_at(c, t)) hi = t;
+      if (hi == none) return none;  // the method's own solution does not change
+    }
+    double lo = t0;
+    // 60 halvings reach the resolution of double time for any step length
+    for (int it = 0; it < 60 && hi - lo > 4e-16 * std::max(1.0, std::abs(hi)); ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (changed_at(c, mid) ? hi : lo) = mid;  // the method itself: consistent with the re-take
+    }
+    return hi;
+  }
+
+  /// Where contact c penetrates deepest in the last step, on its interpolant (+inf if it does
+  /// not penetrate): the first step of an episode that went past its deepest point (or through
+  /// the whole episode) is split there, so that every impact has a step end at its peak. An
+  /// error estimate from nodes at the step ends alone (Fehlberg 7(8): err ~ k1 + k11 - k12 -
+  /// k13, nodes at 0, 1, 0, 1) does not see an impact between them.
+  double deepest_time(int c) {
+    const double t0 = stepper_->t_prev, t1 = stepper_->t_now;
+    double p_max = 0.0;
+    const double t = argmax(
+        t0, t1, 1e-3 * (t1 - t0),
+        [&](double tt) {
+          stepper_->interpolate(tt, z_tmp_);
+          return gap_at(c, z_tmp_).penetration;
+        },
+        p_max);
+    return p_max > 0.0 && t < t1 ? t : std::numeric_limits<double>::infinity();
+  }
+
+  /// The event of the last step: the roots the method found itself (CVODE), else the earliest
+  /// contact change located on the step (integrator.contact_onset "locate"); t = t_now if none.
+  Event find_event() {
+    Event ev;
+    ev.t = stepper_->t_now;
+    if (stepper_->finds_roots() && !stepper_->roots.empty()) {
+      ev.contacts = stepper_->roots;
+      ev.from_method = true;
+      return ev;
+    }
+    if (settings_.contact_onset != "locate" || std::exchange(locate_suspended_, false)) return ev;
+    for (int c = 0; c < scene_.contact_count(); ++c) {
+      const double t = change_time(c);
+      if (t < ev.t) ev.contacts.clear();
+      if (t <= ev.t && t < stepper_->t_now) {
+        ev.t = t;
+        ev.contacts.push_back(c);
+      }
+    }
+    if (ev.contacts.empty() && watch_.earliest > stepper_->t_prev &&
+        watch_.earliest < stepper_->t_now) {
+      ev.t = watch_.earliest;
+      ev.stage_only = true;
+    }
+    return ev;
+  }
+
+  /// Re-takes the last step from its start up to the event and changes the latches there: the
+  /// discarded step's later stages felt the far side of the event (the contact force, or its
+  /// absence), and its interpolant would carry that into the samples before the event and into
+  /// the restart state. The impact speed is latched at the event, the exact onset.
+  void retake_to(const Event& ev) {
+    const double dt_before = stepper_->suggested_dt();
+    const state_t z_start = stepper_->z_prev;
+    const double t_start = stepper_->t_prev;
+    stepper_->reset(z_start, t_start, ev.t - t_start);
+    std::vector<int> found = ev.contacts;
+    while (stepper_->t_now < ev.t) {
+      stepper_->step(ev.t);
+      check_health_after_step();
+      emit_samples_until(stepper_->t_now);
+      deposit_wear();
+      // the method found a root a hair before ev.t (a grazing approach): latch there; stepping
+      // on from a root without re-initialising is CVODE's CV_ILL_INPUT ("root found at and
+      // very near t")
+      if (stepper_->finds_roots() && !stepper_->roots.empty()) {
+        found.insert(found.end(), stepper_->roots.begin(), stepper_->roots.end());
+        break;
+      }
+    }
+    const long long onsets_before = stats_.contact_onsets;
+    if (!latch_at_event(found, ev.from_method) && !ev.from_method && !ev.stage_only)
+      locate_suspended_ = true;
+    // restart with the step the controller had before the re-take, not the short one (CVODE,
+    // at its root: with its own suggestion); after an onset at most with the first trial step
+    // integrator.step, as at t = 0: the force law is not smooth there (delta^n, n = 1.5), and
+    // a long first step through the impact's rise is not seen by every error estimate
+    double dt = ev.from_method ? stepper_->suggested_dt() : dt_before;
+    if (stats_.contact_onsets > onsets_before) dt = std::min(dt, settings_.step);
+    if (ev.stage_only) dt = std::min(dt, ev.t - t_start);  // what its stages stood
+    stepper_->reset(stepper_->z_now, stepper_->t_now, dt);
+    stats_.t_reached = stepper_->t_now;
+  }
+
+  /// The latches at the end of a re-take: every contact penetrating there starts its episode;
+  /// an event's contact that is still approaching starts it too (the re-taken state may end a
+  /// hair short of the interpolant's onset), and one that is out of contact ends it. Returns
+  /// whether a latch changed (if not, the next step latches at its end instead: relocating
+  /// again and again could creep towards an onset without ever getting there).
+  bool latch_at_event(const std::vector<int>& event_contacts, bool from_method) {
+    unscale(stepper_->z_now, x_);
+    bool changed = false;
+    for (int c = 0; c < scene_.contact_count(); ++c) {
+      const ContactGap g = scene_.contact_gap(c, x_.data());
+      const bool event =
+          std::find(event_contacts.begin(), event_contacts.end(), c) != event_contacts.end();
+      if (!latched(c) &&
+          (g.penetration > 0.0 || (event && (from_method || g.penetration_rate > 0.0)))) {
+        latch(c, g, stepper_->t_now);
+        changed = true;
+      } else if (latched(c) && event) {
+        if (g.penetration <= 0.0) {
+          discrete_.contacts[static_cast<std::size_t>(c)] = ContactLatch{};  // episode over
+          ends_[static_cast<std::size_t>(c)].valid = false;
+        }
+        touched_[static_cast<std::size_t>(c)] = 1;  // an episode split at its deepest point
+        changed = true;
+      }
+    }
+    return changed;
   }
 
   void check_health_after_step() {
@@ -542,128 +721,82 @@ class Driver {
     obs_.on_contact_peak(p);
   }
 
+  /// The run: the pipeline of an accepted step. A step whose event lies inside it is re-taken
+  /// up to the event; otherwise it is accepted.
   void loop() {
-    const double t_end = time_.end;
-    while (stepper_->t_now < t_end) {
-      const double t_limit = stepper_->dense() ? t_end : std::min(sample_time(next_sample_), t_end);
-      stepper_->step(t_limit);
-      check_health_after_step();
-
-      // contact onset found by the method itself (CVODE's root finding): latch it there
-      if (stepper_->finds_roots() && !stepper_->roots.empty()) {
-        // re-take the step from its start up to the root, as for a located onset below: the
-        // method's interpolant over the crossing step carries the contact force back to the
-        // samples before the root and into the restart state
-        const std::vector<int> found = stepper_->roots;
-        const double t_root = stepper_->t_now;
-        const state_t z_start = stepper_->z_prev;
-        stepper_->reset(z_start, stepper_->t_prev, t_root - stepper_->t_prev);
-        while (stepper_->t_now < t_root) {
-          stepper_->step(t_root);
-          check_health_after_step();
-          emit_samples_until(stepper_->t_now);
-          deposit_wear();
-          // the re-take found the root a hair before t_root (a grazing approach): latch there;
-          // stepping on from a root without re-initialising is CVODE's CV_ILL_INPUT ("root
-          // found at and very near t")
-          if (!stepper_->roots.empty()) break;
-        }
-        unscale(stepper_->z_now, x_);
-        for (int c : found) {
-          ContactLatch& l = discrete_.contacts[static_cast<std::size_t>(c)];
-          if (l.in_contact) continue;
-          l.in_contact = true;
-          l.impact_speed = std::max(scene_.contact_gap(c, x_.data()).penetration_rate, 0.0);
-          ++stats_.contact_onsets;
-          obs_.on_contact_onset(stepper_->t_now, c, l.impact_speed);
-        }
-        stepper_->reset(stepper_->z_now, stepper_->t_now, stepper_->suggested_dt());
-        stats_.t_reached = stepper_->t_now;
-        continue;
-      }
-      // contact onset: locate it and restart there, so the step that crossed it is discarded
-      // (after a relocation that ended short of contact, the next onset is latched at the step
-      // end instead: the interpolant's onset can lie a little before the method's own, and
-      // relocating again and again would creep towards it without ever getting there)
-      const bool locate_now = !locate_suspended_;
-      locate_suspended_ = false;
-      if (settings_.contact_onset == "locate" && !stepper_->finds_roots() && locate_now) {
-        const double t_event = locate_onset();
-        if (t_event < stepper_->t_now) {
-          const double dt_before = stepper_->suggested_dt();
-          const long long onsets_before = stats_.contact_onsets;
-          // re-take the step from its start up to the onset: the crossing step's later stages
-          // felt the contact force, so its interpolant would leak that force into the samples
-          // before the onset and into the restart state
-          const state_t z_start = stepper_->z_prev;
-          stepper_->reset(z_start, stepper_->t_prev, t_event - stepper_->t_prev);
-          while (stepper_->t_now < t_event) {
-            stepper_->step(t_event);
-            check_health_after_step();
-            emit_samples_until(stepper_->t_now);
-            deposit_wear();
-          }
-          const state_t z_event = stepper_->z_now;
-          unscale(z_event, x_);
-          latch_time_ = stepper_->t_now;
-          for (int c = 0; c < scene_.contact_count(); ++c) latch_if_touching(c, x_.data());
-          if (stats_.contact_onsets == onsets_before) {
-            // the re-taken step may end a hair short of the interpolant's onset: at the onset
-            // within round-off and approaching, latch it here; otherwise fall back to step-end
-            // latching for the next onset
-            for (int c = 0; c < scene_.contact_count(); ++c) {
-              ContactLatch& l = discrete_.contacts[static_cast<std::size_t>(c)];
-              const ContactGap g = scene_.contact_gap(c, x_.data());
-              if (!l.in_contact && g.penetration_rate > 0.0 &&
-                  g.penetration > -1e-9 * std::max(scene_.contact_clearance(c), 1e-300)) {
-                l.in_contact = true;
-                l.impact_speed = g.penetration_rate;
-                ++stats_.contact_onsets;
-                obs_.on_contact_onset(latch_time_, c, l.impact_speed);
-              }
-            }
-            if (stats_.contact_onsets == onsets_before) locate_suspended_ = true;
-          }
-          // restart with the step the controller had before the relocation, not the short one
-          stepper_->reset(z_event, stepper_->t_now, dt_before);
-          stats_.t_reached = stepper_->t_now;
-          continue;
-        }
-      }
-      emit_samples_until(stepper_->t_now);
-      deposit_wear();
-      stats_.t_reached = stepper_->t_now;
-      // peaks inside the step, with the discrete state the step was taken with
-      if (obs_.wants_steps()) locate_contact_peaks();
-
-      // discrete updates at the end of the accepted step
-      unscale(stepper_->z_now, x_);
-      bool discrete_changed = false;
-      for (int c = 0; c < scene_.contact_count(); ++c) {
-        ContactLatch& l = discrete_.contacts[static_cast<std::size_t>(c)];
-        const ContactGap g = scene_.contact_gap(c, x_.data());
-        if (l.in_contact && g.penetration <= 0.0) {
-          l = ContactLatch{};                                // episode over
-          ends_[static_cast<std::size_t>(c)].valid = false;  // its force changed law
-        } else if (!l.in_contact && g.penetration > 0.0) {
-          latch_time_ = stepper_->t_now;
-          latch_if_touching(c, x_.data());  // step-end latching (or onset at a restart point)
-          discrete_changed = true;
-          ends_[static_cast<std::size_t>(c)].valid = false;
-        }
-      }
-      if (obs_.wants_steps()) {
-        // the lean frame the metrics read (kStepSignals); full frames only at samples
-        frame_.set(SignalId::time, stepper_->t_now);
-        scene_.step_outputs(stepper_->t_now, x_.data(), discrete_, frame_);
-        check_frame_finite(stepper_->t_now, step_signals_);
-        obs_.on_step(frame_);
-      }
-      state_t& z = stepper_->z_now;
-      const bool renormalised = renormalise(z);
-      if ((renormalised || discrete_changed) && stepper_->dense())
-        stepper_->reset(z, stepper_->t_now, stepper_->suggested_dt());
+    while (stepper_->t_now < time_.end) {
+      take_step();
+      const Event ev = find_event();
+      if (ev.any())
+        retake_to(ev);
+      else
+        accept_step();
     }
+  }
+
+  /// One step of the method: to the end of the run (dense output), or to the next sample time
+  /// (no dense output: samples are step ends or re-takes of the step).
+  void take_step() {
+    const double t_end = time_.end;
+    const double t_limit = stepper_->dense() ? t_end : std::min(sample_time(next_sample_), t_end);
+    arm_stage_watch();
+    stepper_->step(t_limit);
+    check_health_after_step();
+  }
+
+  /// Watches the stages of the next step for an onset of a contact not latched (locate only).
+  void arm_stage_watch() {
+    watch_.earliest = std::numeric_limits<double>::infinity();
+    watch_.armed = false;
+    if (settings_.contact_onset != "locate") return;
+    for (int c = 0; c < scene_.contact_count(); ++c) watch_.armed |= !latched(c);
+  }
+
+  /// An accepted step: samples, wear and peaks inside it (with the discrete state it was taken
+  /// with), then the discrete updates at its end, the step observation and renormalisation.
+  void accept_step() {
+    emit_samples_until(stepper_->t_now);
+    deposit_wear();
+    stats_.t_reached = stepper_->t_now;
+    if (obs_.wants_steps()) locate_contact_peaks();
+    const bool discrete_changed = latch_at_step_end();
+    if (obs_.wants_steps()) observe_step();
+    state_t& z = stepper_->z_now;
+    const bool renormalised = renormalise(z);
+    if ((renormalised || discrete_changed) && stepper_->dense())
+      stepper_->reset(z, stepper_->t_now, stepper_->suggested_dt());
+  }
+
+  /// Discrete updates at the end of an accepted step: an episode ends once its contact is out
+  /// of contact (unless latched a hair before touching and still approaching), and a contact that
+  /// penetrates unlatched starts one (step-end latching, or an onset at a restart point).
+  /// Returns whether an onset was latched (the method restarts with the new force law).
+  bool latch_at_step_end() {
+    unscale(stepper_->z_now, x_);
+    bool onset = false;
+    for (int c = 0; c < scene_.contact_count(); ++c) {
+      const ContactGap g = scene_.contact_gap(c, x_.data());
+      char& touched = touched_[static_cast<std::size_t>(c)];
+      if (latched(c) && g.penetration <= 0.0 && (touched || !(g.penetration_rate > 0.0))) {
+        discrete_.contacts[static_cast<std::size_t>(c)] = ContactLatch{};  // episode over
+        ends_[static_cast<std::size_t>(c)].valid = false;                  // its force changed law
+      } else if (!latched(c) && g.penetration > 0.0) {
+        latch(c, g, stepper_->t_now);
+        onset = true;
+      } else if (latched(c) && g.penetration > 0.0) {
+        touched = 1;
+      }
+    }
+    return onset;
+  }
+
+  /// The lean frame the metrics read at every accepted step (kStepSignals); full frames only at
+  /// samples. Expects x_ to hold the step's end state.
+  void observe_step() {
+    frame_.set(SignalId::time, stepper_->t_now);
+    scene_.step_outputs(stepper_->t_now, x_.data(), discrete_, frame_);
+    check_frame_finite(stepper_->t_now, step_signals_);
+    obs_.on_step(frame_);
   }
 
   const Scene& scene_;
@@ -675,6 +808,7 @@ class Driver {
   state_t scale_;
   DiscreteState discrete_;
   ScaledSystem sys_;
+  detail::StageWatch watch_;  ///< the stages' earliest onset in the step (sys_.watch)
   std::unique_ptr<Stepper> stepper_;
   SignalFrame frame_;
   state_t x_, z_tmp_;
@@ -694,9 +828,11 @@ class Driver {
     bool force_slope_known = false;
   };
   std::vector<ContactEnd> ends_;
-  double max_energy_flow_ = 0.0;   ///< largest |input work|, |dissipated|, kinetic at samples [J]
-  double tracking_since_ = -1.0;   ///< first sample of the current tracking excess [s], or -1
-  double latch_time_ = 0.0;        ///< time at which latch_if_touching is evaluated
+  double max_energy_flow_ = 0.0;  ///< largest |input work|, |dissipated|, kinetic at samples [J]
+  double tracking_since_ = -1.0;  ///< first sample of the current tracking excess [s], or -1
+  /// per contact: its episode has been in contact at a step end after the one that latched it
+  /// (until then, it is not over while it approaches: it may be latched a hair before touching)
+  std::vector<char> touched_;
   bool locate_suspended_ = false;  ///< latch the next onset at the step end (see loop())
 };
 

@@ -3,6 +3,7 @@
 // a time, with an interpolant over the last step.
 #pragma once
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -20,6 +21,20 @@ struct RunFailure {
   std::string message;
 };
 
+/// Watches the right-hand side's evaluations for contacts the driver has not latched: the
+/// earliest time at which a stage of the method evaluated one of them penetrating, an onset the
+/// method's stages felt whatever its step ends show (the driver clears it before each step).
+struct StageWatch {
+  bool armed = false;                                         ///< some contact is not latched: look
+  double earliest = std::numeric_limits<double>::infinity();  ///< [s]
+  void see(const Scene& scene, const DiscreteState& discrete, double t, const double* x) {
+    for (int c = 0; c < scene.contact_count(); ++c)
+      if (!discrete.contacts[static_cast<std::size_t>(c)].in_contact && t < earliest &&
+          scene.contact_gap(c, x).penetration > 0.0)
+        earliest = t;
+  }
+};
+
 /// The right-hand side in scaled variables z = x / scale. Holds references to the model and
 /// the discrete state, plus scratch of its own; counts calls against a budget.
 struct ScaledSystem {
@@ -29,6 +44,7 @@ struct ScaledSystem {
   state_t x, dx;
   long long calls = 0;
   long long max_calls = 0;
+  StageWatch* watch = nullptr;  ///< when set and armed, sees every evaluated state
 
   ScaledSystem(const Scene& s, const DiscreteState& d, const state_t& sc, long long budget)
       : scene(s), discrete(d), scale(sc), x(sc.size()), dx(sc.size()), max_calls(budget) {}

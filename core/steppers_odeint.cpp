@@ -20,6 +20,7 @@ void ScaledSystem::operator()(const state_t& z, state_t& dz, double t) {
   }
   for (std::size_t i = 0; i < z.size(); ++i) x[i] = z[i] * scale[i];
   scene.derivatives(t, x.data(), discrete, dx.data());
+  if (watch && watch->armed) watch->see(scene, discrete, t, x.data());
   for (std::size_t i = 0; i < z.size(); ++i) dz[i] = dx[i] / scale[i];
 }
 
