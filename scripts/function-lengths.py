@@ -15,11 +15,13 @@ import pathlib
 import re
 import sys
 
+LEAD = re.compile(r"(\s|(public|private|protected)\s*:(?!:))*")
 CONTROL = re.compile(r"^\s*(if|for|while|switch|catch|do|else|try|return)\b")
 TYPE_HEAD = re.compile(r"\b(class|struct|union|enum|namespace)\b[^()]*$")
 QUALIFIERS = r"(\s|const|override|final|noexcept(\([^()]*\))?|mutable|->\s*[\w:<>,\s*&]+)*"
 FUNC_TAIL = re.compile(r"\)" + QUALIFIERS + r"$")
 INIT_LIST = re.compile(r"\)\s*:\s*[\w:]+\s*[({]")  # Ctor(...) : member(...), ... {
+INIT_ELEM = re.compile(r"\)\s*:\s*[\w:]+\s*[({].*[,:]\s*[\w:]+$|\)\s*:\s*[\w:]+$")  # ... , m_{
 
 
 def blank(src: str) -> str:
@@ -37,11 +39,17 @@ def functions(path: pathlib.Path):
     func_depth = None  # depth at which the enclosing function body opened
     func_begin = 0
     func_name = ""
+    keep = []  # per open block: a brace initialiser of a constructor's member (head continues)
     for i, ch in enumerate(text):
         if ch == "{":
+            keep.append(False)
             if func_depth is None:
                 head = text[head_start:i]
                 flat = " ".join(head.split())
+                if INIT_ELEM.search(flat):
+                    keep[-1] = True
+                    depth += 1
+                    continue
                 is_func = (
                     flat
                     and not CONTROL.match(flat)
@@ -51,7 +59,7 @@ def functions(path: pathlib.Path):
                 )
                 if is_func:
                     func_depth = depth
-                    lead = len(head) - len(head.lstrip())
+                    lead = LEAD.match(head).end()  # blanks and access labels
                     func_begin = text.count("\n", 0, head_start + lead) + 1
                     name = re.search(r"([~\w:]+(<[^()]*>)?|operator\s*\S+)\s*\(", flat)
                     func_name = name.group(1) if name else flat[:40]
@@ -59,6 +67,8 @@ def functions(path: pathlib.Path):
             head_start = i + 1
         elif ch == "}":
             depth -= 1
+            if keep and keep.pop():
+                continue
             if func_depth is not None and depth == func_depth:
                 end = text.count("\n", 0, i) + 1
                 yield func_name, func_begin, end - func_begin + 1

@@ -30,19 +30,11 @@ RigidBodyParams read_body(const ParameterSet& p, const std::string& prefix) {
   return b;
 }
 
-ClearanceContactModel read_clearance_contact(const ParameterSet& p, const std::string& prefix,
-                                             const std::string& fprefix,
-                                             const std::string& clearance_path) {
-  ClearanceContactModel m;
-  m.ball_radius = read_positive(p, prefix + ".ball_radius");
-  const std::string cpath = clearance_path.empty() ? prefix + ".clearance" : clearance_path;
-  const double c = p.number(cpath);
-  if (!(c > 0.0))
-    throw InputError(cpath,
-                     "expected a clearance > 0 [m] (the socket radius must exceed the ball "
-                     "radius), got " +
-                         format_number(c));
-  m.clearance = c;
+namespace {
+
+/// The geometry's Hertz coefficient from the two materials (contact.hpp); sets m.geometry.
+double read_hertz_coefficient(const ParameterSet& p, const std::string& prefix,
+                              ClearanceContactModel& m) {
   const double Eb = read_positive(p, prefix + ".ball_youngs_modulus");
   const double Es = read_positive(p, prefix + ".socket_youngs_modulus");
   const double nub = p.number(prefix + ".ball_poisson_ratio");
@@ -64,6 +56,43 @@ ClearanceContactModel read_clearance_contact(const ParameterSet& p, const std::s
   } else {
     throw InputError(prefix + ".geometry", "expected \"sphere\" or \"cylinder\"");
   }
+  return coefficient;
+}
+
+/// The friction law of a clearance contact, keys under `fprefix`.
+void read_friction(const ParameterSet& p, const std::string& fprefix, ClearanceContactModel& m) {
+  FrictionParams f;
+  f.law = p.text(fprefix + ".law");
+  f.static_coefficient = read_positive(p, fprefix + ".static_coefficient", true);
+  f.dynamic_coefficient = read_positive(p, fprefix + ".dynamic_coefficient", true);
+  f.static_speed = read_positive(p, fprefix + ".static_speed");
+  f.dynamic_speed = read_positive(p, fprefix + ".dynamic_speed");
+  f.viscous_coefficient = read_positive(p, fprefix + ".viscous_coefficient", true);
+  if (f.law != "coulomb" && !(f.dynamic_speed > f.static_speed))
+    throw InputError(fprefix + ".dynamic_speed", "expected dynamic_speed > static_speed");
+  try {
+    m.friction = make_friction_law(f);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(fprefix + ".law", e.what());
+  }
+}
+
+}  // namespace
+
+ClearanceContactModel read_clearance_contact(const ParameterSet& p, const std::string& prefix,
+                                             const std::string& fprefix,
+                                             const std::string& clearance_path) {
+  ClearanceContactModel m;
+  m.ball_radius = read_positive(p, prefix + ".ball_radius");
+  const std::string cpath = clearance_path.empty() ? prefix + ".clearance" : clearance_path;
+  const double c = p.number(cpath);
+  if (!(c > 0.0))
+    throw InputError(cpath,
+                     "expected a clearance > 0 [m] (the socket radius must exceed the ball "
+                     "radius), got " +
+                         format_number(c));
+  m.clearance = c;
+  const double coefficient = read_hertz_coefficient(p, prefix, m);
   const double scale = p.number(prefix + ".stiffness_scale");
   if (!(scale > 0.0)) throw InputError(prefix + ".stiffness_scale", "expected a value > 0");
   m.stiffness = scale * coefficient;
@@ -89,20 +118,7 @@ ClearanceContactModel read_clearance_contact(const ParameterSet& p, const std::s
     throw InputError(prefix + ".damping_cap", e.what());
   }
 
-  FrictionParams f;
-  f.law = p.text(fprefix + ".law");
-  f.static_coefficient = read_positive(p, fprefix + ".static_coefficient", true);
-  f.dynamic_coefficient = read_positive(p, fprefix + ".dynamic_coefficient", true);
-  f.static_speed = read_positive(p, fprefix + ".static_speed");
-  f.dynamic_speed = read_positive(p, fprefix + ".dynamic_speed");
-  f.viscous_coefficient = read_positive(p, fprefix + ".viscous_coefficient", true);
-  if (f.law != "coulomb" && !(f.dynamic_speed > f.static_speed))
-    throw InputError(fprefix + ".dynamic_speed", "expected dynamic_speed > static_speed");
-  try {
-    m.friction = make_friction_law(f);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(fprefix + ".law", e.what());
-  }
+  read_friction(p, fprefix, m);
   return m;
 }
 

@@ -403,6 +403,41 @@ class PlanarSliderCrankScene final : public Scene {
   }
 
   Solution solve(const double* x, const DiscreteState& d) const;
+  /// d(angle)/d(column) of a body (0 for ground and for the slider, which does not turn)
+  static double turn(const PoseJets& col, int body) {
+    if (body < 0) return 0.0;
+    const int phi = kBodies[static_cast<std::size_t>(body)].phi;
+    return phi >= 0 ? col[static_cast<std::size_t>(phi)].d : 0.0;
+  }
+  /// generalised applied force along one column: gravity at the mass centres, each contact
+  /// force of `s` at its journal and bearing centres, the friction moments on the bodies' angles
+  double applied(const PoseJets& col, const Solution& s) const {
+    double Q = 0.0;
+    for (const BodyPose& b : kBodies)
+      Q += mass(b) * (gravity_.x() * col[b.x].d + gravity_.y() * col[b.y].d);
+    for (std::size_t i = 0; i < joints_.size(); ++i) {
+      const JointPose& jp = kJoints[static_cast<std::size_t>(joints_[i])];
+      const ContactEval& c = s.contacts[i];
+      const Vec3 F = c.force_on_ball();
+      Q += F.x() * col[jp.journal_x].d + F.y() * col[jp.journal_x + 1].d;
+      Q += c.moment_on_ball.z() * turn(col, jp.journal_body);
+      if (jp.bearing_x >= 0) {
+        Q -= F.x() * col[jp.bearing_x].d + F.y() * col[jp.bearing_x + 1].d;
+        Q += c.moment_on_socket.z() * turn(col, jp.bearing_body);
+      }
+    }
+    return Q;
+  }
+  /// inertia products sum_b m_b a.b + I_b a_phi b_phi over two columns (field d or dd of b)
+  double inertial(const PoseJets& a, const PoseJets& b, bool second) const {
+    double r = 0.0;
+    for (const BodyPose& body : kBodies) {
+      auto g = [&](int k) { return second ? b[k].dd : b[k].d; };
+      r += mass(body) * (a[body.x].d * g(body.x) + a[body.y].d * g(body.y));
+      if (body.phi >= 0) r += inertia(body) * a[body.phi].d * g(body.phi);
+    }
+    return r;
+  }
 
   Link crank_, rod_;
   double slider_mass_ = 0.0;
@@ -435,41 +470,6 @@ PlanarSliderCrankScene::Solution PlanarSliderCrankScene::solve(const double* x,
     s.contacts[i] = contact(static_cast<int>(i), v, d);
     s.dissipation += s.contacts[i].damping_power + s.contacts[i].friction_power;
   }
-  // d(angle)/d(column) of a body (0 for ground and for the slider, which does not turn)
-  auto turn = [](const PoseJets& col, int body) {
-    if (body < 0) return 0.0;
-    const int phi = kBodies[static_cast<std::size_t>(body)].phi;
-    return phi >= 0 ? col[static_cast<std::size_t>(phi)].d : 0.0;
-  };
-  // generalised applied force along one column: gravity at the mass centres, each contact force
-  // at its journal and bearing centres, the friction moments on the bodies' angles
-  auto applied = [&](const PoseJets& col) {
-    double Q = 0.0;
-    for (const BodyPose& b : kBodies)
-      Q += mass(b) * (gravity_.x() * col[b.x].d + gravity_.y() * col[b.y].d);
-    for (std::size_t i = 0; i < joints_.size(); ++i) {
-      const JointPose& jp = kJoints[static_cast<std::size_t>(joints_[i])];
-      const ContactEval& c = s.contacts[i];
-      const Vec3 F = c.force_on_ball();
-      Q += F.x() * col[jp.journal_x].d + F.y() * col[jp.journal_x + 1].d;
-      Q += c.moment_on_ball.z() * turn(col, jp.journal_body);
-      if (jp.bearing_x >= 0) {
-        Q -= F.x() * col[jp.bearing_x].d + F.y() * col[jp.bearing_x + 1].d;
-        Q += c.moment_on_socket.z() * turn(col, jp.bearing_body);
-      }
-    }
-    return Q;
-  };
-  // inertia products sum_b m_b a.b + I_b a_phi b_phi over two columns (field d or dd of b)
-  auto inertial = [&](const PoseJets& a, const PoseJets& b, bool second) {
-    double r = 0.0;
-    for (const BodyPose& body : kBodies) {
-      auto g = [&](int k) { return second ? b[k].dd : b[k].d; };
-      r += mass(body) * (a[body.x].d * g(body.x) + a[body.y].d * g(body.y));
-      if (body.phi >= 0) r += inertia(body) * a[body.phi].d * g(body.phi);
-    }
-    return r;
-  };
   s.qdd = Eigen::VectorXd::Zero(n_);
   if (n_ > 0) {
     Eigen::MatrixXd M(n_, n_);
@@ -478,7 +478,7 @@ PlanarSliderCrankScene::Solution PlanarSliderCrankScene::solve(const double* x,
       const PoseJets& ci = cols[static_cast<std::size_t>(i)];
       for (int j = 0; j <= i; ++j)
         M(i, j) = M(j, i) = inertial(ci, cols[static_cast<std::size_t>(j)], false);
-      rhs[i] = applied(ci) - inertial(ci, v, true);
+      rhs[i] = applied(ci, s) - inertial(ci, v, true);
     }
     s.qdd = M.ldlt().solve(rhs);
   }
@@ -490,7 +490,7 @@ PlanarSliderCrankScene::Solution PlanarSliderCrankScene::solve(const double* x,
       a += cols[static_cast<std::size_t>(j)][static_cast<std::size_t>(k)].d * s.qdd[j];
     acc[static_cast<std::size_t>(k)].dd = a;
   }
-  s.torque = inertial(col_theta, acc, true) - applied(col_theta);
+  s.torque = inertial(col_theta, acc, true) - applied(col_theta, s);
   s.slider_acceleration = acc[slider_x].dd;
   return s;
 }

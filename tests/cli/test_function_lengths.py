@@ -1,0 +1,61 @@
+#!/usr/bin/env python3
+"""Every function in core/ fits on one screen (<= 60 lines, issue 18): scripts/function-lengths.py
+over core/ passes. First the script itself is checked on synthetic sources: a 61-line function
+(inline member, free function, constructor with an initialiser list) is reported, a 60-line one
+and braces in comments, strings, classes, namespaces and control statements are not.
+
+  test_function_lengths.py REPO
+"""
+import pathlib
+import subprocess
+import sys
+import tempfile
+
+repo = pathlib.Path(sys.argv[1])
+script = repo / "scripts" / "function-lengths.py"
+
+
+def run(*paths):
+    return subprocess.run([sys.executable, script, *map(str, paths)], capture_output=True,
+                          text=True)
+
+
+def body(n_lines):
+    """The n_lines lines of a function after its signature line, closing brace included."""
+    inner = "".join(f"  x += {i};  // {{ not a brace\n" for i in range(n_lines - 3))
+    return "  int x = 0;\n" + inner + "  return x;\n}\n"
+
+
+cases = {
+    "free": ("namespace a {\nint f(int y) {\n", "}\n"),
+    "member": ("struct S {\n  int g() const {\n", "};\n"),
+    "ctor": ("class C {\n public:\n  C() : v_(1), w_{2} {\n", "  int v_, w_;\n};\n"),
+}
+failed = 0
+with tempfile.TemporaryDirectory() as d:
+    for name, (head, tail) in cases.items():
+        for n, expect in ((60, 0), (61, 1)):
+            src = pathlib.Path(d) / f"{name}_{n}.cpp"
+            src.write_text(head + body(n - 1) + tail)  # the signature is the head's last line
+            r = run(src)
+            if r.returncode != expect:
+                print(f"FAIL: {name} function of {n} lines: exit {r.returncode}, expected "
+                      f"{expect}\n{r.stdout}{r.stderr}")
+                failed += 1
+    src = pathlib.Path(d) / "not_functions.cpp"
+    src.write_text("namespace n {\nstruct T {\n" + "  int a;\n" * 70 + "};\n"
+                   "const char* s = \"{\";\n"
+                   "void h(int k) {\n  if (k) {\n" + "    k++;\n" * 20 + "  }\n}\n}\n")
+    r = run(src)
+    if r.returncode != 0:
+        print(f"FAIL: a long struct or a string brace counted as a function\n{r.stdout}")
+        failed += 1
+
+r = run(repo / "core")
+if r.returncode != 0:
+    print("FAIL: functions in core/ longer than 60 lines (split them into named stages):")
+    print(r.stdout)
+    failed += 1
+else:
+    print(r.stderr.strip())
+sys.exit(1 if failed else 0)
