@@ -1,7 +1,11 @@
 // The scene catalogue, built from scenes/scenes.def.
+#include <algorithm>
 #include <array>
+#include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "core/scene.hpp"
 
@@ -13,6 +17,35 @@ ContactSnapshot Scene::contact_snapshot(int, double t, const double* x,
   outputs(t, x, d, f);
   return {f.get(SignalId::penetration), f.get(SignalId::penetration_rate),
           f.get(SignalId::eccentricity), f.get(SignalId::contact_force)};
+}
+
+void Scene::jacobian(double t, const double* x, const DiscreteState& d, double* J) const {
+  // central differences, increment sqrt(eps) times the larger of |x_j| and the state's scale
+  // (its characteristic magnitude, so the increment is neither below the round-off of x_j nor
+  // an absolute 1e-5 of a micrometre state). Central, not forward: a Rosenbrock method's order
+  // rests on the Jacobian, and forward differences' O(h f'') error on the Hertz law's curvature
+  // cut rosenbrock4 to first order in sustained contact (local error O(h^2), measured on
+  // rod-end-kinematic at t = 0.2 s: 5.8e-6 at h = 1e-4 s against 1.5e-8 with central ones).
+  // sqrt(eps), not the round-off optimum eps^(1/3): the increment must stay far below the
+  // penetration (the Hertz law's derivatives grow as delta^(-1/2)); with eps^(1/3) (3e-9 m on a
+  // 0.5 mm scale) rosenbrock4 is back to first order there (108,619 steps on 0.3 s, 4,028 with
+  // sqrt(eps)).
+  const int n = state_size();
+  const auto un = static_cast<std::size_t>(n);
+  std::vector<double> scale(un), xp(x, x + n), fp(un), fm(un);
+  state_scale(scale.data());
+  const double eps = std::sqrt(std::numeric_limits<double>::epsilon());
+  for (std::size_t j = 0; j < un; ++j) {
+    const double h = eps * std::max(std::abs(x[j]), std::abs(scale[j]));
+    xp[j] = x[j] + h;
+    const double hp = xp[j] - x[j];  // the increments actually represented
+    derivatives(t, xp.data(), d, fp.data());
+    xp[j] = x[j] - h;
+    const double hm = x[j] - xp[j];
+    derivatives(t, xp.data(), d, fm.data());
+    xp[j] = x[j];
+    for (std::size_t i = 0; i < un; ++i) J[i * un + j] = (fp[i] - fm[i]) / (hp + hm);
+  }
 }
 
 #define RODEND_SCENE(name, fn, doc) std::unique_ptr<Scene> fn(const ParameterSet&);

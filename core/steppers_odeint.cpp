@@ -1,5 +1,6 @@
 // The Boost.Odeint part of the integrator menu: rk4, dopri5, cash_karp54, fehlberg78,
 // bulirsch_stoer and rosenbrock4 (implicit, Jacobian by finite differences).
+#include <algorithm>
 #include <boost/numeric/odeint.hpp>
 #include <cmath>
 #include <functional>
@@ -21,6 +22,34 @@ void ScaledSystem::operator()(const state_t& z, state_t& dz, double t) {
   for (std::size_t i = 0; i < z.size(); ++i) x[i] = z[i] * scale[i];
   scene.derivatives(t, x.data(), discrete, dx.data());
   for (std::size_t i = 0; i < z.size(); ++i) dz[i] = dx[i] / scale[i];
+}
+
+void ScaledSystem::jacobian(const state_t& z, double t, state_t& Jz) {
+  const std::size_t n = z.size();
+  if (!scene.exact_jacobian()) {
+    calls += 2 * static_cast<long long>(n);  // the default's central differences
+    if (calls > max_calls) {
+      std::ostringstream m;
+      m << "right-hand-side budget of " << max_calls << " calls exhausted at t = " << t << " s";
+      throw RunFailure{RunStatus::rhs_budget_exhausted, m.str()};
+    }
+  }
+  ++jacobians;
+  for (std::size_t i = 0; i < n; ++i) x[i] = z[i] * scale[i];
+  jx_.resize(n * n);
+  scene.jacobian(t, x.data(), discrete, jx_.data());
+  Jz.resize(n * n);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) Jz[i * n + j] = jx_[i * n + j] * scale[j] / scale[i];
+}
+
+void ScaledSystem::time_derivative(const state_t& z, const state_t& dz, double t, state_t& dfdt) {
+  const double ht = std::sqrt(std::numeric_limits<double>::epsilon()) * std::max(1.0, std::abs(t));
+  const double t1 = t + ht;
+  dz2_.resize(z.size());
+  (*this)(z, dz2_, t1);
+  dfdt.resize(z.size());
+  for (std::size_t i = 0; i < z.size(); ++i) dfdt[i] = (dz2_[i] - dz[i]) / (t1 - t);
 }
 
 namespace {
@@ -218,32 +247,73 @@ class DenseOutputStepper final : public Stepper {
   State buf_;
 };
 
-/// Rosenbrock 4 (implicit, L-stable; Jacobian by finite differences) through the C++17 core.
+/// Rosenbrock 4 (Shampine's coefficients as in odeint; L-stable, order 4 with an embedded
+/// order-3 error estimate and a third-order dense output) through the C++17 core, with the
+/// scene's Jacobian. The step-size control is ours, as for dopri5: the error is measured with
+/// odeint's error checker (max norm, |err_i| / (abs + rel |z_i|)), rejections are counted, and
+/// the step grows by (1 / err)^(1/4) (the error estimate is of order 3, so O(h^4)), at most 5x.
 class Rosenbrock4Stepper final : public Stepper {
  public:
   Rosenbrock4Stepper(ScaledSystem& sys, const IntegratorSettings& s)
-      : core_(
-            make_rosenbrock4(s.abs_tol, s.rel_tol, s.max_step,
-                             [&sys](const state_t& z, state_t& dz, double t) { sys(z, dz, t); })) {}
+      : sys_(sys),
+        abs_(s.abs_tol),
+        rel_(s.rel_tol),
+        max_dt_(s.max_step),
+        min_dt_(s.min_step),
+        core_(make_rosenbrock4([&sys](const state_t& z, state_t& dz, double t) { sys(z, dz, t); },
+                               [&sys, this](const state_t& z, double t, state_t& J, state_t& dfdt) {
+                                 f0_.resize(z.size());
+                                 sys(z, f0_, t);
+                                 sys.jacobian(z, t, J);
+                                 sys.time_derivative(z, f0_, t, dfdt);
+                               })) {}
   void reset(const state_t& z, double t, double dt) override {
-    core_->initialize(z, t, dt);
     z_now = z;
     t_now = t;
+    dt_ = std::min(dt > 0.0 ? dt : max_dt_, max_dt_);
+    core_->invalidate_jacobian();  // a reset may follow a change of the discrete state
   }
   void step(double t_limit) override {
     z_prev = z_now;
     t_prev = t_now;
-    if (t_now + core_->current_time_step() > t_limit)
-      core_->initialize(z_now, t_now, t_limit - t_now);
-    t_now = core_->do_step().second;
-    core_->current_state(z_now);
-    ++accepted;
+    while (true) {
+      const double dt = std::min(dt_, t_limit - t_prev);
+      const bool clipped = dt < dt_;
+      core_->try_step(z_prev, t_prev, dt, z_now, err_);
+      double e = 0.0;
+      for (std::size_t i = 0; i < err_.size(); ++i)
+        e = std::max(e, std::abs(err_[i]) / (abs_ + rel_ * std::abs(z_now[i])));
+      if (!std::isfinite(e)) e = 1e10;  // a diverged trial: shrink hard and retry
+      // step factor: 0.9 (1/e)^(1/4), within [0.2, 5]
+      const double grow = std::clamp(0.9 * std::pow(std::max(e, 1e-30), -0.25), 0.2, 5.0);
+      if (e <= 1.0) {
+        ++accepted;
+        core_->accept();
+        t_now = clipped ? t_limit : t_prev + dt;
+        // after a clipped step keep the controller's step unless the error asks for less
+        dt_ = std::min(max_dt_, clipped ? std::max(dt_, dt * grow) : dt * grow);
+        if (last_rejected_) dt_ = std::min(dt_, dt);
+        last_rejected_ = false;
+        break;
+      }
+      ++rejected;
+      last_rejected_ = true;
+      dt_ = dt * grow;
+      if (dt_ < min_dt_) underflow(dt_, min_dt_, t_prev);
+    }
   }
-  void interpolate(double t, state_t& out) override { core_->calc_state(t, out); }
+  void interpolate(double t, state_t& out) override {
+    core_->calc_state(t, out, z_prev, t_prev, z_now, t_now);
+  }
   bool dense() const override { return true; }
-  double suggested_dt() const override { return core_->current_time_step(); }
+  double suggested_dt() const override { return dt_; }
 
  private:
+  ScaledSystem& sys_;
+  double abs_, rel_, max_dt_, min_dt_;
+  double dt_ = 0.0;
+  bool last_rejected_ = false;
+  state_t err_, f0_;
   std::unique_ptr<Rosenbrock4Core> core_;
 };
 
