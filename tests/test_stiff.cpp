@@ -56,7 +56,7 @@ TEST_CASE("rosenbrock4: steps grow on a stiff problem and the error follows the 
     // An L-stable order-4 method follows the smooth solution with steps set by accuracy, not by
     // the eigenvalue 1e4: an explicit method needs h < ~3/lambda, i.e. > 6,600 steps on 2 s.
     // Measured at 1e-6 and 1e-8: 15 and 696 steps (6 and 10 rejected); before the fix of d4
-    // (core/rosenbrock4_core.cpp) the step stayed near 1e-5 s, ~2e5 steps.
+    // (core/steppers_odeint.cpp) the step stayed near 1e-5 s, ~2e5 steps.
     CHECK(steps < 2000);
     // the error at the end is of the order of the tolerance (measured: 1.3e-7 at 1e-6, 1.9e-10
     // at 1e-8) ...
