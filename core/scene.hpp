@@ -97,6 +97,17 @@ class Scene {
   virtual void derivatives(double t, const double* x, const DiscreteState& d,
                            double* dxdt) const = 0;
 
+  /// The Jacobian of derivatives(): J[i * n + j] = d(dx_i/dt)/dx_j at (t, x) with the discrete
+  /// state `d` (row-major, n = state_size()), for the implicit methods (rosenbrock4). By default
+  /// forward differences of derivatives() (jacobian_cost() calls), the increment of state j
+  /// sqrt(eps) times its state_scale(); a scene with an analytic Jacobian overrides it and says
+  /// so in exact_jacobian(). Reads only the model, t, x and d.
+  virtual void jacobian(double t, const double* x, const DiscreteState& d, double* J) const;
+  /// Calls of derivatives() that the default jacobian() makes (n + 1, less the audit states).
+  int jacobian_cost() const;
+  /// Whether jacobian() is exact (analytic), not the default's finite differences.
+  virtual bool exact_jacobian() const { return false; }
+
   // --- contacts (the driver latches their onsets) -------------------------------------------
   virtual int contact_count() const { return 0; }
   virtual ContactGap contact_gap(int /*contact*/, const double* /*x*/) const { return {-1.0, 0.0}; }

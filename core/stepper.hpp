@@ -49,6 +49,15 @@ struct ScaledSystem {
   ScaledSystem(const Scene& s, const DiscreteState& d, const state_t& sc, long long budget)
       : scene(s), discrete(d), scale(sc), x(sc.size()), dx(sc.size()), max_calls(budget) {}
   void operator()(const state_t& z, state_t& dz, double t);
+  /// The Jacobian in scaled variables, Jz[i * n + j] = d(dz_i/dt)/dz_j (row-major), from the
+  /// scene's jacobian(); its finite differences count as right-hand-side calls
+  /// (Scene::jacobian_cost() each).
+  void jacobian(const state_t& z, double t, state_t& Jz);
+  /// d(dz/dt)/dt at (t, z) by a forward difference in time (one call); dz is f(t, z).
+  void time_derivative(const state_t& z, const state_t& dz, double t, state_t& dfdt);
+  long long jacobians = 0;  ///< Jacobian evaluations
+  state_t jx_;              ///< scratch: the unscaled Jacobian
+  state_t dz2_;             ///< scratch
 };
 
 class Stepper {
