@@ -7,16 +7,25 @@
 //   call, held for the whole open-write-close (or open-read-close) of a file, so that a file is
 //   never seen half-built by another thread's calls. What is expensive stays outside it: the
 //   histories' chunks are shuffled and deflated (libdeflate) by the thread that ran the case,
-//   before it takes the lock, and handed to HDF5 finished (H5Dwrite_chunk). Nothing outside
-//   this file calls HDF5.
-// - Quiet: HDF5's automatic error printing is switched off once (H5Eset_auto2); HDF5 failures
-//   become std::runtime_error naming the file (read_case_record returns nullopt instead).
+//   before it takes the lock, and handed to HDF5 finished (H5Dwrite_chunk); HDF5 builds the file
+//   in memory (core driver, no backing store) and the thread writes the image to the disk
+//   after it has released the lock. Nothing outside this file calls HDF5.
+// - Quiet: HDF5's automatic error printing is switched off in every thread that calls HDF5
+//   (H5Eset_auto2; the error stacks are per thread); HDF5 failures become std::runtime_error
+//   naming the file (read_case_record returns nullopt instead). HDF5 never writes to the disk,
+//   so a full disk is one message from write_file_atomically, never a half-closed HDF5 file.
 // - Crash safety: a file is written under a hidden temporary name in its final directory
-//   (.<name>.tmp.<host>.<pid>.<counter>), closed, flushed to disk, then renamed to its final name
-//   (atomic on POSIX). A failed write removes the temporary file and throws; a partially
-//   written file never appears under the final name.
+//   (.<name>.tmp.<host>.<pid>.<counter>), closed, then renamed to its final name (atomic on
+//   POSIX). A failed write removes the temporary file and throws; a partially written file never
+//   appears under the final name. Case files are not fsync'd: one torn by an OS crash fails its
+//   checksum (below) and resume reruns it; summary.h5, summary.csv and their directory are.
+// - Integrity: a case file starts with a 512-byte HDF5 user block holding its checksum header,
+//   "RODEND-CHECKSUM 1\ncrc32 <8 hex>\nbytes <file size>\n" padded with NUL bytes: the CRC-32
+//   (zlib.crc32) of every byte after the user block and the file's size. verify_case_file checks
+//   it (resume, merge); HDF5 readers skip the user block.
 //
 // Case file layout (stable interface, schema_version 2; 1 is still read, see below):
+//   user block   512 bytes: the checksum header (Integrity, above)
 //   /            attributes: schema_version (int), case_id, case_index (int64), scene, status,
 //                message, t_reached_s, wall_time_s (double), steps_accepted, steps_rejected,
 //                rhs_calls (int64), started_utc, finished_utc, rodend_version, git_revision,
@@ -34,7 +43,8 @@
 //                applicable; units_json = {"name": "unit"}
 // Summary: summary.h5 (group /summary, one 1-D dataset per column with units (not for text)
 // and long_name, case_index the dimension scale of the others, attribute columns = JSON array
-// of the names in order) and summary.csv (one header line, one line per case, numbers as the
+// of the names in order; root attribute summary_csv_crc32 (int64): the CRC-32 of the
+// summary.csv written with it) and summary.csv (one header line, one line per case, numbers as the
 // shortest decimal that reads back as the same double).
 // Schema 1 (before issue 22) named the attributes unit and description and had no dimension
 // scales; readers accept both.
@@ -56,6 +66,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <ctime>
 #include <fstream>
@@ -64,6 +75,7 @@
 #include <memory>
 #include <mutex>
 #include <set>
+#include <span>
 #include <stdexcept>
 #include <utility>
 
@@ -87,7 +99,29 @@ static_assert(std::endian::native == std::endian::little, "rodend writes HDF5 ch
 /// The one process-wide mutex around every HDF5 call.
 std::mutex g_hdf5_mutex;
 
-/// Holds g_hdf5_mutex; the first one also silences HDF5's automatic error printing.
+/// Diagnostics (RODEND_LOCK_STATS=1 in the environment): how long g_hdf5_mutex is held, summed
+/// over the run, printed on stderr at exit: the serial section of a sweep (bench/README.md).
+struct LockStats {
+  const bool enabled = std::getenv("RODEND_LOCK_STATS") != nullptr;
+  std::atomic<long long> held_ns{0}, held_cpu_ns{0}, count{0};
+  ~LockStats() {
+    if (enabled)
+      std::fprintf(stderr,
+                   "rodend: HDF5 lock held %lld times, %.3f s wall, %.3f s CPU of the holder\n",
+                   count.load(), 1e-9 * static_cast<double>(held_ns.load()),
+                   1e-9 * static_cast<double>(held_cpu_ns.load()));
+  }
+};
+LockStats g_lock_stats;
+
+long long clock_ns(clockid_t clock) {
+  timespec ts{};
+  clock_gettime(clock, &ts);
+  return static_cast<long long>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
+}
+
+/// Holds g_hdf5_mutex; the first one in each thread also silences HDF5's automatic error
+/// printing.
 class Hdf5Lock {
  public:
   Hdf5Lock() : lock_(g_hdf5_mutex) {
@@ -98,10 +132,23 @@ class Hdf5Lock {
       H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
       silenced = true;
     }
+    if (g_lock_stats.enabled) {
+      t0_ = clock_ns(CLOCK_MONOTONIC);
+      cpu0_ = clock_ns(CLOCK_THREAD_CPUTIME_ID);
+    }
   }
+  ~Hdf5Lock() {
+    if (!g_lock_stats.enabled) return;
+    g_lock_stats.held_ns += clock_ns(CLOCK_MONOTONIC) - t0_;
+    g_lock_stats.held_cpu_ns += clock_ns(CLOCK_THREAD_CPUTIME_ID) - cpu0_;
+    ++g_lock_stats.count;
+  }
+  Hdf5Lock(const Hdf5Lock&) = delete;
+  Hdf5Lock& operator=(const Hdf5Lock&) = delete;
 
  private:
   std::lock_guard<std::mutex> lock_;
+  long long t0_ = 0, cpu0_ = 0;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -344,12 +391,14 @@ int write_all(int fd, const unsigned char* bytes, std::size_t size) {
   return 0;
 }
 
-/// Writes `bytes` to `path` atomically: a hidden temporary file in the same directory, written
-/// with write(2) (every failure, a full disk included, is this function's error message naming
-/// `path`, never HDF5's), optionally flushed to the disk (`durable`), then renamed. On any failure
-/// the temporary file is removed and std::runtime_error thrown; `path` is left as it was.
+using ByteSpan = std::span<const unsigned char>;
+
+/// Writes `parts` (in order) to `path` atomically: a hidden temporary file in the same directory,
+/// written with write(2) (every failure, a full disk included, is this function's error message
+/// naming `path`, never HDF5's), optionally flushed to the disk (`durable`), then renamed. On any
+/// failure the temporary file is removed and std::runtime_error thrown; `path` is left as it was.
 void write_file_atomically(const fs::path& path, const std::string& what,
-                           const std::vector<unsigned char>& bytes, bool durable) {
+                           std::initializer_list<ByteSpan> parts, bool durable) {
   if (path.filename().empty())
     throw std::runtime_error("cannot write " + path.string() + ": not a file name");
   std::error_code ec;
@@ -369,7 +418,9 @@ void write_file_atomically(const fs::path& path, const std::string& what,
   };
   const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) fail("cannot create " + temp.string(), errno);
-  int err = write_all(fd, bytes.data(), bytes.size());
+  int err = 0;
+  for (const ByteSpan part : parts)
+    if (err == 0) err = write_all(fd, part.data(), part.size());
   if (err == 0 && durable && ::fsync(fd) != 0) err = errno;
   if (::close(fd) != 0 && err == 0) err = errno;
   if (err != 0) fail("write error on " + temp.string(), err);
@@ -397,11 +448,12 @@ constexpr hsize_t kUserBlock = 512;
 constexpr std::string_view kChecksumMagic = "RODEND-CHECKSUM 1\n";
 constexpr unsigned char kHdf5Signature[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
 
-/// Creates the in-memory file, runs build(file), and returns the file's image. `estimate`:
-/// the expected size [bytes] (the core driver's allocation step). Call under Hdf5Lock.
+/// Creates the in-memory file, runs build(file), and returns the file's image (without its
+/// user block), in a buffer of the calling thread that the next call reuses (its pages stay
+/// mapped: no fresh page faults per file). `estimate`: the expected size [bytes] (the core
+/// driver's allocation step). Call under Hdf5Lock.
 template <class Build>
-std::vector<unsigned char> build_image(const Context& cx, hsize_t user_block, std::size_t estimate,
-                                       Build&& build) {
+ByteSpan build_image(const Context& cx, hsize_t user_block, std::size_t estimate, Build&& build) {
   const Handle fapl = cx.own(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "cannot create the file");
   cx.ok(H5Pset_fapl_core(fapl.get(), std::max<std::size_t>(estimate, 1 << 16), /*backing=*/0),
         "cannot create the file");
@@ -414,29 +466,28 @@ std::vector<unsigned char> build_image(const Context& cx, hsize_t user_block, st
   cx.ok(H5Fflush(file.get(), H5F_SCOPE_LOCAL), "cannot flush the file");
   const ssize_t size = H5Fget_file_image(file.get(), nullptr, 0);
   if (size <= 0) cx.fail("cannot take the file's image");
-  std::vector<unsigned char> image(static_cast<std::size_t>(size));
-  if (H5Fget_file_image(file.get(), image.data(), image.size()) != size)
+  thread_local std::vector<unsigned char> buffer;
+  if (buffer.size() < static_cast<std::size_t>(size)) buffer.resize(static_cast<std::size_t>(size));
+  if (H5Fget_file_image(file.get(), buffer.data(), static_cast<std::size_t>(size)) != size)
     cx.fail("cannot take the file's image");
   cx.ok(file.close(), "cannot close the file");
-  return image;
+  return ByteSpan(buffer.data(), static_cast<std::size_t>(size));
 }
 
-/// Prepends the user block of a case file to its HDF5 image (H5Fget_file_image leaves it out):
-/// the checksum header "RODEND-CHECKSUM 1", then "crc32 <8 hex digits>" (CRC-32, as
-/// zlib.crc32, of every byte after the user block) and "bytes <file size>", one per line,
-/// padded with NUL bytes to kUserBlock bytes.
-std::vector<unsigned char> with_checksum_header(const std::vector<unsigned char>& image) {
+/// The user block of a case file, written before its HDF5 image (H5Fget_file_image leaves it
+/// out): the checksum header "RODEND-CHECKSUM 1", then "crc32 <8 hex digits>" (CRC-32, as
+/// zlib.crc32, of every byte after the user block, the image) and "bytes <file size>", one per
+/// line, padded with NUL bytes to kUserBlock bytes.
+std::array<unsigned char, kUserBlock> checksum_header(ByteSpan image) {
   if (image.size() < sizeof kHdf5Signature ||
       std::memcmp(image.data(), kHdf5Signature, sizeof kHdf5Signature) != 0)
     throw std::logic_error("the HDF5 image of a case file does not start with its superblock");
   const std::uint32_t crc = libdeflate_crc32(0, image.data(), image.size());
-  std::vector<unsigned char> file(kUserBlock + image.size(), 0);
-  char text[kUserBlock] = {};
-  std::snprintf(text, sizeof text, "%scrc32 %08x\nbytes %zu\n", std::string(kChecksumMagic).c_str(),
-                static_cast<unsigned>(crc), file.size());
-  std::memcpy(file.data(), text, kUserBlock);
-  std::memcpy(file.data() + kUserBlock, image.data(), image.size());
-  return file;
+  std::array<unsigned char, kUserBlock> header{};
+  std::snprintf(reinterpret_cast<char*>(header.data()), header.size(), "%scrc32 %08x\nbytes %zu\n",
+                std::string(kChecksumMagic).c_str(), static_cast<unsigned>(crc),
+                static_cast<std::size_t>(kUserBlock) + image.size());
+  return header;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -950,9 +1001,9 @@ void write_summary_column(const Context& cx, hid_t group, const Column& c) {
 }
 
 /// The image of summary.h5; `csv_crc32`: the CRC-32 of the summary.csv written with it.
-std::vector<unsigned char> summary_h5_image(const fs::path& final_path, const Study& study,
-                                            const std::vector<Column>& cols, std::size_t row_count,
-                                            const Json& prov, std::uint32_t csv_crc32) {
+ByteSpan summary_h5_image(const fs::path& final_path, const Study& study,
+                          const std::vector<Column>& cols, std::size_t row_count, const Json& prov,
+                          std::uint32_t csv_crc32) {
   Hdf5Lock lock;  // held for the whole create-write-close
   const Context cx(final_path, "cannot write summary file");
   return build_image(cx, 0, 1 << 20, [&](hid_t file) {
@@ -1035,8 +1086,8 @@ std::string summary_csv_text(const std::vector<Column>& cols, std::size_t row_co
   return text;
 }
 
-std::vector<unsigned char> bytes_of(const std::string& text) {
-  return std::vector<unsigned char>(text.begin(), text.end());
+ByteSpan bytes_of(const std::string& text) {
+  return ByteSpan(reinterpret_cast<const unsigned char*>(text.data()), text.size());
 }
 
 std::uint32_t crc32_of(const std::string& text) {
@@ -1106,8 +1157,12 @@ void write_case_file(const fs::path& path, const CaseSpec& spec, const CaseRecor
                                     signal_spec(history.signals[i]).width, spec.output));
     for (const auto& chunk : encoded.back().chunks) estimate += chunk.size();
   }
-  for (const CaseArray& a : history.arrays) estimate += 8 * a.values.size();
-  std::vector<unsigned char> image;
+  for (const CaseArray& a : history.arrays) estimate += 8 * a.values.size() + (1 << 14);
+  // HDF5's own structures per dataset (object header, attributes, chunk index; measured:
+  // 4-9 kB): an estimate too small makes the core driver grow its buffer by a whole estimate
+  // (a copy and a clear of the file so far, under the lock)
+  estimate += history.signals.size() * (1 << 14);
+  ByteSpan image;
   {
     Hdf5Lock lock;  // held for the in-memory build: cheap calls only, the chunks are ready
     const Context cx(path, "cannot write results file");
@@ -1121,10 +1176,10 @@ void write_case_file(const fs::path& path, const CaseSpec& spec, const CaseRecor
     });
   }
   encoded.clear();
-  image = with_checksum_header(image);
+  const auto header = checksum_header(image);
   // Not flushed to the disk (no fsync): a case file torn by an OS crash or a power loss fails
   // its checksum, and resume moves it aside and reruns the case (docs/testing.md, Faults).
-  write_file_atomically(path, "results file", image, /*durable=*/false);
+  write_file_atomically(path, "results file", {ByteSpan(header), image}, /*durable=*/false);
 }
 
 WriteFailureInjection::WriteFailureInjection(long long bytes) {
@@ -1269,9 +1324,10 @@ void write_summary(const fs::path& dir, const Study& study, const std::vector<Ca
   // between the two renames leaves a summary.csv that does not match, which the next run (or
   // merge) rewrites from summary.h5 (repair_summary_csv)
   write_file_atomically(h5, "summary file",
-                        summary_h5_image(h5, study, cols, rows.size(), prov, crc32_of(csv_text)),
+                        {summary_h5_image(h5, study, cols, rows.size(), prov, crc32_of(csv_text))},
                         /*durable=*/true);
-  write_file_atomically(dir / "summary.csv", "summary file", bytes_of(csv_text), /*durable=*/true);
+  write_file_atomically(dir / "summary.csv", "summary file", {bytes_of(csv_text)},
+                        /*durable=*/true);
 }
 
 namespace {
@@ -1382,7 +1438,7 @@ bool repair_summary_csv(const fs::path& dir) {
                              h5.string() +
                              ": the table read back does not give the summary.csv "
                              "it was written with (summary_csv_crc32)");
-  write_file_atomically(dir / "summary.csv", "summary file", bytes_of(text), /*durable=*/true);
+  write_file_atomically(dir / "summary.csv", "summary file", {bytes_of(text)}, /*durable=*/true);
   return true;
 }
 

@@ -7,7 +7,8 @@
 // compressing its histories, runs before the lock in the calling thread (results.cpp).
 //
 // Crash-safety rule: a file appears under its final name only when complete: it is written to
-// a hidden temporary name in the same directory, closed, then renamed (atomic on POSIX).
+// a hidden temporary name in the same directory, closed, then renamed (atomic on POSIX). A case
+// file carries a checksum of its bytes (verify_case_file), checked before it is accepted.
 #pragma once
 
 #include <filesystem>
