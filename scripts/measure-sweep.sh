@@ -5,6 +5,8 @@
 #     time, REPEATS interleaved rounds (each round runs every configuration once, in turn, so a
 #     drift of the machine's speed hits them alike), fresh results folder every run; the median
 #     per configuration, as cases per hour and as the ratio to one thread;
+#   - how long the HDF5 lock (the serial section of writing case files) is held, with 1 and 2
+#     threads (RODEND_LOCK_STATS=1: wall time and the holder's CPU time, summed);
 #   - peak resident memory (GNU time) for 16 and 256 cases of the same per-case size.
 #
 #   bash scripts/measure-sweep.sh              # REPEATS=5 by default
@@ -49,6 +51,12 @@ for c in "${configs[@]}"; do
   m=$(echo "${times[$c]}" | median)
   awk -v c="$c" -v m="$m" -v b="$base" -v n="$cases" -v runs="${times[$c]}" \
     'BEGIN {printf "%-14s %10.3f %14.0f %9.2fx   %s\n", c, m, n * 3600 / m, b / m, runs}'
+done
+# the serial section: how long the process-wide HDF5 lock was held (sweep/results.cpp)
+for j in 1 2; do
+  rm -rf "$tmp/l"
+  RODEND_LOCK_STATS=1 "$rodend" run "$study" --results-root "$tmp/l" -q --threads "$j" 2>&1 >/dev/null |
+    sed -n "s/^rodend: HDF5 lock/bench-32, $j thread(s): HDF5 lock/p"
 done
 for s in bench-16-short bench-256; do
   rm -rf "$tmp/m"

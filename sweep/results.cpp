@@ -7,16 +7,25 @@
 //   call, held for the whole open-write-close (or open-read-close) of a file, so that a file is
 //   never seen half-built by another thread's calls. What is expensive stays outside it: the
 //   histories' chunks are shuffled and deflated (libdeflate) by the thread that ran the case,
-//   before it takes the lock, and handed to HDF5 finished (H5Dwrite_chunk). Nothing outside
-//   this file calls HDF5.
-// - Quiet: HDF5's automatic error printing is switched off once (H5Eset_auto2); HDF5 failures
-//   become std::runtime_error naming the file (read_case_record returns nullopt instead).
+//   before it takes the lock, and handed to HDF5 finished (H5Dwrite_chunk); HDF5 builds the file
+//   in memory (core driver, no backing store) and the thread writes the image to the disk
+//   after it has released the lock. Nothing outside this file calls HDF5.
+// - Quiet: HDF5's automatic error printing is switched off in every thread that calls HDF5
+//   (H5Eset_auto2; the error stacks are per thread); HDF5 failures become std::runtime_error
+//   naming the file (read_case_record returns nullopt instead). HDF5 never writes to the disk,
+//   so a full disk is one message from write_file_atomically, never a half-closed HDF5 file.
 // - Crash safety: a file is written under a hidden temporary name in its final directory
-//   (.<name>.tmp.<host>.<pid>.<counter>), closed, flushed to disk, then renamed to its final name
-//   (atomic on POSIX). A failed write removes the temporary file and throws; a partially
-//   written file never appears under the final name.
+//   (.<name>.tmp.<host>.<pid>.<counter>), closed, then renamed to its final name (atomic on
+//   POSIX). A failed write removes the temporary file and throws; a partially written file never
+//   appears under the final name. Case files are not fsync'd: one torn by an OS crash fails its
+//   checksum (below) and resume reruns it; summary.h5, summary.csv and their directory are.
+// - Integrity: a case file starts with a 512-byte HDF5 user block holding its checksum header,
+//   "RODEND-CHECKSUM 1\ncrc32 <8 hex>\nbytes <file size>\n" padded with NUL bytes: the CRC-32
+//   (zlib.crc32) of every byte after the user block and the file's size. verify_case_file checks
+//   it (resume, merge); HDF5 readers skip the user block.
 //
 // Case file layout (stable interface, schema_version 2; 1 is still read, see below):
+//   user block   512 bytes: the checksum header (Integrity, above)
 //   /            attributes: schema_version (int), case_id, case_index (int64), scene, status,
 //                message, t_reached_s, wall_time_s (double), steps_accepted, steps_rejected,
 //                rhs_calls (int64), started_utc, finished_utc, rodend_version, git_revision,
@@ -34,7 +43,8 @@
 //                applicable; units_json = {"name": "unit"}
 // Summary: summary.h5 (group /summary, one 1-D dataset per column with units (not for text)
 // and long_name, case_index the dimension scale of the others, attribute columns = JSON array
-// of the names in order) and summary.csv (one header line, one line per case, numbers as the
+// of the names in order; root attribute summary_csv_crc32 (int64): the CRC-32 of the
+// summary.csv written with it) and summary.csv (one header line, one line per case, numbers as the
 // shortest decimal that reads back as the same double).
 // Schema 1 (before issue 22) named the attributes unit and description and had no dimension
 // scales; readers accept both.
@@ -46,6 +56,7 @@
 #include <hdf5.h>
 #include <hdf5_hl.h>
 #include <libdeflate.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -55,12 +66,16 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <memory>
 #include <mutex>
 #include <set>
+#include <span>
 #include <stdexcept>
 #include <utility>
 
@@ -84,19 +99,56 @@ static_assert(std::endian::native == std::endian::little, "rodend writes HDF5 ch
 /// The one process-wide mutex around every HDF5 call.
 std::mutex g_hdf5_mutex;
 
-/// Holds g_hdf5_mutex; the first one also silences HDF5's automatic error printing.
+/// Diagnostics (RODEND_LOCK_STATS=1 in the environment): how long g_hdf5_mutex is held, summed
+/// over the run, printed on stderr at exit: the serial section of a sweep (bench/README.md).
+struct LockStats {
+  const bool enabled = std::getenv("RODEND_LOCK_STATS") != nullptr;
+  std::atomic<long long> held_ns{0}, held_cpu_ns{0}, count{0};
+  ~LockStats() {
+    if (enabled)
+      std::fprintf(stderr,
+                   "rodend: HDF5 lock held %lld times, %.3f s wall, %.3f s CPU of the holder\n",
+                   count.load(), 1e-9 * static_cast<double>(held_ns.load()),
+                   1e-9 * static_cast<double>(held_cpu_ns.load()));
+  }
+};
+LockStats g_lock_stats;
+
+long long clock_ns(clockid_t clock) {
+  timespec ts{};
+  clock_gettime(clock, &ts);
+  return static_cast<long long>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
+}
+
+/// Holds g_hdf5_mutex; the first one in each thread also silences HDF5's automatic error
+/// printing.
 class Hdf5Lock {
  public:
   Hdf5Lock() : lock_(g_hdf5_mutex) {
-    static bool silenced = false;  // guarded by g_hdf5_mutex
+    // HDF5's error stacks (and so its automatic printing) are per thread in a thread-safe build:
+    // each thread that calls HDF5 switches it off once
+    thread_local bool silenced = false;
     if (!silenced) {
       H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
       silenced = true;
     }
+    if (g_lock_stats.enabled) {
+      t0_ = clock_ns(CLOCK_MONOTONIC);
+      cpu0_ = clock_ns(CLOCK_THREAD_CPUTIME_ID);
+    }
   }
+  ~Hdf5Lock() {
+    if (!g_lock_stats.enabled) return;
+    g_lock_stats.held_ns += clock_ns(CLOCK_MONOTONIC) - t0_;
+    g_lock_stats.held_cpu_ns += clock_ns(CLOCK_THREAD_CPUTIME_ID) - cpu0_;
+    ++g_lock_stats.count;
+  }
+  Hdf5Lock(const Hdf5Lock&) = delete;
+  Hdf5Lock& operator=(const Hdf5Lock&) = delete;
 
  private:
   std::lock_guard<std::mutex> lock_;
+  long long t0_ = 0, cpu0_ = 0;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -314,22 +366,39 @@ fs::path temp_path_for(const fs::path& path) {
   return path.parent_path() / name;
 }
 
-/// Flushes a closed file to the disk, so that a rename after an OS crash never exposes an
-/// empty or partial file.
-void sync_to_disk(const fs::path& file, const fs::path& final_path) {
-  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0 || ::fsync(fd) != 0) {
-    if (fd >= 0) ::close(fd);
-    throw std::runtime_error("cannot write " + final_path.string() +
-                             ": cannot flush the temporary file " + file.string());
+/// Bytes a WriteFailureInjection still lets through (negative: no injection in place).
+std::atomic<long long> g_write_budget{-1};
+
+/// write(2) of all of `bytes` to `fd`, with the injected failure of WriteFailureInjection.
+/// Returns 0 or the errno of the failure.
+int write_all(int fd, const unsigned char* bytes, std::size_t size) {
+  while (size > 0) {
+    std::size_t n = std::min<std::size_t>(size, std::size_t{1} << 30);
+    const long long budget = g_write_budget.load();
+    if (budget >= 0) {
+      if (budget == 0) return ENOSPC;
+      n = std::min<std::size_t>(n, static_cast<std::size_t>(budget));
+      g_write_budget.fetch_sub(static_cast<long long>(n));
+    }
+    const ssize_t w = ::write(fd, bytes, n);
+    if (w < 0) {
+      if (errno == EINTR) continue;
+      return errno;
+    }
+    bytes += w;
+    size -= static_cast<std::size_t>(w);
   }
-  ::close(fd);
+  return 0;
 }
 
-/// Runs write(temp) (which must create, write and close the temporary file), then renames the
-/// temporary file to `path`. On any failure removes the temporary file and rethrows.
-template <class Write>
-void write_atomically(const fs::path& path, Write&& write) {
+using ByteSpan = std::span<const unsigned char>;
+
+/// Writes `parts` (in order) to `path` atomically: a hidden temporary file in the same directory,
+/// written with write(2) (every failure, a full disk included, is this function's error message
+/// naming `path`, never HDF5's), optionally flushed to the disk (`durable`), then renamed. On any
+/// failure the temporary file is removed and std::runtime_error thrown; `path` is left as it was.
+void write_file_atomically(const fs::path& path, const std::string& what,
+                           std::initializer_list<ByteSpan> parts, bool durable) {
   if (path.filename().empty())
     throw std::runtime_error("cannot write " + path.string() + ": not a file name");
   std::error_code ec;
@@ -337,22 +406,88 @@ void write_atomically(const fs::path& path, Write&& write) {
   if (!dir.empty()) {
     fs::create_directories(dir, ec);
     if (ec)
-      throw std::runtime_error("cannot write " + path.string() + ": cannot create directory " +
-                               dir.string() + ": " + ec.message());
+      throw std::runtime_error("cannot write " + what + " " + path.string() +
+                               ": cannot create directory " + dir.string() + ": " + ec.message());
   }
   const fs::path temp = temp_path_for(path);
-  try {
-    write(temp);
-    sync_to_disk(temp, path);
-    fs::rename(temp, path, ec);
-    if (ec)
-      throw std::runtime_error("cannot write " + path.string() + ": cannot rename " +
-                               temp.string() + ": " + ec.message());
-  } catch (...) {
+  const auto fail = [&](const std::string& step, int err) {
     std::error_code ignored;
     fs::remove(temp, ignored);
-    throw;
+    throw std::runtime_error("cannot write " + what + " " + path.string() + ": " + step + ": " +
+                             std::strerror(err));
+  };
+  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) fail("cannot create " + temp.string(), errno);
+  int err = 0;
+  for (const ByteSpan part : parts)
+    if (err == 0) err = write_all(fd, part.data(), part.size());
+  if (err == 0 && durable && ::fsync(fd) != 0) err = errno;
+  if (::close(fd) != 0 && err == 0) err = errno;
+  if (err != 0) fail("write error on " + temp.string(), err);
+  if (::rename(temp.c_str(), path.c_str()) != 0) fail("cannot rename " + temp.string(), errno);
+  if (durable) {  // the rename itself, so that the file is there after an OS crash
+    const int dfd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dfd >= 0) {
+      (void)::fsync(dfd);  // best effort: not every file system syncs a directory
+      ::close(dfd);
+    }
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// In-memory HDF5 files
+//
+// Every file rodend writes is built by HDF5 in memory (the core driver without a backing
+// store) and its finished image written by write_file_atomically. HDF5 therefore never writes
+// to the disk: a full disk, a quota or an I/O error is one clear message, never a half-closed
+// HDF5 file (which HDF5 1.10 cannot close again: it crashed at exit), and the write of the
+// bytes (the file system's share of the cost) runs outside g_hdf5_mutex.
+
+/// Size of the user block of a case file: the checksum header (case_checksum_header).
+constexpr hsize_t kUserBlock = 512;
+constexpr std::string_view kChecksumMagic = "RODEND-CHECKSUM 1\n";
+constexpr unsigned char kHdf5Signature[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
+
+/// Creates the in-memory file, runs build(file), and returns the file's image (without its
+/// user block), in a buffer of the calling thread that the next call reuses (its pages stay
+/// mapped: no fresh page faults per file). `estimate`: the expected size [bytes] (the core
+/// driver's allocation step). Call under Hdf5Lock.
+template <class Build>
+ByteSpan build_image(const Context& cx, hsize_t user_block, std::size_t estimate, Build&& build) {
+  const Handle fapl = cx.own(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "cannot create the file");
+  cx.ok(H5Pset_fapl_core(fapl.get(), std::max<std::size_t>(estimate, 1 << 16), /*backing=*/0),
+        "cannot create the file");
+  const Handle fcpl = cx.own(H5Pcreate(H5P_FILE_CREATE), H5Pclose, "cannot create the file");
+  if (user_block > 0) cx.ok(H5Pset_userblock(fcpl.get(), user_block), "cannot create the file");
+  // the name only identifies the in-memory file to HDF5 (two threads never build at once)
+  Handle file = cx.own(H5Fcreate("rodend-in-memory.h5", H5F_ACC_TRUNC, fcpl.get(), fapl.get()),
+                       H5Fclose, "cannot create the file");
+  build(file.get());
+  cx.ok(H5Fflush(file.get(), H5F_SCOPE_LOCAL), "cannot flush the file");
+  const ssize_t size = H5Fget_file_image(file.get(), nullptr, 0);
+  if (size <= 0) cx.fail("cannot take the file's image");
+  thread_local std::vector<unsigned char> buffer;
+  if (buffer.size() < static_cast<std::size_t>(size)) buffer.resize(static_cast<std::size_t>(size));
+  if (H5Fget_file_image(file.get(), buffer.data(), static_cast<std::size_t>(size)) != size)
+    cx.fail("cannot take the file's image");
+  cx.ok(file.close(), "cannot close the file");
+  return ByteSpan(buffer.data(), static_cast<std::size_t>(size));
+}
+
+/// The user block of a case file, written before its HDF5 image (H5Fget_file_image leaves it
+/// out): the checksum header "RODEND-CHECKSUM 1", then "crc32 <8 hex digits>" (CRC-32, as
+/// zlib.crc32, of every byte after the user block, the image) and "bytes <file size>", one per
+/// line, padded with NUL bytes to kUserBlock bytes.
+std::array<unsigned char, kUserBlock> checksum_header(ByteSpan image) {
+  if (image.size() < sizeof kHdf5Signature ||
+      std::memcmp(image.data(), kHdf5Signature, sizeof kHdf5Signature) != 0)
+    throw std::logic_error("the HDF5 image of a case file does not start with its superblock");
+  const std::uint32_t crc = libdeflate_crc32(0, image.data(), image.size());
+  std::array<unsigned char, kUserBlock> header{};
+  std::snprintf(reinterpret_cast<char*>(header.data()), header.size(), "%scrc32 %08x\nbytes %zu\n",
+                std::string(kChecksumMagic).c_str(), static_cast<unsigned>(crc),
+                static_cast<std::size_t>(kUserBlock) + image.size());
+  return header;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -681,6 +816,11 @@ long long read_attr_int64(const Context& cx, hid_t obj, const char* name) {
   return read_attr_number<long long>(cx, obj, name, H5T_NATIVE_LLONG);
 }
 
+/// A readable file of a layout this rodend does not read: not damage.
+struct UnreadableVersion : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 CaseRecord read_case_locked(const fs::path& path) {
   const Context cx(path, "cannot read results file");
   Handle file =
@@ -691,9 +831,11 @@ CaseRecord read_case_locked(const fs::path& path) {
     const hid_t g = root.get();
     if (const long long v = read_attr_int64(cx, g, "schema_version");
         v < kOldestReadableSchemaVersion || v > kResultsSchemaVersion)
-      cx.fail("schema_version " + std::to_string(v) + " is not readable by this rodend (it reads " +
-              std::to_string(kOldestReadableSchemaVersion) + " to " +
-              std::to_string(kResultsSchemaVersion) + ")");
+      throw UnreadableVersion("cannot read results file " + path.string() + ": " +
+                              "schema_version " + std::to_string(v) +
+                              " is not readable by this rodend (it reads " +
+                              std::to_string(kOldestReadableSchemaVersion) + " to " +
+                              std::to_string(kResultsSchemaVersion) + ")");
     r.id = read_attr_string(cx, g, "case_id");
     r.index = static_cast<long>(read_attr_int64(cx, g, "case_index"));
     r.scene = read_attr_string(cx, g, "scene");
@@ -858,14 +1000,14 @@ void write_summary_column(const Context& cx, hid_t group, const Column& c) {
   cx.ok(d.close(), what);
 }
 
-void write_summary_h5(const fs::path& final_path, const fs::path& temp, const Study& study,
-                      const std::vector<Column>& cols, std::size_t row_count, const Json& prov) {
+/// The image of summary.h5; `csv_crc32`: the CRC-32 of the summary.csv written with it.
+ByteSpan summary_h5_image(const fs::path& final_path, const Study& study,
+                          const std::vector<Column>& cols, std::size_t row_count, const Json& prov,
+                          std::uint32_t csv_crc32) {
   Hdf5Lock lock;  // held for the whole create-write-close
   const Context cx(final_path, "cannot write summary file");
-  Handle file = cx.own(H5Fcreate(temp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
-                       "cannot create " + temp.string());
-  {
-    const Handle root = cx.own(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose, "no root");
+  return build_image(cx, 0, 1 << 20, [&](hid_t file) {
+    const Handle root = cx.own(H5Gopen2(file, "/", H5P_DEFAULT), H5Gclose, "no root");
     const hid_t g = root.get();
     attr_int(cx, g, "schema_version", kResultsSchemaVersion);
     attr_string(cx, g, "study_name", study.name);
@@ -876,6 +1018,8 @@ void write_summary_h5(const fs::path& final_path, const fs::path& temp, const St
     attr_int64(cx, g, "case_count", static_cast<long long>(row_count));
     attr_string(cx, g, "provenance_json", prov.dump());
     attr_string(cx, g, "study_json", study.source.dump());
+    // the summary.csv of the same run (summary_csv_matches, repair_summary_csv)
+    attr_int64(cx, g, "summary_csv_crc32", static_cast<long long>(csv_crc32));
 
     const Handle summary = create_group(cx, g, "summary", /*track_link_order=*/true);
     Json names = Json::array();
@@ -897,8 +1041,7 @@ void write_summary_h5(const fs::path& final_path, const fs::path& temp, const St
     const Handle index = cx.own(H5Dopen2(summary.get(), "case_index", H5P_DEFAULT), H5Dclose,
                                 "no case_index column");
     attach_scale(cx, index.get(), "case_index", columns);
-  }
-  cx.ok(file.close(), "cannot close " + temp.string());
+  });
 }
 
 std::string csv_field(const std::string& s) {
@@ -915,8 +1058,7 @@ std::string csv_number(double v) {
   return shortest_decimal(v);
 }
 
-void write_summary_csv(const fs::path& final_path, const fs::path& temp,
-                       const std::vector<Column>& cols, std::size_t row_count) {
+std::string summary_csv_text(const std::vector<Column>& cols, std::size_t row_count) {
   std::string text;
   for (std::size_t j = 0; j < cols.size(); ++j) {
     if (j) text += ',';
@@ -941,14 +1083,15 @@ void write_summary_csv(const fs::path& final_path, const fs::path& temp,
     }
     text += '\n';
   }
-  std::FILE* f = std::fopen(temp.c_str(), "wb");
-  if (!f)
-    throw std::runtime_error("cannot write summary file " + final_path.string() +
-                             ": cannot create " + temp.string());
-  const bool written = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-  if (std::fclose(f) != 0 || !written)
-    throw std::runtime_error("cannot write summary file " + final_path.string() +
-                             ": write error on " + temp.string());
+  return text;
+}
+
+ByteSpan bytes_of(const std::string& text) {
+  return ByteSpan(reinterpret_cast<const unsigned char*>(text.data()), text.size());
+}
+
+std::uint32_t crc32_of(const std::string& text) {
+  return libdeflate_crc32(0, text.data(), text.size());
 }
 
 }  // namespace
@@ -1008,31 +1151,115 @@ void write_case_file(const fs::path& path, const CaseSpec& spec, const CaseRecor
   // the expensive part, in the calling thread: every chunk shuffled and deflated
   std::vector<EncodedSignal> encoded;
   encoded.reserve(history.signals.size());
-  for (std::size_t i = 0; i < history.signals.size(); ++i)
+  std::size_t estimate = 1 << 16;  // [bytes] attributes and HDF5's own structures
+  for (std::size_t i = 0; i < history.signals.size(); ++i) {
     encoded.push_back(encode_signal(history.values[i], history.samples,
                                     signal_spec(history.signals[i]).width, spec.output));
-  write_atomically(path, [&](const fs::path& temp) {
-    Hdf5Lock lock;  // held for the create-write-close: cheap calls only, the chunks are ready
+    for (const auto& chunk : encoded.back().chunks) estimate += chunk.size();
+  }
+  for (const CaseArray& a : history.arrays) estimate += 8 * a.values.size() + (1 << 14);
+  // HDF5's own structures per dataset (object header, attributes, chunk index; measured:
+  // 4-9 kB): an estimate too small makes the core driver grow its buffer by a whole estimate
+  // (a copy and a clear of the file so far, under the lock)
+  estimate += history.signals.size() * (1 << 14);
+  ByteSpan image;
+  {
+    Hdf5Lock lock;  // held for the in-memory build: cheap calls only, the chunks are ready
     const Context cx(path, "cannot write results file");
-    Handle file = cx.own(H5Fcreate(temp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
-                         "cannot create " + temp.string());
-    {
-      const Handle root = cx.own(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose, "no root");
+    image = build_image(cx, kUserBlock, estimate, [&](hid_t file) {
+      const Handle root = cx.own(H5Gopen2(file, "/", H5P_DEFAULT), H5Gclose, "no root");
       write_case_root(cx, root.get(), spec, record, prov);
       write_case_parameters(cx, root.get(), spec.parameters);
       write_case_signals(cx, root.get(), history, encoded, spec.output);
       write_case_arrays(cx, root.get(), history);
       write_case_metrics(cx, root.get(), record.metrics);
+    });
+  }
+  encoded.clear();
+  const auto header = checksum_header(image);
+  // Not flushed to the disk (no fsync): a case file torn by an OS crash or a power loss fails
+  // its checksum, and resume moves it aside and reruns the case (docs/testing.md, Faults).
+  write_file_atomically(path, "results file", {ByteSpan(header), image}, /*durable=*/false);
+}
+
+WriteFailureInjection::WriteFailureInjection(long long bytes) {
+  g_write_budget.store(std::max(bytes, 0LL));
+}
+WriteFailureInjection::~WriteFailureInjection() {
+  g_write_budget.store(-1);
+}
+
+bool verify_case_file(const fs::path& path) {
+  const auto corrupt = [&](const std::string& why) -> CorruptCaseFile {
+    return CorruptCaseFile("corrupt case file " + path.string() + ": " + why);
+  };
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0)
+    throw std::runtime_error("cannot read results file " + path.string() + ": " +
+                             std::strerror(errno));
+  struct FdCloser {
+    int fd;
+    ~FdCloser() { ::close(fd); }
+  } closer{fd};
+  struct stat st {};
+  if (::fstat(fd, &st) != 0)
+    throw std::runtime_error("cannot read results file " + path.string() + ": " +
+                             std::strerror(errno));
+  const auto size = static_cast<std::size_t>(st.st_size);
+  std::vector<unsigned char> buf(std::size_t{1} << 20);
+  const auto read_at = [&](std::size_t offset, std::size_t n) {
+    std::size_t got = 0;
+    while (got < n) {
+      const ssize_t r = ::pread(fd, buf.data() + got, n - got, static_cast<off_t>(offset + got));
+      if (r < 0 && errno == EINTR) continue;
+      if (r < 0)
+        throw std::runtime_error("cannot read results file " + path.string() + ": " +
+                                 std::strerror(errno));
+      if (r == 0) throw corrupt("shorter than it was a moment ago");
+      got += static_cast<std::size_t>(r);
     }
-    cx.ok(file.close(), "cannot close " + temp.string());
-  });
+  };
+  const std::size_t head = std::min<std::size_t>(size, kUserBlock);
+  read_at(0, head);
+  if (head >= sizeof kHdf5Signature &&
+      std::memcmp(buf.data(), kHdf5Signature, sizeof kHdf5Signature) == 0)
+    return false;  // no user block: written before checksums (HDF5 checks what it can)
+  if (head < kChecksumMagic.size() ||
+      std::memcmp(buf.data(), kChecksumMagic.data(), kChecksumMagic.size()) != 0)
+    throw corrupt(size == 0 ? "empty file"
+                            : "no checksum header (\"RODEND-CHECKSUM\") and not an HDF5 file");
+  const std::string header(reinterpret_cast<const char*>(buf.data()), head);
+  unsigned stored = 0;
+  unsigned long long bytes = 0;
+  if (std::sscanf(header.c_str() + kChecksumMagic.size(), "crc32 %8x\nbytes %llu", &stored,
+                  &bytes) != 2)
+    throw corrupt("damaged checksum header");
+  if (bytes != size)
+    throw corrupt(std::to_string(size) + " bytes, its checksum header says " +
+                  std::to_string(bytes) + " (truncated or extended)");
+  std::uint32_t crc = 0;
+  for (std::size_t offset = kUserBlock; offset < size;) {
+    const std::size_t n = std::min(buf.size(), size - offset);
+    read_at(offset, n);
+    crc = libdeflate_crc32(crc, buf.data(), n);
+    offset += n;
+  }
+  if (crc != stored) {
+    char text[96];
+    std::snprintf(text, sizeof text,
+                  "content does not match its checksum (CRC-32 %08x, stored %08x)",
+                  static_cast<unsigned>(crc), stored);
+    throw corrupt(text);
+  }
+  return true;
 }
 
 std::optional<CaseRecord> read_case_record(const fs::path& path) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) return std::nullopt;
-  Hdf5Lock lock;  // held for the whole open-read-close
   try {
+    verify_case_file(path);
+    Hdf5Lock lock;  // held for the whole open-read-close
     return read_case_locked(path);
   } catch (const std::exception&) {
     // unreadable, corrupt, or of another schema version: the caller treats it as absent
@@ -1047,24 +1274,60 @@ std::optional<CaseRecord> read_case_record_strict(const fs::path& path) {
   if (ec) throw std::runtime_error(path.string() + ": " + ec.message());
   if (!fs::is_regular_file(path, ec))
     throw std::runtime_error(path.string() + ": not a regular file");
-  Hdf5Lock lock;  // held for the whole open-read-close
+  const bool verified = verify_case_file(path);  // outside the lock: reads the whole file
+  Hdf5Lock lock;                                 // held for the whole open-read-close
   try {
     return read_case_locked(path);
-  } catch (const Json::exception& e) {
-    throw std::runtime_error("cannot read results file " + path.string() + ": " + e.what());
+  } catch (const UnreadableVersion&) {
+    throw;
+  } catch (const std::exception& e) {
+    // a file whose checksum holds is not damaged (opened elsewhere for writing, say); one
+    // without a checksum (written before them) that HDF5 cannot read is
+    if (!verified) throw CorruptCaseFile("corrupt case file " + path.string() + ": " + e.what());
+    throw std::runtime_error(std::string(e.what()).rfind("cannot read", 0) == 0
+                                 ? std::string(e.what())
+                                 : "cannot read results file " + path.string() + ": " + e.what());
   }
+}
+
+bool summary_csv_matches(const fs::path& dir) {
+  const fs::path h5 = dir / "summary.h5";
+  std::error_code ec;
+  if (!fs::is_regular_file(h5, ec)) return true;
+  long long stored = -1;
+  {
+    Hdf5Lock lock;
+    const Context cx(h5, "cannot read summary");
+    try {
+      Handle file = cx.own(H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose,
+                           "cannot open the file");
+      const Handle root = cx.own(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose, "no root");
+      if (!cx.yes(H5Aexists(root.get(), "summary_csv_crc32"), "cannot look up summary_csv_crc32"))
+        return true;  // written before the pair was tied: nothing to compare
+      stored = read_attr_int64(cx, root.get(), "summary_csv_crc32");
+    } catch (const std::exception&) {
+      return true;  // not readable: left for read_summary to report
+    }
+  }
+  std::ifstream in(dir / "summary.csv", std::ios::binary);
+  if (!in) return false;
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return static_cast<long long>(crc32_of(text)) == stored;
 }
 
 void write_summary(const fs::path& dir, const Study& study, const std::vector<CaseRecord>& rows,
                    const Json& prov) {
   const std::vector<Column> cols = summary_columns(study, rows);
+  const std::string csv_text = summary_csv_text(cols, rows.size());
   const fs::path h5 = dir / "summary.h5";
-  write_atomically(h5, [&](const fs::path& temp) {
-    write_summary_h5(h5, temp, study, cols, rows.size(), prov);
-  });
-  const fs::path csv = dir / "summary.csv";
-  write_atomically(csv,
-                   [&](const fs::path& temp) { write_summary_csv(csv, temp, cols, rows.size()); });
+  // summary.h5 first, carrying the CRC-32 of the summary.csv that follows it: a run stopped
+  // between the two renames leaves a summary.csv that does not match, which the next run (or
+  // merge) rewrites from summary.h5 (repair_summary_csv)
+  write_file_atomically(h5, "summary file",
+                        {summary_h5_image(h5, study, cols, rows.size(), prov, crc32_of(csv_text))},
+                        /*durable=*/true);
+  write_file_atomically(dir / "summary.csv", "summary file", {bytes_of(csv_text)},
+                        /*durable=*/true);
 }
 
 namespace {
@@ -1128,6 +1391,7 @@ SummaryTable read_summary(const fs::path& dir) {
           H5free_memory(s);
         }
       } else {
+        if (H5Tget_class(ft.get()) == H5T_INTEGER) t.integers.insert(name);
         auto& out = t.numbers[name];
         out.resize(n);
         if (n > 0)
@@ -1138,6 +1402,44 @@ SummaryTable read_summary(const fs::path& dir) {
   }
   cx.ok(file.close(), "cannot close the file");
   return t;
+}
+
+bool repair_summary_csv(const fs::path& dir) {
+  if (summary_csv_matches(dir)) return false;
+  const fs::path h5 = dir / "summary.h5";
+  const SummaryTable t = read_summary(dir);
+  std::vector<Column> cols;
+  for (const std::string& name : t.columns) {
+    Column c;
+    c.name = name;
+    if (t.is_text(name)) {
+      c.kind = Column::Kind::text;
+      c.texts = t.texts.at(name);
+    } else if (t.integers.count(name)) {
+      c.kind = Column::Kind::integer;
+      for (double v : t.numbers.at(name)) c.integers.push_back(std::llround(v));
+    } else {
+      c.reals = t.numbers.at(name);
+    }
+    cols.push_back(std::move(c));
+  }
+  const std::string text = summary_csv_text(cols, t.rows);
+  long long stored = -1;
+  {
+    Hdf5Lock lock;
+    const Context cx(h5, "cannot read summary");
+    Handle file =
+        cx.own(H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, "cannot open the file");
+    const Handle root = cx.own(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose, "no root");
+    stored = read_attr_int64(cx, root.get(), "summary_csv_crc32");
+  }
+  if (static_cast<long long>(crc32_of(text)) != stored)
+    throw std::runtime_error("cannot rewrite " + (dir / "summary.csv").string() + " from " +
+                             h5.string() +
+                             ": the table read back does not give the summary.csv "
+                             "it was written with (summary_csv_crc32)");
+  write_file_atomically(dir / "summary.csv", "summary file", {bytes_of(text)}, /*durable=*/true);
+  return true;
 }
 
 std::vector<std::string> list_signals(const fs::path& case_file) {

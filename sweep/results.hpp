@@ -7,12 +7,15 @@
 // compressing its histories, runs before the lock in the calling thread (results.cpp).
 //
 // Crash-safety rule: a file appears under its final name only when complete: it is written to
-// a hidden temporary name in the same directory, closed, then renamed (atomic on POSIX).
+// a hidden temporary name in the same directory, closed, then renamed (atomic on POSIX). A case
+// file carries a checksum of its bytes (verify_case_file), checked before it is accepted.
 #pragma once
 
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <set>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -70,6 +73,7 @@ struct SummaryTable {
   std::map<std::string, std::vector<double>> numbers;     ///< numeric columns
   std::map<std::string, std::vector<std::string>> texts;  ///< text columns
   std::map<std::string, std::string> units;               ///< unit of each column
+  std::set<std::string> integers;  ///< the numeric columns stored as integers
   std::size_t rows = 0;
   Json provenance = Json::object();  ///< the root attribute provenance_json (rodend report)
   bool is_text(const std::string& c) const { return texts.count(c) > 0; }
@@ -108,16 +112,50 @@ Json provenance(const Study& study);
 void write_case_file(const std::filesystem::path& path, const CaseSpec& spec,
                      const CaseRecord& record, const History& history, const Json& provenance);
 
-/// Reads the record of a complete case file; nullopt if the file is missing or unreadable.
+/// A case file whose bytes are damaged: its content does not match the checksum in its header,
+/// it is shorter or longer than written, or it is not a case file at all (no checksum header
+/// and not HDF5; an HDF5 file of an older rodend, without a checksum, that HDF5 cannot read).
+class CorruptCaseFile : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Checks the checksum of a case file (docs/signals.md, "Checksum"): true when it holds, false
+/// for a file written before checksums (no user block: nothing to check). Throws
+/// CorruptCaseFile naming the file and the damage, std::runtime_error when it cannot be read.
+bool verify_case_file(const std::filesystem::path& case_file);
+
+/// Reads the record of a complete case file; nullopt if the file is missing, unreadable or
+/// corrupt.
 std::optional<CaseRecord> read_case_record(const std::filesystem::path& path);
 /// The same, but only a missing file gives nullopt: a file (or anything else) under that name
-/// that cannot be read as a rodend case file (truncated, corrupt, locked by another process,
-/// another schema version) throws std::runtime_error naming it and the reason.
+/// that cannot be read as a rodend case file throws naming it and the reason: CorruptCaseFile
+/// when its bytes are damaged (verify_case_file), std::runtime_error otherwise (not a regular
+/// file, no permission, another schema version, locked by another process).
 std::optional<CaseRecord> read_case_record_strict(const std::filesystem::path& path);
 
 /// Writes summary.h5 and summary.csv in `dir` (temporary names, then rename): one row per case
 /// in grid order.
+/// summary.h5 is written first, with the CRC-32 of the summary.csv that follows it (root
+/// attribute summary_csv_crc32), then summary.csv; each is flushed to the disk.
 void write_summary(const std::filesystem::path& dir, const Study& study,
                    const std::vector<CaseRecord>& rows, const Json& provenance);
+
+/// True unless `dir` holds a summary.h5 whose summary_csv_crc32 does not match summary.csv
+/// (missing, or of another run: a run stopped between the two renames of write_summary).
+bool summary_csv_matches(const std::filesystem::path& dir);
+/// When summary.csv does not match summary.h5, rewrites it from summary.h5 (the same bytes
+/// write_summary wrote, checked against summary_csv_crc32) and returns true.
+bool repair_summary_csv(const std::filesystem::path& dir);
+
+/// Testing: while one exists, the writes of results files (case files, summaries) fail with
+/// ENOSPC once `bytes` bytes have been written in total, as on a full disk.
+class WriteFailureInjection {
+ public:
+  explicit WriteFailureInjection(long long bytes);
+  ~WriteFailureInjection();
+  WriteFailureInjection(const WriteFailureInjection&) = delete;
+  WriteFailureInjection& operator=(const WriteFailureInjection&) = delete;
+};
 
 }  // namespace rodend

@@ -179,6 +179,28 @@ CaseRecord run_case(const CaseSpec& spec, History& history) {
   }
 }
 
+namespace {
+
+/// Renames a corrupt case file to <name>.corrupt (or <name>.corrupt.N, the first free name) in
+/// its directory, where no reader takes it for a case file; returns the new path.
+fs::path move_aside(const fs::path& path) {
+  for (int n = 0;; ++n) {
+    fs::path aside = path;
+    aside += n == 0 ? ".corrupt" : ".corrupt." + std::to_string(n);
+    std::error_code ec;
+    if (fs::exists(aside, ec) || ec) {
+      if (n < 1000) continue;
+    } else if (::rename(path.c_str(), aside.c_str()) == 0) {
+      return aside;
+    }
+    throw std::runtime_error(path.string() + " is corrupt and cannot be moved aside to " +
+                             aside.string() + ": " + std::strerror(errno) +
+                             "; move it away to rerun its case");
+  }
+}
+
+}  // namespace
+
 RunPlan plan_run(const Study& study, const RunOptions& opt) {
   RunPlan plan;
   plan.dir = study.output_dir;
@@ -220,9 +242,24 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
                                                        "-of-" + std::to_string(opt.shard_count))
                                          : plan.dir;
 
-  // what is complete already (resume): a case file under its final name is complete. One that
-  // cannot be read (truncated, corrupt, locked, another case's or another schema's) is never
-  // overwritten: it is reported and nothing runs.
+  // a summary.csv of another run than summary.h5 (a run stopped between the two renames)
+  // (the run rewrites both at its end; this keeps the pair consistent until then)
+  try {
+    if (repair_summary_csv(plan.summary_dir) && opt.progress)
+      std::fprintf(stderr,
+                   "rodend: %s did not match summary.h5 (a run was stopped between writing the "
+                   "two); rewritten from summary.h5\n",
+                   (plan.summary_dir / "summary.csv").c_str());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rodend: warning: %s (the run rewrites both summaries at its end)\n",
+                 e.what());
+  }
+
+  // what is complete already (resume): a case file under its final name is complete once its
+  // checksum holds. A corrupt one (damaged bytes: checksum, truncation) is reported, moved aside
+  // to <id>.h5.corrupt (never deleted) and its case rerun. One that cannot be read for another
+  // reason (another case's, another schema's, not a regular file, no permission) is never
+  // touched: it is reported and nothing runs.
   plan.records.assign(study.cases.size(), CaseRecord{});
   plan.have.assign(study.cases.size(), 0);
   std::vector<std::string> unreadable;
@@ -236,6 +273,12 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
       rec = read_case_record_strict(path);
       if (rec && rec->id != c.id)
         throw std::runtime_error(path.string() + " holds case " + rec->id + ", not " + c.id);
+    } catch (const CorruptCaseFile& e) {
+      const fs::path aside = move_aside(path);
+      std::fprintf(stderr, "rodend: %s; moved to %s, the case runs again\n", e.what(),
+                   aside.c_str());
+      plan.todo.push_back(i);
+      continue;
     } catch (const std::exception& e) {
       unreadable.push_back(e.what());
       continue;
@@ -286,22 +329,31 @@ int run_study(const Study& study, const RunOptions& opt) {
 
   std::mutex error_mutex;
   std::string first_error;
+  std::atomic<bool> write_failed{false};
   const long n_todo = static_cast<long>(plan.todo.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(std::max(opt.threads, 1))
   for (long k = 0; k < n_todo; ++k) {
-    if (g_stop_signal.load() != 0) continue;  // stopping: no new cases
+    // stopping (a signal, or a results file that could not be written: a full disk fails every
+    // case after it): no new cases
+    if (g_stop_signal.load() != 0 || write_failed.load()) continue;
     const std::size_t i = plan.todo[static_cast<std::size_t>(k)];
     try {
       plan.records[i] = run_and_write_case(study, plan, i);
       plan.have[i] = 1;  // vector<char>: distinct elements written from threads
       progress.case_done(plan.records[i].status != "ok");
     } catch (const std::exception& e) {
+      write_failed.store(true);
       std::lock_guard lock(error_mutex);
       if (first_error.empty()) first_error = "case " + study.cases[i].id + ": " + e.what();
-      progress.case_done(true);
     }
   }
-  if (!first_error.empty()) throw std::runtime_error(first_error);
+  if (!first_error.empty()) {
+    const long complete = std::count(plan.have.begin(), plan.have.end(), char{1});
+    throw std::runtime_error(
+        first_error + "\nrodend: stopped: " + std::to_string(complete) + " of " +
+        std::to_string(plan.in_scope) + " case(s) complete in " + plan.cases_dir.string() +
+        "; no summary written. Resume with: rodend run " + study.file.string());
+  }
   if (const int sig = g_stop_signal.load(); sig != 0) {
     const long complete = std::count(plan.have.begin(), plan.have.end(), char{1});
     std::fprintf(stderr,
@@ -340,11 +392,18 @@ int merge_study(const Study& study, std::ostream& report) {
       shards = (shards == 0 || shards == n) ? n : -1;
   }
   if (shards < 0) shards = 0;
-  std::vector<std::string> unreadable;
+  if (repair_summary_csv(dir))
+    report << "rodend: " << (dir / "summary.csv").string()
+           << " did not match summary.h5 (a run was stopped between writing the two); rewritten "
+              "from summary.h5\n";
+  std::vector<std::string> unreadable, corrupt;
   for (const CaseSpec& c : study.cases) {
     std::optional<CaseRecord> rec;
     try {
       rec = read_case_record_strict(cases_dir / (c.id + ".h5"));
+    } catch (const CorruptCaseFile& e) {
+      corrupt.push_back(e.what());
+      continue;
     } catch (const std::exception& e) {
       unreadable.push_back(e.what());
       continue;
@@ -357,13 +416,19 @@ int merge_study(const Study& study, std::ostream& report) {
       missing.push_back(&c);
     }
   }
+  if (!corrupt.empty()) {
+    report << "rodend: " << corrupt.size()
+           << " case file(s) are corrupt; no summary written. `rodend run` on the study moves "
+              "them aside and reruns those cases:\n";
+    for (const std::string& u : corrupt) report << "  " << u << "\n";
+  }
   if (!unreadable.empty()) {
     report << "rodend: " << unreadable.size()
            << " case file(s) exist but cannot be read; no summary written. Move them away and "
               "rerun those cases (rodend run resumes):\n";
     for (const std::string& u : unreadable) report << "  " << u << "\n";
-    return 1;
   }
+  if (!corrupt.empty() || !unreadable.empty()) return 1;
   if (!missing.empty()) {
     report << "rodend: " << missing.size() << " of " << study.cases.size()
            << " cases have no complete file in " << cases_dir.string()

@@ -6,6 +6,8 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -137,4 +139,121 @@ TEST_CASE("a scene that cannot be built at run time is internal_error", "[runner
   CHECK(h.samples == 0);
   CHECK(h.signals.empty());
   for (double m : r.metrics) CHECK(std::isnan(m));
+}
+
+namespace {
+
+std::vector<std::string> hidden_files(const fs::path& dir) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind(".rodend", 0) != 0 && name.front() == '.') out.push_back(name);
+  }
+  return out;
+}
+
+std::string file_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+}  // namespace
+
+TEST_CASE("a full disk (injected write failure) stops the run with one message",
+          "[runner][faults]") {
+  TempDir tmp;
+  // the size of one case file (every case of the study has the same layout and sample count)
+  const Study ref = three_drops(tmp.path() / "ref", "dopri5");
+  RunOptions opt;
+  opt.progress = false;
+  REQUIRE(run_study(ref, opt) == 0);
+  const auto case_size =
+      static_cast<long long>(fs::file_size(ref.output_dir / "cases" / (ref.cases[0].id + ".h5")));
+  long long all_cases = 0;
+  for (const CaseSpec& c : ref.cases)
+    all_cases += static_cast<long long>(fs::file_size(ref.output_dir / "cases" / (c.id + ".h5")));
+
+  const Study study = three_drops(tmp.path(), "dopri5");  // one thread: cases in grid order
+  const fs::path cases = study.output_dir / "cases";
+  SECTION("while writing a case file") {
+    {
+      const WriteFailureInjection full(case_size + 100);  // room for case 0, not for case 1
+      try {
+        run_study(study, opt);
+        FAIL("the run did not report the full disk");
+      } catch (const std::runtime_error& e) {
+        const std::string m = e.what();
+        CHECK_THAT(m, Catch::Contains("No space left on device") &&
+                          Catch::Contains((cases / (study.cases[1].id + ".h5")).string()) &&
+                          Catch::Contains("1 of 3 case(s) complete") &&
+                          Catch::Contains("Resume with: rodend run"));
+      }
+    }
+    // earlier results intact, the failed and later cases absent, no temporary file left
+    CHECK(verify_case_file(cases / (study.cases[0].id + ".h5")));
+    const auto rec = read_case_record_strict(cases / (study.cases[0].id + ".h5"));
+    REQUIRE(rec.has_value());
+    CHECK(rec->status == "ok");
+    CHECK_FALSE(fs::exists(cases / (study.cases[1].id + ".h5")));
+    CHECK_FALSE(fs::exists(cases / (study.cases[2].id + ".h5")));  // no case after the failure
+    CHECK_FALSE(fs::exists(study.output_dir / "summary.h5"));
+    CHECK(hidden_files(study.output_dir).empty());
+  }
+  SECTION("while writing the summary") {
+    {
+      const WriteFailureInjection full(all_cases + 100);  // every case file, not summary.h5
+      CHECK_THROWS_WITH(run_study(study, opt), Catch::Contains("cannot write summary file") &&
+                                                   Catch::Contains("No space left on device"));
+    }
+    for (const CaseSpec& c : study.cases) CHECK(verify_case_file(cases / (c.id + ".h5")));
+    CHECK_FALSE(fs::exists(study.output_dir / "summary.h5"));
+    CHECK_FALSE(fs::exists(study.output_dir / "summary.csv"));
+    CHECK(hidden_files(study.output_dir).empty());
+  }
+  // once there is room again, the run resumes and completes
+  REQUIRE(run_study(study, opt) == 0);
+  CHECK(read_summary(study.output_dir).rows == 3);
+  CHECK(summary_csv_matches(study.output_dir));
+}
+
+TEST_CASE("summary.csv of another run than summary.h5 is rewritten from it", "[runner][faults]") {
+  TempDir tmp;
+  const Study study = three_drops(tmp.path(), "dopri5");
+  RunOptions opt;
+  opt.progress = false;
+  REQUIRE(run_study(study, opt) == 0);
+  const fs::path csv = study.output_dir / "summary.csv";
+  const std::string written = file_text(csv);
+  REQUIRE(summary_csv_matches(study.output_dir));
+  CHECK_FALSE(repair_summary_csv(study.output_dir));  // nothing to do
+  // what a kill -9 between the two renames leaves: summary.h5 of this run, summary.csv of an
+  // earlier one (or none)
+  const std::string stale = GENERATE(as<std::string>{}, "", "case_id,case_index\n1,0\n");
+  if (stale.empty()) {
+    fs::remove(csv);
+  } else {
+    std::ofstream(csv, std::ios::binary) << stale;
+  }
+  CHECK_FALSE(summary_csv_matches(study.output_dir));
+  CHECK(repair_summary_csv(study.output_dir));
+  CHECK(file_text(csv) == written);  // byte for byte what the run wrote
+  CHECK(summary_csv_matches(study.output_dir));
+}
+
+TEST_CASE("a case file with one byte changed fails its checksum", "[runner][faults]") {
+  TempDir tmp;
+  const Study study = three_drops(tmp.path(), "dopri5");
+  RunOptions opt;
+  opt.progress = false;
+  REQUIRE(run_study(study, opt) == 0);
+  const fs::path file = study.output_dir / "cases" / (study.cases[0].id + ".h5");
+  REQUIRE(verify_case_file(file));
+  std::string bytes = file_text(file);
+  const std::size_t at = GENERATE(600, 5000, 20000);  // past the 512-byte checksum header
+  REQUIRE(at < bytes.size());
+  bytes[at] = static_cast<char>(bytes[at] ^ 0x01);
+  std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes;
+  CHECK_THROWS_AS(verify_case_file(file), CorruptCaseFile);
+  CHECK_THROWS_AS(read_case_record_strict(file), CorruptCaseFile);
+  CHECK_FALSE(read_case_record(file).has_value());
 }

@@ -107,6 +107,13 @@ def main():
         old = os.path.join(tmp, "old", "drop")
         shutil.copytree(out, old)
         for path in glob.glob(os.path.join(old, "cases", "*.h5")) + [os.path.join(old, "summary.h5")]:
+            # files of that time had no checksum header (the 512-byte user block): without it
+            # the HDF5 part is the file as it was, which resume reads unchecked
+            with open(path, "rb") as f:
+                data = f.read()
+            if data.startswith(b"RODEND-CHECKSUM"):
+                with open(path, "wb") as f:
+                    f.write(data[512:])
             with h5py.File(path, "r+") as f:
                 f.attrs["schema_version"] = np.int32(1)
                 for g in [f[k] for k in ("signals", "summary") if k in f]:

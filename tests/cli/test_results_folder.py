@@ -1,8 +1,10 @@
 """Results folders that cannot be trusted are reported, never overwritten:
 - a read-only results directory: exit 2, a message naming it, before anything runs;
-- a case file under its final name that is truncated, corrupt, or not an HDF5 file at all: exit
-  2, a message naming the file, the file left byte for byte as it was and no case run; once it
-  is moved away the study resumes and reruns only that case.
+- a case file under its final name that is truncated, zeroed, or not an HDF5 file at all: reported
+  as corrupt naming the file, moved aside to <id>.h5.corrupt byte for byte, and its case rerun;
+- a directory, or another case's intact file, under a case file's name: exit 2, a message naming
+  it, left as it was and no case run; once it is moved away the study resumes and reruns only
+  that case.
 A read-only directory does not stop root, so as root that part runs as user nobody (setpriv)."""
 import glob
 import os
@@ -69,14 +71,16 @@ with tempfile.TemporaryDirectory() as tmp:
         check(before == after, "read-only folder: something changed")
         os.chmod(folder, 0o755)
 
-    # 2. a truncated case file, a corrupt one and a directory under a case file's name
+    # 2. a truncated case file, a corrupt one, a text file, a directory under a case file's name
+    # and another case's file under this case's name
     root = os.path.join(tmp, "res")
     r = run(["run", study, "--results-root", root, "-q"])
     check(r.returncode == 0, f"run failed: {r.stderr}")
     cases = sorted(glob.glob(os.path.join(root, "folder", "cases", "*.h5")))
     check(len(cases) == 3, f"expected 3 case files, got {cases}")
     rows = read_summary(os.path.join(root, "folder"))
-    for damage in ("truncated", "zeros", "text", "directory"):
+    strip = lambda rs: [{k: v for k, v in x.items() if k not in ("wall_time_s", "started_utc", "finished_utc")} for x in rs]
+    for damage in ("truncated", "zeros", "text", "directory", "another case"):
         victim = cases[1]
         original = open(victim, "rb").read()
         if damage == "truncated":
@@ -85,22 +89,40 @@ with tempfile.TemporaryDirectory() as tmp:
             open(victim, "wb").write(b"\0" * len(original))
         elif damage == "text":
             open(victim, "w").write("not an HDF5 file\n")
+        elif damage == "another case":
+            shutil.copyfile(cases[0], victim)
         else:
             os.remove(victim)
             os.mkdir(victim)
         damaged = None if damage == "directory" else open(victim, "rb").read()
         others = {c: os.stat(c).st_mtime_ns for c in cases if c != victim}
         r = run(["run", study, "--results-root", root, "-q", "--rerun-failed"])
+        check("Traceback" not in r.stderr and "terminate" not in r.stderr, f"{damage}: crash")
+        check(others == {c: os.stat(c).st_mtime_ns for c in cases if c != victim},
+              f"{damage}: other case files were rewritten")
+        if damage in ("truncated", "zeros", "text"):
+            # damaged bytes: reported as corrupt with the path, moved aside (kept byte for byte)
+            # and the case rerun to the same results
+            aside = sorted(glob.glob(victim + ".corrupt*"))
+            check(r.returncode == 0, f"{damage}: exit {r.returncode}, expected 0: {r.stderr}")
+            check(f"corrupt case file {victim}" in r.stderr and "moved to " + victim + ".corrupt"
+                  in r.stderr, f"{damage}: the message does not name the file: {r.stderr}")
+            check(len(aside) == 1 and open(aside[0], "rb").read() == damaged,
+                  f"{damage}: the corrupt file was not kept aside: {aside}")
+            check(os.path.isfile(victim), f"{damage}: case not rewritten")
+            check(strip(read_summary(os.path.join(root, "folder"))) == strip(rows),
+                  f"{damage}: the rerun changed the summary")
+            for a in aside:
+                os.remove(a)
+            continue
+        # not damage (a directory, another case's intact file): never touched, nothing runs
         check(r.returncode == 2, f"{damage}: exit {r.returncode}, expected 2: {r.stderr}")
         check(victim in r.stderr and "does not overwrite" in r.stderr,
               f"{damage}: the message does not name the file: {r.stderr}")
-        check("Traceback" not in r.stderr and "terminate" not in r.stderr, f"{damage}: crash")
         if damaged is not None:
             check(open(victim, "rb").read() == damaged, f"{damage}: the file was overwritten")
         else:
             check(os.path.isdir(victim), f"{damage}: the directory was replaced")
-        check(others == {c: os.stat(c).st_mtime_ns for c in cases if c != victim},
-              f"{damage}: other case files were rewritten")
         # moved away: the study resumes and reruns only that case, with the same results
         if damage == "directory":
             os.rmdir(victim)
@@ -109,7 +131,6 @@ with tempfile.TemporaryDirectory() as tmp:
         r = run(["run", study, "--results-root", root])
         check(r.returncode == 0, f"{damage}: resume failed: {r.stderr}")
         check("2 of 3 cases already complete" in r.stderr, f"{damage}: not a resume: {r.stderr}")
-        strip = lambda rs: [{k: v for k, v in x.items() if k not in ("wall_time_s", "started_utc", "finished_utc")} for x in rs]
         check(strip(read_summary(os.path.join(root, "folder"))) == strip(rows),
               f"{damage}: the rerun changed the summary")
         check(os.path.isfile(victim), f"{damage}: case not rewritten")
