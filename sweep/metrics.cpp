@@ -325,6 +325,7 @@ MetricValues MetricsAccumulator::finish(const RunStats& stats) const {
     }
   }
   at(v, MetricId::max_penetration_fraction) = stats.max_penetration_fraction;
+  at(v, MetricId::max_penetration_strain) = stats.max_penetration_strain;
   at(v, MetricId::max_quaternion_norm_error) = stats.max_quaternion_norm_error;
   return v;
 }
