@@ -113,7 +113,9 @@ void validate(const HealthLimits& h) {
     if (!std::isfinite(v) || (zero_ok ? !(v >= 0.0) : !(v > 0.0)))
       throw InputError(key, std::string("expected a finite ") + what);
   };
-  check(h.max_penetration_fraction, false, "health.max_penetration_fraction", "fraction > 0");
+  check(h.max_penetration_strain, false, "health.max_penetration_strain", "fraction > 0");
+  check(h.max_penetration_fraction, true, "health.max_penetration_fraction",
+        "fraction >= 0 (0: no limit)");
   check(h.max_energy_residual, false, "health.max_energy_residual", "fraction > 0");
   check(h.energy_flow_floor, true, "health.energy_flow_floor", "energy >= 0 [J]");
   check(h.max_tracking_error, false, "health.max_tracking_error", "length > 0 [m]");
@@ -521,18 +523,30 @@ class Driver {
       throw RunFailure{RunStatus::step_budget_exhausted, m.str()};
     }
     unscale(z, x_);
-    for (int c = 0; c < scene_.contact_count(); ++c) {
-      const double clearance = scene_.contact_clearance(c);
-      if (clearance <= 0.0) continue;
-      const double frac = scene_.contact_gap(c, x_.data()).penetration / clearance;
-      stats_.max_penetration_fraction = std::max(stats_.max_penetration_fraction, frac);
-      if (frac > health_.max_penetration_fraction) {
+    for (int c = 0; c < scene_.contact_count(); ++c) check_penetration(c);
+  }
+
+  /// The penetration of contact c at x_ against the contact laws' validity (the contact radius)
+  /// and, if the study sets one, against the clearance.
+  void check_penetration(int c) {
+    const double delta = scene_.contact_gap(c, x_.data()).penetration;
+    auto limit = [&](double scale, double max_ratio, double& seen, const char* what,
+                     const char* key) {
+      if (!(scale > 0.0)) return;
+      const double ratio = delta / scale;
+      seen = std::max(seen, ratio);
+      if (max_ratio > 0.0 && ratio > max_ratio) {
         std::ostringstream m;
-        m << "penetration " << frac << " x clearance exceeds the limit "
-          << health_.max_penetration_fraction << " at t = " << stepper_->t_now << " s";
+        m << "penetration " << delta << " m = " << ratio << " x the " << what
+          << " exceeds the limit " << key << " = " << max_ratio << " at t = " << stepper_->t_now
+          << " s";
         throw RunFailure{RunStatus::penetration_limit, m.str()};
       }
-    }
+    };
+    limit(scene_.contact_radius(c), health_.max_penetration_strain, stats_.max_penetration_strain,
+          "contact radius", "health.max_penetration_strain");
+    limit(scene_.contact_clearance(c), health_.max_penetration_fraction,
+          stats_.max_penetration_fraction, "clearance", "health.max_penetration_fraction");
   }
 
   /// Renormalises quaternions when they have drifted; returns true if the state changed.

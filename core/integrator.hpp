@@ -38,7 +38,15 @@ struct TimeSettings {
 /// energy audit and the actuator tracking at every sample time, on the frame the driver computes
 /// for the sample anyway (cheap; resolved to one sample interval).
 struct HealthLimits {
-  double max_penetration_fraction = 0.2;  ///< penetration / clearance above which a run fails [-]
+  /// penetration / contact radius (the smaller of the two surfaces' radii) above which a run
+  /// fails [-]: the elastic contact laws' validity. At delta = 0.05 R a sphere on a flat has a
+  /// Hertz contact radius a = sqrt(R delta) = 0.22 R, the edge of the half-space assumption of
+  /// Hertz theory (a << R); beyond it no law of the catalogue describes the contact
+  double max_penetration_strain = 0.05;
+  /// penetration / clearance above which a run fails [-]; 0 = no such limit (the default: the
+  /// clearance is not a scale of the contact law's validity, a tight joint under load may
+  /// legitimately penetrate more than its clearance; set it to stop runs that do)
+  double max_penetration_fraction = 0.0;
   /// |energy-audit residual| relative to the largest energy flow so far (max of |input work|,
   /// |dissipated energy| and the kinetic energy, over the samples so far) above which a run
   /// fails [-] (scenes with an energy audit)
@@ -87,6 +95,7 @@ struct RunStats {
   double t_reached = 0.0;                  ///< [s]
   double max_quaternion_norm_error = 0.0;  ///< largest | |q| - 1 | seen before renormalising [-]
   double max_penetration_fraction = 0.0;   ///< largest penetration / clearance seen [-]
+  double max_penetration_strain = 0.0;     ///< largest penetration / contact radius seen [-]
 };
 
 struct RunResult {

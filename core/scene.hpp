@@ -113,6 +113,9 @@ class Scene {
   virtual ContactGap contact_gap(int /*contact*/, const double* /*x*/) const { return {-1.0, 0.0}; }
   /// Clearance of a contact [m] (for penetration health checks).
   virtual double contact_clearance(int /*contact*/) const { return 0.0; }
+  /// The smaller radius of a contact's two surfaces (the ball's, the journal's) [m]: the length
+  /// that bounds the elastic contact laws' validity (health.max_penetration_strain).
+  virtual double contact_radius(int /*contact*/) const { return 0.0; }
 
   // --- wear (core/wear.hpp; scenes whose clearance contact wears) -------------------------
   /// The wear model of contact 0, or null when the scene does not model wear (wear.model

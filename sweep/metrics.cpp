@@ -255,6 +255,28 @@ void MetricsAccumulator::on_contact_onset(double t, double impact_speed) {
   }
 }
 
+SettledPeak settled_peak(std::span<const double> pk) {
+  SettledPeak out;
+  // the window of a run cut after m revolutions: revolutions m/2 .. m-1 (0-based)
+  auto window = [&](std::size_t m) { return pk.subspan(m / 2, m - m / 2); };
+  auto peak_of = [&](std::size_t m) {
+    const auto w = window(m);
+    return *std::max_element(w.begin(), w.end());
+  };
+  const std::size_t n = pk.size();
+  if (n < 2) return out;
+  out.peak = peak_of(n);
+  std::vector<double> w(window(n).begin(), window(n).end());
+  std::sort(w.begin(), w.end());
+  out.median = w.size() % 2 ? w[w.size() / 2] : 0.5 * (w[w.size() / 2 - 1] + w[w.size() / 2]);
+  const auto back = static_cast<std::size_t>(kSettleRevolutions);
+  if (n < back + 2 || !(out.peak > 0.0)) return out;
+  out.change = 0.0;
+  for (std::size_t k = 1; k <= back; ++k)
+    out.change = std::max(out.change, std::abs(peak_of(n - k) - out.peak) / out.peak);
+  return out;
+}
+
 MetricValues MetricsAccumulator::finish(const RunStats& stats) const {
   MetricValues v = v_;
   if (has_contact_) {
@@ -289,6 +311,12 @@ MetricValues MetricsAccumulator::finish(const RunStats& stats) const {
           break;
         }
       }
+      const SettledPeak settled = settled_peak(revolution_peaks_);
+      at(v, MetricId::peak_slider_acceleration_settled) = settled.peak;
+      at(v, MetricId::median_revolution_peak_slider_acceleration) = settled.median;
+      at(v, MetricId::peak_slider_acceleration_settled_change) = settled.change;
+      if (!std::isnan(settled.change))
+        at(v, MetricId::slider_response_settled) = settled.change < 0.01 ? 1.0 : 0.0;
       if (has_contact_) {
         if (has_joint_forces_) at(v, MetricId::peak_contact_force) = last_.peak_force;
         at(v, MetricId::last_revolution_min_eccentricity) = last_.ecc_min;
@@ -297,6 +325,7 @@ MetricValues MetricsAccumulator::finish(const RunStats& stats) const {
     }
   }
   at(v, MetricId::max_penetration_fraction) = stats.max_penetration_fraction;
+  at(v, MetricId::max_penetration_strain) = stats.max_penetration_strain;
   at(v, MetricId::max_quaternion_norm_error) = stats.max_quaternion_norm_error;
   return v;
 }

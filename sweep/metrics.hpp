@@ -39,6 +39,22 @@ struct MetricsSettings {
   double surface_motion_threshold = 1e-3;  ///< [rad] surface counts as moving beyond this
 };
 
+/// The settled peak of a crank-driven response from the peak |slider acceleration| of each full
+/// revolution (`revolution_peaks`, in order): the largest over the second half of the
+/// revolutions, so the transient of the first half is left out and one window holds a whole cycle
+/// of a response that repeats every revolution, every few revolutions, or irregularly (a journal
+/// that leaves the bearing wall every 8-10 turns); with the median of the window's peaks (the
+/// typical revolution) and the settling check.
+struct SettledPeak {
+  double peak = std::numeric_limits<double>::quiet_NaN();    ///< [m/s^2] max over the window
+  double median = std::numeric_limits<double>::quiet_NaN();  ///< [m/s^2] median over the window
+  /// [-] largest |S(N-k) - S(N)| / S(N) for k = 1..settle_revolutions, S(M) the peak of a run
+  /// cut after M revolutions: the last revolutions changed the settled peak by at most this
+  double change = std::numeric_limits<double>::quiet_NaN();
+};
+inline constexpr int kSettleRevolutions = 5;  ///< revolutions the settling check looks back
+SettledPeak settled_peak(std::span<const double> revolution_peaks);
+
 /// Accumulates the metrics from step frames.
 class MetricsAccumulator {
  public:

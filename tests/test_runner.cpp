@@ -52,6 +52,7 @@ class FaultyScene final : public Scene {
     return inner_->contact_gap(c, x);
   }
   double contact_clearance(int c) const override { return inner_->contact_clearance(c); }
+  double contact_radius(int c) const override { return inner_->contact_radius(c); }
   std::span<const SignalId> signals() const override { return inner_->signals(); }
   void outputs(double t, const double* x, const DiscreteState& d, SignalFrame& f) const override {
     inner_->outputs(t, x, d, f);

@@ -122,6 +122,7 @@ class ImpactPairScene final : public Scene {
   std::span<const int> audit_offsets() const override { return audit_; }
   int contact_count() const override { return 1; }
   double contact_clearance(int) const override { return contact_.clearance; }
+  double contact_radius(int) const override { return contact_.ball_radius; }
   ContactGap contact_gap(int, const double* x) const override {
     return rodend::contact_gap(contact_, BodyKinematics::from_state(x + kBall), outer(x));
   }

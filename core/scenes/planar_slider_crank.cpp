@@ -233,6 +233,9 @@ class PlanarSliderCrankScene final : public Scene {
   double contact_clearance(int c) const override {
     return models_[static_cast<std::size_t>(c)].clearance;
   }
+  double contact_radius(int c) const override {
+    return models_[static_cast<std::size_t>(c)].ball_radius;
+  }
   ContactGap contact_gap(int c, const double* x) const override {
     const auto [journal, bearing] = joint_kinematics(c, velocity_pose(x));
     return rodend::contact_gap(models_[static_cast<std::size_t>(c)], journal, bearing);

@@ -74,6 +74,7 @@ class RodEndActuatorScene final : public Scene {
   }
   int contact_count() const override { return 1; }
   double contact_clearance(int) const override { return mech_.contact().clearance; }
+  double contact_radius(int) const override { return mech_.contact().ball_radius; }
   ContactGap contact_gap(int, const double* x) const override { return mech_.gap(x + kMech); }
 
   struct Eval {

@@ -87,6 +87,7 @@ class SpringContactScene final : public Scene {
   std::span<const int> audit_offsets() const override { return kAudit; }
   int contact_count() const override { return 1; }
   double contact_clearance(int) const override { return contact_.clearance; }
+  double contact_radius(int) const override { return contact_.ball_radius; }
   ContactGap contact_gap(int, const double* x) const override {
     return rodend::contact_gap(contact_, BodyKinematics::from_state(x + kBall),
                                BodyKinematics::from_state(x + kSocket));
