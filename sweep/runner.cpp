@@ -314,7 +314,7 @@ int run_study(const Study& study, const RunOptions& opt) {
 
   std::vector<CaseRecord> rows;
   for (std::size_t i = 0; i < study.cases.size(); ++i)
-    if (plan.have[i]) rows.push_back(plan.records[i]);
+    if (plan.have[i]) rows.push_back(std::move(plan.records[i]));  // not a second copy of every row
   return write_run_summary(study, plan, rows);
 }
 
