@@ -364,7 +364,7 @@ int run_study_mpi(const Session& session, const fs::path& study_file, const fs::
       }
       std::vector<CaseRecord> rows;
       for (std::size_t i = 0; i < study->cases.size(); ++i)
-        if (plan.have[i]) rows.push_back(plan.records[i]);
+        if (plan.have[i]) rows.push_back(std::move(plan.records[i]));
       rc = write_run_summary(*study, plan, rows);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "rodend: error: %s\n", e.what());

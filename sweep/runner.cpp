@@ -366,7 +366,7 @@ int run_study(const Study& study, const RunOptions& opt) {
 
   std::vector<CaseRecord> rows;
   for (std::size_t i = 0; i < study.cases.size(); ++i)
-    if (plan.have[i]) rows.push_back(plan.records[i]);
+    if (plan.have[i]) rows.push_back(std::move(plan.records[i]));  // not a second copy of every row
   return write_run_summary(study, plan, rows);
 }
 
@@ -380,7 +380,7 @@ int merge_study(const Study& study, std::ostream& report) {
       ResultsLock::claim(dir, std::string(kResultsMarker) + ".lock", study.file.string(), false);
   std::vector<CaseRecord> rows;
   rows.reserve(study.cases.size());
-  std::vector<const CaseSpec*> missing;
+  std::vector<std::pair<long, std::string>> missing;  // case index, case id
   // the shard count, when the shard summaries present agree on one (to name missing shards)
   int shards = 0;
   std::error_code ec;
@@ -413,7 +413,7 @@ int merge_study(const Study& study, std::ostream& report) {
       rec->coordinates = c.coordinates;
       rows.push_back(std::move(*rec));
     } else {
-      missing.push_back(&c);
+      missing.emplace_back(c.index, c.id);
     }
   }
   if (!corrupt.empty()) {
@@ -434,9 +434,9 @@ int merge_study(const Study& study, std::ostream& report) {
            << " cases have no complete file in " << cases_dir.string()
            << "; no summary written. Missing (case index, case id"
            << (shards > 0 ? ", shard K/N" : "") << "):\n";
-    for (const CaseSpec* c : missing) {
-      report << "  " << c->index << "\t" << c->id;
-      if (shards > 0) report << "\t" << (c->index % shards) + 1 << "/" << shards;
+    for (const auto& [index, id] : missing) {
+      report << "  " << index << "\t" << id;
+      if (shards > 0) report << "\t" << (index % shards) + 1 << "/" << shards;
       report << "\n";
     }
     return 1;

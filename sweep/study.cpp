@@ -109,7 +109,7 @@ namespace {
 
 /// Limits on what a study may ask for (README "Studies"): cases per study, nesting of the
 /// document, memory of one case's histories.
-constexpr std::size_t kMaxCases = 100'000;
+constexpr std::size_t kMaxCases = kMaxStudyCases;
 constexpr std::size_t kMaxDepth = 64;
 constexpr double kMaxHistoryBytes = 2147483648.0;  // 2 GiB
 
@@ -443,7 +443,7 @@ std::vector<Json> expand_values(const Json& a, const std::string& where) {
   const double stop = need_number(g[1], key + "[1]");
   const long long n = need_integer(g[2], key + "[2]");
   if (n < 1 || n > static_cast<long long>(kMaxCases))
-    throw InputError(key + "[2]", "expected a count in [1, 1e5]");
+    throw InputError(key + "[2]", "expected a count in [1, 1e7]");
   if (log && !(start > 0.0 && stop > 0.0))
     throw InputError(key, "expected start > 0 and stop > 0 (the values, not exponents)");
   for (long long i = 0; i < n; ++i) {
@@ -730,9 +730,8 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
       total *= a.size();
       if (total > kMaxCases)
         throw InputError("grid",
-                         "more than 1e5 cases (each resolved case is held in memory, "
-                         "about 50 kB, and validated before anything runs): split the "
-                         "study into several");
+                         "more than 1e7 cases, the limit of a study (each case is "
+                         "validated before anything runs): split the study into several");
     }
 
     // a preset sets every integrator field, so a preset axis would silently override any other
@@ -753,35 +752,60 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
                              "integrator field; expected the preset axis alone, or the "
                              "setting as an axis without presets");
     }
-    study.cases.reserve(total);
-    for (std::size_t index = 0; index < total; ++index) {
+    // What rebuilds a case from its grid index (issue 16 item 6): the base draft and signals of
+    // each scene, the axes, and one 64-bit id per case once validated. Every case is resolved
+    // and checked once here (the checks that interact between axes: integrator and time
+    // settings, history size, the scene's own checks); afterwards a case is resolved again when
+    // it is asked for (study.cases[i]) and dropped by its user.
+    struct Grid {
+      std::vector<Axis> axes;
+      std::ptrdiff_t scene_axis = -1;  // index into axes, -1 without a scene axis
+      std::size_t scene_member = 0;
+      std::vector<std::string> scenes;
+      std::vector<Draft> bases;
+      std::vector<std::vector<SignalId>> scene_signals;
+      OutputSettings output;
+      std::vector<std::uint64_t> ids;  // filled by the validation pass
+    };
+    auto grid = std::make_shared<Grid>();
+    grid->scene_axis = scene_axis ? scene_axis - axes.data() : -1;
+    grid->scene_member = scene_member;
+    grid->axes = std::move(axes);
+    grid->scenes = study.scenes;
+    grid->bases = std::move(bases);
+    grid->scene_signals = std::move(scene_signals);
+    grid->output = study.output;
+    // resolves case `index`; `check`: the per-case validation and the id from the canonical
+    // form (else the id stored by the validation pass)
+    auto resolve = [](const Grid& g, std::size_t index, bool check) {
       CaseSpec c;
       std::size_t rest = index;
-      std::vector<std::size_t> pos(axes.size());
-      for (std::size_t a = axes.size(); a-- > 0;) {
-        pos[a] = rest % axes[a].size();
-        rest /= axes[a].size();
+      std::vector<std::size_t> pos(g.axes.size());
+      for (std::size_t a = g.axes.size(); a-- > 0;) {
+        pos[a] = rest % g.axes[a].size();
+        rest /= g.axes[a].size();
       }
-      std::size_t which = 0;  // the case's scene, an index into study.scenes
-      if (scene_axis) {
-        const std::string name =
-            scene_axis->values[scene_member][pos[scene_axis - axes.data()]].get<std::string>();
-        which = static_cast<std::size_t>(std::find(study.scenes.begin(), study.scenes.end(), name) -
-                                         study.scenes.begin());
+      std::size_t which = 0;  // the case's scene, an index into g.scenes
+      if (g.scene_axis >= 0) {
+        const auto sa = static_cast<std::size_t>(g.scene_axis);
+        const std::string& name =
+            g.axes[sa].values[g.scene_member][pos[sa]].get_ref<const std::string&>();
+        which = static_cast<std::size_t>(std::find(g.scenes.begin(), g.scenes.end(), name) -
+                                         g.scenes.begin());
       }
-      Draft d = bases[which];
+      Draft d = g.bases[which];
       try {
-        for (std::size_t a = 0; a < axes.size(); ++a)
-          for (std::size_t k = 0; k < axes[a].keys.size(); ++k) {
-            const Json& v = axes[a].values[k][pos[a]];
-            c.coordinates[axes[a].keys[k]] = v;
-            if (axes[a].keys[k] == "scene") continue;  // chosen above
-            apply(d, axes[a].keys[k], v);
+        for (std::size_t a = 0; a < g.axes.size(); ++a)
+          for (std::size_t k = 0; k < g.axes[a].keys.size(); ++k) {
+            const Json& v = g.axes[a].values[k][pos[a]];
+            c.coordinates[g.axes[a].keys[k]] = v;
+            if (g.axes[a].keys[k] == "scene") continue;  // chosen above
+            apply(d, g.axes[a].keys[k], v);
           }
-        validate(d.integrator);
-        validate(d.time);
-        check_history_size(d.time, scene_signals[which]);
-        {
+        if (check) {
+          validate(d.integrator);
+          validate(d.time);
+          check_history_size(d.time, g.scene_signals[which]);
           const auto scene = build_checked(d.scene, d.parameters);  // the scene's own checks
           if (d.wear_evolution.enabled && !scene->features().has(Feature::wear))
             throw InputError("parameters.wear.model",
@@ -794,7 +818,7 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
                              "1e8 to stop at");
         }
       } catch (const InputError& e) {
-        if (axes.empty()) throw;
+        if (g.axes.empty()) throw;
         std::string where = e.key_path();
         throw InputError(where, e.problem() + " (grid case " + std::to_string(index) + ": " +
                                     c.coordinates.dump() + ")");
@@ -807,19 +831,35 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
       c.health = d.health;
       c.metrics = d.metrics;
       c.wear_evolution = d.wear_evolution;
-      c.signals = scene_signals[which];
-      c.output = study.output;
-      c.id = case_id(c);
-      study.cases.push_back(std::move(c));
+      c.signals = g.scene_signals[which];
+      c.output = g.output;
+      if (check) {
+        c.id = case_id(c);
+      } else {
+        char buf[17];
+        std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(g.ids[index]));
+        c.id = buf;
+      }
+      return c;
+    };
+    grid->ids.reserve(total);
+    for (std::size_t index = 0; index < total; ++index) {
+      const CaseSpec c = resolve(*grid, index, true);
+      grid->ids.push_back(std::stoull(c.id, nullptr, 16));
     }
     // distinct grid points must be distinct cases
     {
-      std::vector<std::string> ids;
-      for (const auto& c : study.cases) ids.push_back(c.id);
+      std::vector<std::uint64_t> ids = grid->ids;
       std::sort(ids.begin(), ids.end());
       if (std::adjacent_find(ids.begin(), ids.end()) != ids.end())
         throw InputError("grid", "two grid points resolve to the same case (a repeated value?)");
     }
+    const std::shared_ptr<const Grid> frozen = grid;
+    study.cases = CaseList(
+        total, std::make_shared<const CaseList::Resolver>([frozen, resolve](std::size_t i) {
+          if (i >= frozen->ids.size()) throw std::out_of_range("case index " + std::to_string(i));
+          return resolve(*frozen, i, false);
+        }));
     return study;
   } catch (const InputError& e) {
     throw e.located(fname);

@@ -10,7 +10,13 @@
 // is an error.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
+#include <functional>
+#include <initializer_list>
+#include <iterator>
+#include <memory>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -80,6 +86,70 @@ struct CaseSpec {
   Json canonical_run(const Json& signals) const;
 };
 
+/// The cases of a study (issue 16 item 6: memory flat in the number of cases). A grid is held
+/// as what rebuilds a case from its index (the base drafts, the axes, one 64-bit id per case),
+/// and each case is resolved when it is asked for: operator[] returns a fresh CaseSpec by value,
+/// which the caller drops when done. Cases given explicitly (a hand-built study) are held as
+/// they are.
+class CaseList {
+ public:
+  /// Resolves case i of the grid (its id included).
+  using Resolver = std::function<CaseSpec(std::size_t)>;
+  CaseList() = default;
+  CaseList(std::initializer_list<CaseSpec> cases) : held_(cases) {}
+  explicit CaseList(std::vector<CaseSpec> cases) : held_(std::move(cases)) {}
+  CaseList(std::size_t count, std::shared_ptr<const Resolver> resolve)
+      : count_(count), resolve_(std::move(resolve)) {}
+
+  std::size_t size() const { return resolve_ ? count_ : held_.size(); }
+  bool empty() const { return size() == 0; }
+  /// Case i, resolved now (a grid) or copied (held cases).
+  CaseSpec operator[](std::size_t i) const { return resolve_ ? (*resolve_)(i) : held_[i]; }
+  CaseSpec at(std::size_t i) const {
+    if (i >= size()) throw std::out_of_range("case index " + std::to_string(i));
+    return (*this)[i];
+  }
+  CaseSpec front() const { return at(0); }
+  void clear() {
+    held_.clear();
+    resolve_.reset();
+    count_ = 0;
+  }
+  /// Resolved cases this list holds: 0 for a grid, whatever its size (the memory test).
+  std::size_t resident() const { return held_.size(); }
+
+  class iterator {
+   public:
+    using iterator_category = std::input_iterator_tag;
+    using value_type = CaseSpec;
+    using difference_type = std::ptrdiff_t;
+    using pointer = void;
+    using reference = CaseSpec;
+    iterator(const CaseList* list, std::size_t i) : list_(list), i_(i) {}
+    CaseSpec operator*() const { return (*list_)[i_]; }
+    iterator& operator++() {
+      ++i_;
+      return *this;
+    }
+    bool operator==(const iterator& o) const { return i_ == o.i_; }
+    bool operator!=(const iterator& o) const { return i_ != o.i_; }
+
+   private:
+    const CaseList* list_;
+    std::size_t i_;
+  };
+  iterator begin() const { return {this, 0}; }
+  iterator end() const { return {this, size()}; }
+
+ private:
+  std::vector<CaseSpec> held_;
+  std::size_t count_ = 0;
+  std::shared_ptr<const Resolver> resolve_;
+};
+
+/// Most cases a study may have (README "Studies"): a grid above it is refused at load.
+inline constexpr std::size_t kMaxStudyCases = 10'000'000;
+
 /// A loaded study.
 struct Study {
   std::filesystem::path file;  ///< the study file
@@ -92,7 +162,7 @@ struct Study {
   std::filesystem::path output_dir;    ///< "output" (or "output.directory"), else results/<name>
   OutputSettings output;               ///< "output.compression_level", ".history_precision"
   std::vector<std::string> axis_keys;  ///< grid coordinate keys, in axis order
-  std::vector<CaseSpec> cases;
+  CaseList cases;                      ///< resolved one at a time from the grid (see CaseList)
   Json source;  ///< the study file as parsed, with the --set overrides applied
   std::vector<std::string> overrides;  ///< the --set key=value overrides, in order
 };

@@ -303,3 +303,48 @@ TEST_CASE("output controls: float32 histories change the case id, the compressio
   doc["output"] = Json(3);
   CHECK_THROWS_AS(parse(doc), InputError);
 }
+
+TEST_CASE("a large grid holds no resolved case: each is rebuilt from its index", "[study]") {
+  // issue 16 item 6: memory flat in the number of cases. 1e5 cases (100 clearances x 1000
+  // restitutions) are validated at load, but the study keeps only what rebuilds a case (base,
+  // axes, one 64-bit id per case), never a resolved CaseSpec (~50 kB each before).
+  Json doc = base_doc();
+  doc["grid"] = Json::parse(R"([
+    {"key": "parameters.contact.clearance", "linspace": [1e-4, 5e-4, 100]},
+    {"key": "parameters.contact.restitution", "linspace": [0.1, 0.9, 1000]}
+  ])");
+  const Study s = parse(doc);
+  REQUIRE(s.cases.size() == 100000);
+  CHECK(s.cases.resident() == 0);
+  // a case rebuilt on demand is the case the validation pass resolved: same id as its
+  // canonical form, same coordinates as its grid position
+  for (std::size_t i : {std::size_t{0}, std::size_t{12345}, std::size_t{99999}}) {
+    const CaseSpec c = s.cases[i];
+    CHECK(c.index == static_cast<long>(i));
+    CHECK(c.id == fnv1a64_hex(c.canonical().dump()));
+    CHECK(c.parameters.number("contact.restitution") ==
+          c.coordinates["parameters.contact.restitution"].get<double>());
+  }
+  CHECK(s.cases[99999].parameters.number("contact.clearance") == 5e-4);
+  CHECK(s.cases[99999].parameters.number("contact.restitution") == 0.9);
+  CHECK_THROWS_AS(s.cases.at(100000), std::out_of_range);
+  // a copy of the study shares the grid, not a copy of resolved cases
+  const Study copy = s;
+  CHECK(copy.cases.resident() == 0);
+  CHECK(copy.cases[12345].id == s.cases[12345].id);
+}
+
+TEST_CASE("a grid above 1e7 cases is refused with the limit in the message", "[study]") {
+  Json doc = base_doc();
+  doc["grid"] = Json::parse(R"([
+    {"key": "parameters.contact.clearance", "linspace": [1e-4, 5e-4, 10000]},
+    {"key": "parameters.contact.restitution", "linspace": [0.1, 0.9, 1001]}
+  ])");
+  try {
+    (void)parse(doc);
+    FAIL("expected an InputError");
+  } catch (const InputError& e) {
+    CHECK(std::string(e.what()).find("more than 1e7 cases") != std::string::npos);
+  }
+  CHECK(kMaxStudyCases == 10'000'000);
+}

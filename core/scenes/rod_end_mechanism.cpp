@@ -86,6 +86,17 @@ void RodEndMechanism::check_closure(const ActuatorMotion& motion, const std::str
   // also reports the first offending time
   // cycles after the second repeat it (each starts from -retraction), so two cycles cover the
   // whole profile and the scan stays bounded for any cycle count (up to the 1e6 allowed)
+  // the rod extension is monotonic within each stroke and constant in the holds (drivers.cpp:
+  // both stroke shapes rise monotonically), so it spans [-retraction, extension] over the whole
+  // profile: when both ends close, every instant does, and the scan below (which finds the
+  // first offending time) is needed only when one does not. This keeps the check cheap when a
+  // large grid is validated (issue 19, fast validation).
+  {
+    const double margin = 1e-6 * geometry_.max_rod();
+    const double shortest = geometry_.rod_zero() + std::min(0.0, -motion.retraction);
+    const double longest = geometry_.rod_zero() + std::max(0.0, motion.extension);
+    if (shortest > geometry_.min_rod() + margin && longest < geometry_.max_rod() - margin) return;
+  }
   ActuatorMotion scanned = motion;
   scanned.cycles = std::min(motion.cycles, 2);
   const double T = scanned.duration();
