@@ -26,6 +26,10 @@ mpirun_bin=$(command -v mpirun || true)
 
 run_config() {  # $1 = configuration; prints the wall time [s]
   rm -rf "$tmp/r"
+  # Case files are not fsync'd (their checksum guards them), so the kernel writes the previous
+  # run's files back while the next one computes; flush them first, outside the timed interval,
+  # so that every run starts from the same clean page cache.
+  sync
   local s e
   s=$(date +%s.%N)
   case "$1" in
