@@ -41,7 +41,7 @@ constexpr std::array kQuaternionsFixed{kBall + BodyStateLayout::q};
 constexpr std::array kQuaternionsFree{kBall + BodyStateLayout::q,
                                       BodyStateLayout::size + BodyStateLayout::q};
 
-class ImpactPairScene final : public Scene {
+class ImpactPairScene final : public OneContactScene<ImpactPairScene> {
  public:
   explicit ImpactPairScene(const ParameterSet& p)
       : ball_(read_body(p, "ball")),
@@ -89,9 +89,7 @@ class ImpactPairScene final : public Scene {
     return kQuaternionsFixed;
   }
   std::span<const int> audit_offsets() const override { return audit_; }
-  int contact_count() const override { return 1; }
-  double contact_clearance(int) const override { return contact_.clearance; }
-  double contact_radius(int) const override { return contact_.ball_radius; }
+  const ClearanceContactModel& contact() const { return contact_; }
   ContactGap contact_gap(int, const double* x) const override {
     return rodend::contact_gap(contact_, BodyKinematics::from_state(x + kBall), outer(x));
   }

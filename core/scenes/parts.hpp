@@ -67,6 +67,21 @@ double quaternion_norm_error(const double* x, int offset);
 /// velocity and 1 for the unit quaternion (BodyStateLayout).
 void body_state_scale(double* s, double length, double speed, double angular_rate);
 
+/// A scene with one clearance contact (the ball in its socket): contact_count, contact_clearance
+/// and contact_radius of the ClearanceContactModel that `Derived::contact()` returns.
+template <class Derived>
+class OneContactScene : public Scene {
+ public:
+  int contact_count() const override { return 1; }
+  double contact_clearance(int) const override { return model().clearance; }
+  double contact_radius(int) const override { return model().ball_radius; }
+
+ private:
+  const ClearanceContactModel& model() const {
+    return static_cast<const Derived&>(*this).contact();
+  }
+};
+
 /// Writes the contact signals, kContactSignals (signal_groups.hpp): eccentricity, penetration,
 /// forces, slip, wear indicator, ...
 void write_contact_signals(SignalFrame& f, const ContactEval& c, const BodyKinematics& ball,

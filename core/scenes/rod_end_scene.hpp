@@ -17,12 +17,13 @@
 #include <vector>
 
 #include "core/scene.hpp"
+#include "core/scenes/parts.hpp"
 #include "core/scenes/rod_end_mechanism.hpp"
 
 namespace rodend {
 
 template <class Derived, int kOwnStates>
-class RodEndScene : public Scene {
+class RodEndScene : public OneContactScene<RodEndScene<Derived, kOwnStates>> {
  public:
   using Mech = RodEndMechanism;
   static constexpr int kMech = 0;
@@ -48,9 +49,7 @@ class RodEndScene : public Scene {
   std::span<const int> audit_offsets() const override {
     return wears() ? std::span<const int>(kAuditWear) : std::span<const int>(kAudit);
   }
-  int contact_count() const override { return 1; }
-  double contact_clearance(int) const override { return mech_.contact().clearance; }
-  double contact_radius(int) const override { return mech_.contact().ball_radius; }
+  const ClearanceContactModel& contact() const { return mech_.contact(); }
   ContactGap contact_gap(int, const double* x) const override { return mech_.gap(x + kMech); }
   ContactSnapshot contact_snapshot(int, double, const double* x,
                                    const DiscreteState& d) const override {

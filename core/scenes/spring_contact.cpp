@@ -23,7 +23,7 @@ static_assert(distinct(kSignals));
 constexpr std::array kQuaternions{kBall + BodyStateLayout::q, kSocket + BodyStateLayout::q};
 constexpr std::array kAudit{kWork, kDissipated};
 
-class SpringContactScene final : public Scene {
+class SpringContactScene final : public OneContactScene<SpringContactScene> {
  public:
   explicit SpringContactScene(const ParameterSet& p)
       : ball_(read_body(p, "ball")),
@@ -52,9 +52,7 @@ class SpringContactScene final : public Scene {
   }
   std::span<const int> quaternion_offsets() const override { return kQuaternions; }
   std::span<const int> audit_offsets() const override { return kAudit; }
-  int contact_count() const override { return 1; }
-  double contact_clearance(int) const override { return contact_.clearance; }
-  double contact_radius(int) const override { return contact_.ball_radius; }
+  const ClearanceContactModel& contact() const { return contact_; }
   ContactGap contact_gap(int, const double* x) const override {
     return rodend::contact_gap(contact_, BodyKinematics::from_state(x + kBall),
                                BodyKinematics::from_state(x + kSocket));
