@@ -6,6 +6,7 @@
 #include <map>
 
 #include "core/contact.hpp"
+#include "core/scenes/drivers.hpp"
 #include "core/scenes/servo_actuator.hpp"
 
 namespace rodend {
@@ -206,6 +207,8 @@ const Catalogue kCatalogues[] = {
     {"damping_caps", [] { return strings(damping_cap_names()); }},
     {"contact_geometries", [] { return strings(contact_geometry_names()); }},
     {"torque_motors", [] { return strings(torque_motor_names()); }},
+    {"motion_shapes", [] { return strings(motion_shape_names()); }},
+    {"hinge_moments", [] { return strings(hinge_moment_names()); }},
 };
 
 }  // namespace
