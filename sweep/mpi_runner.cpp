@@ -362,10 +362,7 @@ int run_study_mpi(const Session& session, const fs::path& study_file, const fs::
         plan.records[i] = read_back(plan.cases_dir, study->cases[i]);
         plan.have[i] = 1;
       }
-      std::vector<CaseRecord> rows;
-      for (std::size_t i = 0; i < study->cases.size(); ++i)
-        if (plan.have[i]) rows.push_back(std::move(plan.records[i]));
-      rc = write_run_summary(*study, plan, rows);
+      rc = write_run_summary(*study, plan, take_complete_records(plan));
     } catch (const std::exception& e) {
       std::fprintf(stderr, "rodend: error: %s\n", e.what());
       rc = 2;

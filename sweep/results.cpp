@@ -132,6 +132,12 @@ class Hdf5Lock {
       H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
       silenced = true;
     }
+    // HDF5 keeps freed blocks on its own free lists, unbounded by default: after a large
+    // summary they held 4.8 MB that no later call reused. Bounded here (per list 256 kB, in all
+    // 1 MB per kind), so peak memory does not grow with the number of cases (bench/memory.sh).
+    static const bool bounded =
+        H5set_free_list_limits(1 << 20, 1 << 18, 1 << 20, 1 << 18, 1 << 20, 1 << 18) >= 0;
+    (void)bounded;
     if (g_lock_stats.enabled) {
       t0_ = clock_ns(CLOCK_MONOTONIC);
       cpu0_ = clock_ns(CLOCK_THREAD_CPUTIME_ID);
@@ -393,45 +399,90 @@ int write_all(int fd, const unsigned char* bytes, std::size_t size) {
 
 using ByteSpan = std::span<const unsigned char>;
 
-/// Writes `parts` (in order) to `path` atomically: a hidden temporary file in the same directory,
-/// written with write(2) (every failure, a full disk included, is this function's error message
-/// naming `path`, never HDF5's), optionally flushed to the disk (`durable`), then renamed. On any
-/// failure the temporary file is removed and std::runtime_error thrown; `path` is left as it was.
-void write_file_atomically(const fs::path& path, const std::string& what,
-                           std::initializer_list<ByteSpan> parts, bool durable) {
-  if (path.filename().empty())
-    throw std::runtime_error("cannot write " + path.string() + ": not a file name");
-  std::error_code ec;
-  const fs::path dir = path.parent_path();
-  if (!dir.empty()) {
-    fs::create_directories(dir, ec);
-    if (ec)
-      throw std::runtime_error("cannot write " + what + " " + path.string() +
-                               ": cannot create directory " + dir.string() + ": " + ec.message());
+/// A file replaced atomically: written under a hidden temporary name in the same directory with
+/// write(2) (every failure, a full disk included, is this class's error message naming the
+/// final path, never HDF5's), optionally flushed to the disk, then renamed over the final path.
+/// On any failure, and when destroyed before commit(), the temporary file is removed and the
+/// final path is left as it was. Writing in pieces keeps a large file (summary.csv) from being
+/// held whole in memory.
+class AtomicFile {
+ public:
+  AtomicFile(fs::path path, std::string what) : path_(std::move(path)), what_(std::move(what)) {
+    if (path_.filename().empty())
+      throw std::runtime_error("cannot write " + path_.string() + ": not a file name");
+    std::error_code ec;
+    const fs::path dir = path_.parent_path();
+    if (!dir.empty()) {
+      fs::create_directories(dir, ec);
+      if (ec)
+        throw std::runtime_error("cannot write " + what_ + " " + path_.string() +
+                                 ": cannot create directory " + dir.string() + ": " + ec.message());
+    }
+    temp_ = temp_path_for(path_);
+    fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (fd_ < 0) fail("cannot create " + temp_.string(), errno);
   }
-  const fs::path temp = temp_path_for(path);
-  const auto fail = [&](const std::string& step, int err) {
-    std::error_code ignored;
-    fs::remove(temp, ignored);
-    throw std::runtime_error("cannot write " + what + " " + path.string() + ": " + step + ": " +
-                             std::strerror(err));
-  };
-  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-  if (fd < 0) fail("cannot create " + temp.string(), errno);
-  int err = 0;
-  for (const ByteSpan part : parts)
-    if (err == 0) err = write_all(fd, part.data(), part.size());
-  if (err == 0 && durable && ::fsync(fd) != 0) err = errno;
-  if (::close(fd) != 0 && err == 0) err = errno;
-  if (err != 0) fail("write error on " + temp.string(), err);
-  if (::rename(temp.c_str(), path.c_str()) != 0) fail("cannot rename " + temp.string(), errno);
-  if (durable) {  // the rename itself, so that the file is there after an OS crash
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+  ~AtomicFile() {
+    if (fd_ >= 0) ::close(fd_);
+    if (!committed_) {
+      std::error_code ignored;
+      fs::remove(temp_, ignored);
+    }
+  }
+
+  void write(ByteSpan bytes) {
+    if (const int err = write_all(fd_, bytes.data(), bytes.size()); err != 0)
+      fail("write error on " + temp_.string(), err);
+  }
+  /// Everything is written: flushes it to the disk (durable) and closes the temporary file.
+  void finish(bool durable) {
+    int err = 0;
+    if (durable && ::fsync(fd_) != 0) err = errno;
+    if (::close(fd_) != 0 && err == 0) err = errno;
+    fd_ = -1;
+    if (err != 0) fail("write error on " + temp_.string(), err);
+  }
+  /// Renames the finished file over the final path (and, durable, flushes the directory, so
+  /// that the rename is there after an OS crash).
+  void commit(bool durable) {
+    if (::rename(temp_.c_str(), path_.c_str()) != 0) fail("cannot rename " + temp_.string(), errno);
+    committed_ = true;
+    if (!durable) return;
+    const fs::path dir = path_.parent_path();
     const int dfd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (dfd >= 0) {
       (void)::fsync(dfd);  // best effort: not every file system syncs a directory
       ::close(dfd);
     }
   }
+
+ private:
+  [[noreturn]] void fail(const std::string& step, int err) {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = -1;
+    std::error_code ignored;
+    fs::remove(temp_, ignored);
+    committed_ = true;  // nothing left to remove
+    throw std::runtime_error("cannot write " + what_ + " " + path_.string() + ": " + step + ": " +
+                             std::strerror(err));
+  }
+
+  fs::path path_, temp_;
+  std::string what_;
+  int fd_ = -1;
+  bool committed_ = false;
+};
+
+/// Writes `parts` (in order) to `path` atomically (AtomicFile), optionally flushed to the disk
+/// (`durable`). Throws std::runtime_error naming `path`; `path` is then left as it was.
+void write_file_atomically(const fs::path& path, const std::string& what,
+                           std::initializer_list<ByteSpan> parts, bool durable) {
+  AtomicFile file(path, what);
+  for (const ByteSpan part : parts) file.write(part);
+  file.finish(durable);
+  file.commit(durable);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1001,9 +1052,9 @@ void write_summary_column(const Context& cx, hid_t group, const Column& c) {
 }
 
 /// The image of summary.h5; `csv_crc32`: the CRC-32 of the summary.csv written with it.
-ByteSpan summary_h5_image(const fs::path& final_path, const Study& study,
-                          const std::vector<Column>& cols, std::size_t row_count, const Json& prov,
-                          std::uint32_t csv_crc32) {
+/// Each column's values are freed once written (the image grows as the columns shrink).
+ByteSpan summary_h5_image(const fs::path& final_path, const Study& study, std::vector<Column>& cols,
+                          std::size_t row_count, const Json& prov, std::uint32_t csv_crc32) {
   Hdf5Lock lock;  // held for the whole create-write-close
   const Context cx(final_path, "cannot write summary file");
   return build_image(cx, 0, 1 << 20, [&](hid_t file) {
@@ -1023,9 +1074,12 @@ ByteSpan summary_h5_image(const fs::path& final_path, const Study& study,
 
     const Handle summary = create_group(cx, g, "summary", /*track_link_order=*/true);
     Json names = Json::array();
-    for (const Column& c : cols) {
+    for (Column& c : cols) {
       write_summary_column(cx, summary.get(), c);
       names.push_back(c.name);
+      c.texts = {};
+      c.integers = {};
+      c.reals = {};
     }
     attr_string(cx, summary.get(), "columns", names.dump());
     // case_index is the netCDF dimension of every column: the table is one call away,
@@ -1058,14 +1112,20 @@ std::string csv_number(double v) {
   return shortest_decimal(v);
 }
 
-std::string summary_csv_text(const std::vector<Column>& cols, std::size_t row_count) {
+/// The header line of summary.csv: the column names.
+std::string summary_csv_header(const std::vector<Column>& cols) {
   std::string text;
   for (std::size_t j = 0; j < cols.size(); ++j) {
     if (j) text += ',';
     text += csv_field(cols[j].name);
   }
-  text += '\n';
-  for (std::size_t i = 0; i < row_count; ++i) {
+  return text + '\n';
+}
+
+/// Rows [begin, end) of summary.csv, appended to `text`.
+void append_summary_csv_rows(const std::vector<Column>& cols, std::size_t begin, std::size_t end,
+                             std::string& text) {
+  for (std::size_t i = begin; i < end; ++i) {
     for (std::size_t j = 0; j < cols.size(); ++j) {
       const Column& c = cols[j];
       if (j) text += ',';
@@ -1083,6 +1143,11 @@ std::string summary_csv_text(const std::vector<Column>& cols, std::size_t row_co
     }
     text += '\n';
   }
+}
+
+std::string summary_csv_text(const std::vector<Column>& cols, std::size_t row_count) {
+  std::string text = summary_csv_header(cols);
+  append_summary_csv_rows(cols, 0, row_count, text);
   return text;
 }
 
@@ -1315,19 +1380,33 @@ bool summary_csv_matches(const fs::path& dir) {
   return static_cast<long long>(crc32_of(text)) == stored;
 }
 
-void write_summary(const fs::path& dir, const Study& study, const std::vector<CaseRecord>& rows,
+void write_summary(const fs::path& dir, const Study& study, std::vector<CaseRecord> rows,
                    const Json& prov) {
-  const std::vector<Column> cols = summary_columns(study, rows);
-  const std::string csv_text = summary_csv_text(cols, rows.size());
+  const std::size_t row_count = rows.size();
+  std::vector<Column> cols = summary_columns(study, rows);
+  std::vector<CaseRecord>().swap(rows);  // the columns hold every value now
+  // summary.csv goes to its temporary file in blocks of rows (never whole in memory), with its
+  // CRC-32; then summary.h5, carrying that CRC-32, is written and renamed first, and only then
+  // summary.csv: a run stopped between the two renames leaves a summary.csv that does not
+  // match, which the next run (or merge) rewrites from summary.h5 (repair_summary_csv)
+  AtomicFile csv(dir / "summary.csv", "summary file");
+  std::string block = summary_csv_header(cols);
+  std::uint32_t crc = 0;
+  constexpr std::size_t kRowsPerBlock = 1024;
+  for (std::size_t begin = 0;; begin += kRowsPerBlock) {
+    append_summary_csv_rows(cols, begin, std::min(row_count, begin + kRowsPerBlock), block);
+    crc = libdeflate_crc32(crc, block.data(), block.size());
+    csv.write(bytes_of(block));
+    block.clear();
+    if (begin + kRowsPerBlock >= row_count) break;
+  }
+  std::string().swap(block);
+  csv.finish(/*durable=*/true);
   const fs::path h5 = dir / "summary.h5";
-  // summary.h5 first, carrying the CRC-32 of the summary.csv that follows it: a run stopped
-  // between the two renames leaves a summary.csv that does not match, which the next run (or
-  // merge) rewrites from summary.h5 (repair_summary_csv)
   write_file_atomically(h5, "summary file",
-                        {summary_h5_image(h5, study, cols, rows.size(), prov, crc32_of(csv_text))},
+                        {summary_h5_image(h5, study, cols, row_count, prov, crc)},
                         /*durable=*/true);
-  write_file_atomically(dir / "summary.csv", "summary file", {bytes_of(csv_text)},
-                        /*durable=*/true);
+  csv.commit(/*durable=*/true);
 }
 
 namespace {

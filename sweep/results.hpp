@@ -136,10 +136,12 @@ std::optional<CaseRecord> read_case_record_strict(const std::filesystem::path& p
 
 /// Writes summary.h5 and summary.csv in `dir` (temporary names, then rename): one row per case
 /// in grid order.
-/// summary.h5 is written first, with the CRC-32 of the summary.csv that follows it (root
-/// attribute summary_csv_crc32), then summary.csv; each is flushed to the disk.
+/// summary.h5 is renamed into place first, with the CRC-32 of the summary.csv that follows it
+/// (root attribute summary_csv_crc32), then summary.csv; each is flushed to the disk. `rows`
+/// is taken by value and freed as soon as the table holds its values (a large study's summary
+/// is never held twice).
 void write_summary(const std::filesystem::path& dir, const Study& study,
-                   const std::vector<CaseRecord>& rows, const Json& provenance);
+                   std::vector<CaseRecord> rows, const Json& provenance);
 
 /// True unless `dir` holds a summary.h5 whose summary_csv_crc32 does not match summary.csv
 /// (missing, or of another run: a run stopped between the two renames of write_summary).

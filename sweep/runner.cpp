@@ -312,12 +312,23 @@ CaseRecord run_and_write_case(const Study& study, const RunPlan& plan, std::size
   return rec;
 }
 
-int write_run_summary(const Study& study, const RunPlan& plan,
-                      const std::vector<CaseRecord>& rows) {
+std::vector<CaseRecord> take_complete_records(RunPlan& plan) {
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < plan.records.size(); ++i)
+    if (i < plan.have.size() && plan.have[i]) {
+      if (kept != i) plan.records[kept] = std::move(plan.records[i]);
+      ++kept;
+    }
+  plan.records.resize(kept);
+  plan.records.shrink_to_fit();
+  return std::move(plan.records);
+}
+
+int write_run_summary(const Study& study, const RunPlan& plan, std::vector<CaseRecord> rows) {
   fs::create_directories(plan.summary_dir);
-  write_summary(plan.summary_dir, study, rows, plan.provenance);
   const bool any_failed =
       std::any_of(rows.begin(), rows.end(), [](const CaseRecord& r) { return r.status != "ok"; });
+  write_summary(plan.summary_dir, study, std::move(rows), plan.provenance);
   return any_failed ? 1 : 0;
 }
 
@@ -364,10 +375,7 @@ int run_study(const Study& study, const RunOptions& opt) {
     return 128 + sig;
   }
 
-  std::vector<CaseRecord> rows;
-  for (std::size_t i = 0; i < study.cases.size(); ++i)
-    if (plan.have[i]) rows.push_back(std::move(plan.records[i]));  // not a second copy of every row
-  return write_run_summary(study, plan, rows);
+  return write_run_summary(study, plan, take_complete_records(plan));
 }
 
 int merge_study(const Study& study, std::ostream& report) {
@@ -441,10 +449,11 @@ int merge_study(const Study& study, std::ostream& report) {
     }
     return 1;
   }
-  write_summary(dir, study, rows, provenance(study));
   const auto failed =
       std::count_if(rows.begin(), rows.end(), [](const CaseRecord& r) { return r.status != "ok"; });
-  report << "rodend: merged " << rows.size() << " cases (" << failed << " failed) into "
+  const std::size_t merged = rows.size();
+  write_summary(dir, study, std::move(rows), provenance(study));
+  report << "rodend: merged " << merged << " cases (" << failed << " failed) into "
          << (dir / "summary.h5").string() << " and summary.csv\n";
   return 0;
 }

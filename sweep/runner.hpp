@@ -79,9 +79,13 @@ RunPlan plan_run(const Study& study, const RunOptions& options);
 /// does not build).
 CaseRecord run_and_write_case(const Study& study, const RunPlan& plan, std::size_t i);
 
+/// Moves the complete records (have[i]) to the front of plan.records, in grid order, drops the
+/// rest and returns them: the summary's rows, without a second copy of every record.
+std::vector<CaseRecord> take_complete_records(RunPlan& plan);
+
 /// Writes the summary of `rows` (grid order) into plan.summary_dir. Returns 0 when every row
 /// is ok, 1 otherwise.
-int write_run_summary(const Study& study, const RunPlan& plan, const std::vector<CaseRecord>& rows);
+int write_run_summary(const Study& study, const RunPlan& plan, std::vector<CaseRecord> rows);
 
 /// Progress on stderr: one updating line on a terminal, periodic plain lines otherwise.
 /// Thread-safe.

@@ -14,17 +14,11 @@ constexpr int kBody = 0;
 constexpr int kWork = BodyStateLayout::size;
 constexpr int kStates = kWork + 1;
 
-constexpr std::array kSignals{SignalId::time,
-                              SignalId::body_position,
-                              SignalId::body_velocity,
-                              SignalId::body_euler_321,
-                              SignalId::body_angular_velocity,
-                              SignalId::body_angular_momentum,
-                              SignalId::mechanical_energy,
-                              SignalId::input_work,
-                              SignalId::dissipated_energy,
-                              SignalId::energy_residual,
-                              SignalId::quaternion_norm_error};
+constexpr auto kSignals =
+    concat(SignalId::time, SignalId::body_position, SignalId::body_velocity,
+           SignalId::body_euler_321, SignalId::body_angular_velocity,
+           SignalId::body_angular_momentum, kEnergySignals, SignalId::quaternion_norm_error);
+static_assert(distinct(kSignals));
 constexpr std::array kQuaternions{kBody + BodyStateLayout::q};
 constexpr std::array kAudit{kWork};
 

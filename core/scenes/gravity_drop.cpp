@@ -15,34 +15,13 @@ constexpr int kBall = 0;
 constexpr int kDissipated = BodyStateLayout::size;
 constexpr int kStates = kDissipated + 1;
 
-constexpr std::array kSignals{SignalId::time,
-                              SignalId::ball_position,
-                              SignalId::ball_velocity,
-                              SignalId::ball_angular_velocity,
-                              SignalId::socket_position,
-                              SignalId::eccentricity_vector,
-                              SignalId::eccentricity,
-                              SignalId::relative_position,
-                              SignalId::penetration,
-                              SignalId::penetration_rate,
-                              SignalId::impact_speed,
-                              SignalId::contact_force_vector,
-                              SignalId::contact_force,
-                              SignalId::friction_force_vector,
-                              SignalId::friction_force,
-                              SignalId::slip_speed,
-                              SignalId::wear_indicator,
-                              SignalId::contact_angle,
-                              SignalId::kinetic_energy,
-                              SignalId::mechanical_energy,
-                              SignalId::input_work,
-                              SignalId::dissipated_energy,
-                              SignalId::energy_residual,
-                              SignalId::quaternion_norm_error};
+constexpr auto kSignals =
+    concat(SignalId::time, kBallMotion, SignalId::socket_position, kContactSignals, kBodyAudit);
+static_assert(distinct(kSignals));
 constexpr std::array kQuaternions{kBall + BodyStateLayout::q};
 constexpr std::array kAudit{kDissipated};
 
-class GravityDropScene final : public Scene {
+class GravityDropScene final : public OneContactScene<GravityDropScene> {
  public:
   explicit GravityDropScene(const ParameterSet& p)
       : ball_(read_body(p, "ball")),
@@ -72,19 +51,12 @@ class GravityDropScene final : public Scene {
     // lengths on the clearance, speeds on the free-fall impact speed sqrt(2 g c)
     const double L = contact_.clearance;
     const double V = std::max(std::sqrt(2.0 * gravity_.norm() * L), 1e-3);
-    for (int i = 0; i < 3; ++i) {
-      s[kBall + BodyStateLayout::p + i] = L;
-      s[kBall + BodyStateLayout::v + i] = V;
-      s[kBall + BodyStateLayout::w + i] = V / contact_.ball_radius;
-    }
-    for (int i = 0; i < 4; ++i) s[kBall + BodyStateLayout::q + i] = 1.0;
+    body_state_scale(s + kBall, L, V, V / contact_.ball_radius);
     s[kDissipated] = 1.0;
   }
   std::span<const int> quaternion_offsets() const override { return kQuaternions; }
   std::span<const int> audit_offsets() const override { return kAudit; }
-  int contact_count() const override { return 1; }
-  double contact_clearance(int) const override { return contact_.clearance; }
-  double contact_radius(int) const override { return contact_.ball_radius; }
+  const ClearanceContactModel& contact() const { return contact_; }
   ContactGap contact_gap(int, const double* x) const override {
     return rodend::contact_gap(contact_, BodyKinematics::from_state(x + kBall), socket_);
   }

@@ -34,38 +34,14 @@ constexpr int kBall = 0;
 /// 1e-9 c / v (5e-11 s at 1 cm/s): nothing else changes.
 constexpr double kInitialGapFraction = 1e-9;
 
-constexpr std::array kSignals{SignalId::time,
-                              SignalId::ball_position,
-                              SignalId::ball_velocity,
-                              SignalId::ball_angular_velocity,
-                              SignalId::socket_position,
-                              SignalId::socket_velocity,
-                              SignalId::socket_angular_velocity,
-                              SignalId::eccentricity_vector,
-                              SignalId::eccentricity,
-                              SignalId::relative_position,
-                              SignalId::relative_velocity,
-                              SignalId::penetration,
-                              SignalId::penetration_rate,
-                              SignalId::impact_speed,
-                              SignalId::contact_force_vector,
-                              SignalId::contact_force,
-                              SignalId::friction_force_vector,
-                              SignalId::friction_force,
-                              SignalId::slip_speed,
-                              SignalId::wear_indicator,
-                              SignalId::contact_angle,
-                              SignalId::kinetic_energy,
-                              SignalId::mechanical_energy,
-                              SignalId::input_work,
-                              SignalId::dissipated_energy,
-                              SignalId::energy_residual,
-                              SignalId::quaternion_norm_error};
+constexpr auto kSignals = concat(SignalId::time, kBallMotion, kSocketMotion, kContactPlacement,
+                                 SignalId::relative_velocity, kContactResponse, kBodyAudit);
+static_assert(distinct(kSignals));
 constexpr std::array kQuaternionsFixed{kBall + BodyStateLayout::q};
 constexpr std::array kQuaternionsFree{kBall + BodyStateLayout::q,
                                       BodyStateLayout::size + BodyStateLayout::q};
 
-class ImpactPairScene final : public Scene {
+class ImpactPairScene final : public OneContactScene<ImpactPairScene> {
  public:
   explicit ImpactPairScene(const ParameterSet& p)
       : ball_(read_body(p, "ball")),
@@ -104,15 +80,8 @@ class ImpactPairScene final : public Scene {
                               1.0 / (contact_.exponent + 1.0));
     const double V = std::hypot(approach_speed_, tangential_speed_);
     const int bodies = free_ ? 2 : 1;
-    for (int b = 0; b < bodies; ++b) {
-      const int o = b * BodyStateLayout::size;
-      for (int i = 0; i < 3; ++i) {
-        s[o + BodyStateLayout::p + i] = L;
-        s[o + BodyStateLayout::v + i] = V;
-        s[o + BodyStateLayout::w + i] = V / contact_.ball_radius;
-      }
-      for (int i = 0; i < 4; ++i) s[o + BodyStateLayout::q + i] = 1.0;
-    }
+    for (int b = 0; b < bodies; ++b)
+      body_state_scale(s + b * BodyStateLayout::size, L, V, V / contact_.ball_radius);
     s[dissipated_] = 1.0;
   }
   std::span<const int> quaternion_offsets() const override {
@@ -120,9 +89,7 @@ class ImpactPairScene final : public Scene {
     return kQuaternionsFixed;
   }
   std::span<const int> audit_offsets() const override { return audit_; }
-  int contact_count() const override { return 1; }
-  double contact_clearance(int) const override { return contact_.clearance; }
-  double contact_radius(int) const override { return contact_.ball_radius; }
+  const ClearanceContactModel& contact() const { return contact_; }
   ContactGap contact_gap(int, const double* x) const override {
     return rodend::contact_gap(contact_, BodyKinematics::from_state(x + kBall), outer(x));
   }

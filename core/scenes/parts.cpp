@@ -190,6 +190,15 @@ void write_energy_signals(SignalFrame& frame, const EnergyTerms& e, double initi
             (e.mechanical - initial_mechanical) - e.input_work + e.dissipated);
 }
 
+void body_state_scale(double* s, double length, double speed, double angular_rate) {
+  for (int i = 0; i < 3; ++i) {
+    s[BodyStateLayout::p + i] = length;
+    s[BodyStateLayout::v + i] = speed;
+    s[BodyStateLayout::w + i] = angular_rate;
+  }
+  for (int i = 0; i < 4; ++i) s[BodyStateLayout::q + i] = 1.0;
+}
+
 double quaternion_norm_error(const double* x, int o) {
   return std::abs(
       std::sqrt(x[o] * x[o] + x[o + 1] * x[o + 1] + x[o + 2] * x[o + 2] + x[o + 3] * x[o + 3]) -

@@ -8,6 +8,7 @@
 #include "core/params.hpp"
 #include "core/rigid_body.hpp"
 #include "core/scene.hpp"
+#include "core/scenes/signal_groups.hpp"
 #include "core/spring3d.hpp"
 
 namespace rodend {
@@ -54,25 +55,35 @@ LoadProfile read_load(const ParameterSet& p, const std::string& prefix);
 
 namespace rodend {
 
-/// Writes the energy-audit signals from the terms at t and the mechanical energy at t = 0.
+/// Writes the energy-audit signals, kEnergySignals (signal_groups.hpp), from the terms at t and
+/// the mechanical energy at t = 0.
 void write_energy_signals(SignalFrame& frame, const EnergyTerms& e, double initial_mechanical);
 
 /// | |q| - 1 | of the raw (unnormalised) quaternion stored at x[offset..offset+3].
 double quaternion_norm_error(const double* x, int offset);
 
-}  // namespace rodend
+/// Writes one body's 13 state scales (its share of Scene::state_scale) at s[0..12]: `length` [m]
+/// for the position, `speed` [m/s] for the velocity, `angular_rate` [rad/s] for the angular
+/// velocity and 1 for the unit quaternion (BodyStateLayout).
+void body_state_scale(double* s, double length, double speed, double angular_rate);
 
-namespace rodend {
+/// A scene with one clearance contact (the ball in its socket): contact_count, contact_clearance
+/// and contact_radius of the ClearanceContactModel that `Derived::contact()` returns.
+template <class Derived>
+class OneContactScene : public Scene {
+ public:
+  int contact_count() const override { return 1; }
+  double contact_clearance(int) const override { return model().clearance; }
+  double contact_radius(int) const override { return model().ball_radius; }
 
-/// The signals write_contact_signals writes, in catalogue order.
-inline constexpr SignalId kContactSignals[] = {
-    SignalId::eccentricity_vector,  SignalId::eccentricity,     SignalId::relative_position,
-    SignalId::penetration,          SignalId::penetration_rate, SignalId::impact_speed,
-    SignalId::contact_force_vector, SignalId::contact_force,    SignalId::friction_force_vector,
-    SignalId::friction_force,       SignalId::slip_speed,       SignalId::wear_indicator,
-    SignalId::contact_angle};
+ private:
+  const ClearanceContactModel& model() const {
+    return static_cast<const Derived&>(*this).contact();
+  }
+};
 
-/// Writes the contact signals (eccentricity, penetration, forces, slip, wear indicator, ...).
+/// Writes the contact signals, kContactSignals (signal_groups.hpp): eccentricity, penetration,
+/// forces, slip, wear indicator, ...
 void write_contact_signals(SignalFrame& f, const ContactEval& c, const BodyKinematics& ball,
                            const BodyKinematics& socket, const ContactLatch& latch);
 

@@ -119,20 +119,10 @@ constexpr std::array<JointPose, 3> kJoints{
     {{crank_pivot_x, -1, 0, -1}, {crank_pin_x, rod_b_x, 0, 1}, {slider_x, rod_c_x, 2, 1}}};
 
 /// Signals of every case; the contact signals follow when a joint has clearance.
-constexpr std::array kMechanismSignals{SignalId::time,
-                                       SignalId::crank_angle,
-                                       SignalId::slider_position,
-                                       SignalId::surface_rate,
-                                       SignalId::slider_velocity,
-                                       SignalId::slider_acceleration,
-                                       SignalId::driving_torque,
-                                       SignalId::joint_normal_forces,
-                                       SignalId::joint_eccentricities,
-                                       SignalId::kinetic_energy,
-                                       SignalId::mechanical_energy,
-                                       SignalId::input_work,
-                                       SignalId::dissipated_energy,
-                                       SignalId::energy_residual};
+constexpr auto kMechanismSignals =
+    concat(SignalId::time, SignalId::crank_angle, SignalId::slider_position, SignalId::surface_rate,
+           SignalId::slider_velocity, SignalId::slider_acceleration, SignalId::driving_torque,
+           SignalId::joint_normal_forces, SignalId::joint_eccentricities, kEnergyAudit);
 
 struct Link {
   double length = 0.0;   ///< [m]
@@ -190,7 +180,7 @@ class PlanarSliderCrankScene final : public Scene {
     n_ = k;
     signals_.assign(kMechanismSignals.begin(), kMechanismSignals.end());
     if (!joints_.empty()) {
-      signals_.insert(signals_.end(), std::begin(kContactSignals), std::end(kContactSignals));
+      signals_.insert(signals_.end(), kContactSignals.begin(), kContactSignals.end());
       signals_.push_back(SignalId::relative_velocity);
     }
     std::sort(signals_.begin(), signals_.end());  // catalogue order

@@ -4,48 +4,33 @@
 //
 // State: mechanism (28) | actuator (10) | input work [J] | dissipated [J].
 // With wear.model "archard" a last state integrates the sliding work F_N v_slip [J]
-// (core/wear.hpp).
-#include <array>
-#include <vector>
-
+// (core/wear.hpp). The layout, contact and wear are RodEndScene's (rod_end_scene.hpp).
 #include "core/scene.hpp"
 #include "core/scenes/drivers.hpp"
 #include "core/scenes/parts.hpp"
-#include "core/scenes/rod_end_mechanism.hpp"
+#include "core/scenes/rod_end_scene.hpp"
 #include "core/scenes/servo_actuator.hpp"
 
 namespace rodend {
 namespace {
 
-using Mech = RodEndMechanism;
-constexpr int kMech = 0;
-constexpr int kAct = Mech::size;
-constexpr int kWork = kAct + ServoActuator::size;
-constexpr int kDissipated = kWork + 1;
-constexpr int kSliding = kDissipated + 1;  ///< sliding work [J], with wear.model archard only
-constexpr int kStates = kDissipated + 1;
-
 /// What the actuator adds to the mechanism's signals.
-constexpr std::array kActuatorSignals{
-    SignalId::actuator_command,  SignalId::lvdt_position,           SignalId::controller_current,
-    SignalId::jet_pipe_position, SignalId::spool_position,          SignalId::chamber_pressures,
-    SignalId::chamber_flows,     SignalId::actuator_external_force, SignalId::hydraulic_power};
-constexpr std::array kQuaternions{kMech + Mech::kBall + BodyStateLayout::q,
-                                  kMech + Mech::kSocket + BodyStateLayout::q};
-constexpr std::array kAudit{kWork, kDissipated};
-constexpr std::array kAuditWear{kWork, kDissipated, kSliding};
+constexpr auto kActuatorSignals = concat(SignalId::actuator_command, kServoLoopSignals);
 
-class RodEndActuatorScene final : public Scene {
+class RodEndActuatorScene final : public RodEndScene<RodEndActuatorScene, ServoActuator::size> {
  public:
+  static constexpr int kAct = kOwn;
+
   explicit RodEndActuatorScene(const ParameterSet& p)
-      : mech_(p), act_(read_servo_actuator(p, "actuator")), command_(read_motion(p, "motion")) {
+      : RodEndScene(p, kActuatorSignals),
+        act_(read_servo_actuator(p, "actuator")),
+        command_(read_motion(p, "motion")) {
     check_command_within_stroke(command_, act_.params(), "motion.extension", "motion.retraction");
     // the piston cannot take the mechanism beyond its stroke: check closure over the stroke
     ActuatorMotion full = command_;
     full.shape = ActuatorMotion::Shape::raised_cosine;
     full.extension = full.retraction = act_.params().half_stroke;
     mech_.check_closure(full, "actuator.half_stroke");
-    signals_ = mech_.scene_signals(kActuatorSignals);
     double x[kStates + 1];
     initial_state(x);
     initial_energy_ = energy(0.0, x, DiscreteState{{ContactLatch{}}}).mechanical;
@@ -55,27 +40,14 @@ class RodEndActuatorScene final : public Scene {
   Features features() const override {
     return mech_.features().set(Feature::actuator).set(Feature::energy_audit);
   }
-  int state_size() const override { return kStates + (wears() ? 1 : 0); }
   void initial_state(double* x) const override {
-    mech_.initial_state(x + kMech);
+    RodEndScene::initial_state(x);
     act_.initial_state(x + kAct);
-    x[kWork] = x[kDissipated] = 0.0;
-    if (wears()) x[kSliding] = 0.0;
   }
   void state_scale(double* s) const override {
-    mech_.state_scale(s + kMech);
+    RodEndScene::state_scale(s);
     act_.state_scale(s + kAct);
-    s[kWork] = s[kDissipated] = 1.0;
-    if (wears()) s[kSliding] = 1.0;
   }
-  std::span<const int> quaternion_offsets() const override { return kQuaternions; }
-  std::span<const int> audit_offsets() const override {
-    return wears() ? std::span<const int>(kAuditWear) : std::span<const int>(kAudit);
-  }
-  int contact_count() const override { return 1; }
-  double contact_clearance(int) const override { return mech_.contact().clearance; }
-  double contact_radius(int) const override { return mech_.contact().ball_radius; }
-  ContactGap contact_gap(int, const double* x) const override { return mech_.gap(x + kMech); }
 
   struct Eval {
     Mech::Eval mech;
@@ -89,6 +61,9 @@ class RodEndActuatorScene final : public Scene {
     // the slider spring pulls the rod end with the opposite of its force on the socket
     e.external_force = -mech_.rod_axial_force(e.mech);
     return e;
+  }
+  Mech::Eval mechanism_eval(double t, const double* x, const ContactLatch& l) const {
+    return evaluate(t, x, l).mech;
   }
 
   void derivatives(double t, const double* x, const DiscreteState& d, double* dxdt) const override {
@@ -110,22 +85,6 @@ class RodEndActuatorScene final : public Scene {
     if (wears()) dxdt[kSliding] = Mech::sliding_power(e.mech);
   }
 
-  std::span<const SignalId> signals() const override { return signals_; }
-
-  // wear: the mechanism's model; the state's sliding work gives the worn-volume signal
-  const WearModel* wear_model() const override { return mech_.wear_model(); }
-  WearSource wear_source(double t, const double* x, const DiscreteState& d) const override {
-    return mech_.wear_source(evaluate(t, x, d.contacts[0]).mech);
-  }
-  std::unique_ptr<Scene> with_worn_surfaces(std::shared_ptr<const WornSurfaces> w) const override {
-    if (!wears()) return nullptr;
-    auto copy = std::make_unique<RodEndActuatorScene>(*this);
-    copy->mech_.set_worn_surfaces(std::move(w));
-    return copy;
-  }
-  std::optional<JointPlay> joint_play(double t, const double* x) const override {
-    return mech_.joint_play(evaluate(t, x, ContactLatch{}).mech);
-  }
   EnergyTerms energy(double t, const double* x, const DiscreteState& d) const override {
     const Eval e = evaluate(t, x, d.contacts[0]);
     return {mech_.mechanical_energy(e.mech) + act_.mechanical_energy(x + kAct, 0.0), x[kWork],
@@ -145,10 +104,6 @@ class RodEndActuatorScene final : public Scene {
                           x[kWork], x[kDissipated]},
                          initial_energy_);
   }
-  ContactSnapshot contact_snapshot(int, double, const double* x,
-                                   const DiscreteState& d) const override {
-    return mech_.contact_snapshot(x + kMech, d.contacts[0]);
-  }
   void outputs(double t, const double* x, const DiscreteState& d, SignalFrame& f) const override {
     const Eval e = evaluate(t, x, d.contacts[0]);
     mech_.outputs(e.mech, x + kMech, e.act.command, f);
@@ -160,18 +115,14 @@ class RodEndActuatorScene final : public Scene {
   }
 
  private:
-  bool wears() const { return mech_.wear_model() != nullptr; }
   /// spheres, crank and surface, plus the piston [J]
   double kinetic_energy(const Eval& e, const double* x) const {
     const double v = x[kAct + ServoActuator::kVel];
     return mech_.kinetic_energy(e.mech) + 0.5 * act_.params().piston_mass * v * v;
   }
 
-  Mech mech_;
   ServoActuator act_;
   ActuatorMotion command_;
-  double initial_energy_ = 0.0;
-  std::vector<SignalId> signals_;  ///< mech_.scene_signals(...)
 };
 
 }  // namespace

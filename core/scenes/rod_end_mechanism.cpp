@@ -134,46 +134,24 @@ void RodEndMechanism::initial_state(double* x) const {
 void RodEndMechanism::state_scale(double* s) const {
   // lengths on the clearance, speeds on 0.1 m/s (the actuator's rate), angles on 1 mrad
   const double L = contact_.clearance, V = 0.1;
-  for (int b : {kBall, kSocket}) {
-    for (int i = 0; i < 3; ++i) {
-      s[b + BodyStateLayout::p + i] = L;
-      s[b + BodyStateLayout::v + i] = V;
-      s[b + BodyStateLayout::w + i] = V / contact_.ball_radius;
-    }
-    for (int i = 0; i < 4; ++i) s[b + BodyStateLayout::q + i] = 1.0;
-  }
+  for (int b : {kBall, kSocket}) body_state_scale(s + b, L, V, V / contact_.ball_radius);
   s[kTheta] = 1e-3;
   s[kThetaDot] = V / geometry_.crank();
 }
 
 std::vector<SignalId> RodEndMechanism::scene_signals(std::span<const SignalId> own) const {
-  static constexpr SignalId kBodies[] = {SignalId::time,
-                                         SignalId::ball_position,
-                                         SignalId::ball_velocity,
-                                         SignalId::ball_angular_velocity,
-                                         SignalId::ball_euler_321,
-                                         SignalId::socket_position,
-                                         SignalId::socket_velocity,
-                                         SignalId::socket_angular_velocity,
-                                         SignalId::socket_euler_321};
-  static constexpr SignalId kLinkage[] = {
-      SignalId::actuator_position,        SignalId::actuator_velocity,
-      SignalId::rod_inclination,          SignalId::slider_end_position,
-      SignalId::crank_end_position,       SignalId::surface_angle,
-      SignalId::surface_angle_command,    SignalId::surface_rate,
-      SignalId::surface_acceleration,     SignalId::hinge_moment,
-      SignalId::slider_spring_force,      SignalId::slider_spring_axial_force,
-      SignalId::slider_spring_moment,     SignalId::crank_spring_force,
-      SignalId::crank_spring_axial_force, SignalId::crank_spring_moment};
-  static constexpr SignalId kAudit[] = {SignalId::kinetic_energy,  SignalId::mechanical_energy,
-                                        SignalId::input_work,      SignalId::dissipated_energy,
-                                        SignalId::energy_residual, SignalId::quaternion_norm_error};
-  // time and the bodies, the contact (parts.hpp), the rod and crank
-  std::vector<SignalId> v(std::begin(kBodies), std::end(kBodies));
-  v.insert(v.end(), std::begin(kContactSignals), std::end(kContactSignals));
-  v.insert(v.end(), std::begin(kLinkage), std::end(kLinkage));
+  // time and the bodies, the contact, the rod and crank
+  static constexpr auto kMechanism =
+      concat(SignalId::time, kBallAndSocket, kContactSignals, SignalId::actuator_position,
+             SignalId::actuator_velocity, SignalId::rod_inclination, SignalId::slider_end_position,
+             SignalId::crank_end_position, SignalId::surface_angle, SignalId::surface_angle_command,
+             SignalId::surface_rate, SignalId::surface_acceleration, SignalId::hinge_moment,
+             SignalId::slider_spring_force, SignalId::slider_spring_axial_force,
+             SignalId::slider_spring_moment, SignalId::crank_spring_force,
+             SignalId::crank_spring_axial_force, SignalId::crank_spring_moment);
+  std::vector<SignalId> v(kMechanism.begin(), kMechanism.end());
   v.insert(v.end(), own.begin(), own.end());
-  v.insert(v.end(), std::begin(kAudit), std::end(kAudit));
+  v.insert(v.end(), kBodyAudit.begin(), kBodyAudit.end());
   if (wear_) v.insert(v.end(), {SignalId::sliding_work, SignalId::worn_volume});
   return v;
 }

@@ -17,23 +17,10 @@ constexpr int kWork = ServoActuator::size;
 constexpr int kDissipated = kWork + 1;
 constexpr int kStates = kDissipated + 1;
 
-constexpr std::array kSignals{SignalId::time,
-                              SignalId::actuator_command,
-                              SignalId::actuator_position,
-                              SignalId::actuator_velocity,
-                              SignalId::lvdt_position,
-                              SignalId::controller_current,
-                              SignalId::jet_pipe_position,
-                              SignalId::spool_position,
-                              SignalId::chamber_pressures,
-                              SignalId::chamber_flows,
-                              SignalId::actuator_external_force,
-                              SignalId::hydraulic_power,
-                              SignalId::kinetic_energy,
-                              SignalId::mechanical_energy,
-                              SignalId::input_work,
-                              SignalId::dissipated_energy,
-                              SignalId::energy_residual};
+constexpr auto kSignals =
+    concat(SignalId::time, SignalId::actuator_command, SignalId::actuator_position,
+           SignalId::actuator_velocity, kServoLoopSignals, kEnergyAudit);
+static_assert(distinct(kSignals));
 constexpr std::array kAudit{kWork, kDissipated};
 
 class ServoActuatorScene final : public Scene {

@@ -17,39 +17,13 @@ constexpr int kWork = 2 * BodyStateLayout::size;
 constexpr int kDissipated = kWork + 1;
 constexpr int kStates = kDissipated + 1;
 
-constexpr std::array kSignals{SignalId::time,
-                              SignalId::ball_position,
-                              SignalId::ball_velocity,
-                              SignalId::ball_angular_velocity,
-                              SignalId::ball_euler_321,
-                              SignalId::socket_position,
-                              SignalId::socket_velocity,
-                              SignalId::socket_angular_velocity,
-                              SignalId::socket_euler_321,
-                              SignalId::eccentricity_vector,
-                              SignalId::eccentricity,
-                              SignalId::relative_position,
-                              SignalId::penetration,
-                              SignalId::penetration_rate,
-                              SignalId::impact_speed,
-                              SignalId::contact_force_vector,
-                              SignalId::contact_force,
-                              SignalId::friction_force_vector,
-                              SignalId::friction_force,
-                              SignalId::slip_speed,
-                              SignalId::wear_indicator,
-                              SignalId::contact_angle,
-                              SignalId::drive_anchor_position,
-                              SignalId::kinetic_energy,
-                              SignalId::mechanical_energy,
-                              SignalId::input_work,
-                              SignalId::dissipated_energy,
-                              SignalId::energy_residual,
-                              SignalId::quaternion_norm_error};
+constexpr auto kSignals = concat(SignalId::time, kBallAndSocket, kContactSignals,
+                                 SignalId::drive_anchor_position, kBodyAudit);
+static_assert(distinct(kSignals));
 constexpr std::array kQuaternions{kBall + BodyStateLayout::q, kSocket + BodyStateLayout::q};
 constexpr std::array kAudit{kWork, kDissipated};
 
-class SpringContactScene final : public Scene {
+class SpringContactScene final : public OneContactScene<SpringContactScene> {
  public:
   explicit SpringContactScene(const ParameterSet& p)
       : ball_(read_body(p, "ball")),
@@ -73,21 +47,12 @@ class SpringContactScene final : public Scene {
   void state_scale(double* s) const override {
     const double L = contact_.clearance;
     const double V = std::max(drive_velocity_.norm(), 1e-3);
-    for (int b : {kBall, kSocket}) {
-      for (int i = 0; i < 3; ++i) {
-        s[b + BodyStateLayout::p + i] = L;
-        s[b + BodyStateLayout::v + i] = V;
-        s[b + BodyStateLayout::w + i] = V / contact_.ball_radius;
-      }
-      for (int i = 0; i < 4; ++i) s[b + BodyStateLayout::q + i] = 1.0;
-    }
+    for (int b : {kBall, kSocket}) body_state_scale(s + b, L, V, V / contact_.ball_radius);
     s[kWork] = s[kDissipated] = 1.0;
   }
   std::span<const int> quaternion_offsets() const override { return kQuaternions; }
   std::span<const int> audit_offsets() const override { return kAudit; }
-  int contact_count() const override { return 1; }
-  double contact_clearance(int) const override { return contact_.clearance; }
-  double contact_radius(int) const override { return contact_.ball_radius; }
+  const ClearanceContactModel& contact() const { return contact_; }
   ContactGap contact_gap(int, const double* x) const override {
     return rodend::contact_gap(contact_, BodyKinematics::from_state(x + kBall),
                                BodyKinematics::from_state(x + kSocket));
