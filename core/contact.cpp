@@ -9,19 +9,19 @@
 
 namespace rodend {
 
-std::string_view to_string(ContactGeometry g) {
-  switch (g) {
-    case ContactGeometry::sphere:
-      return "sphere";
-    case ContactGeometry::cylinder:
-      return "cylinder";
-  }
-  return "unknown";
-}
-
 namespace {
+constexpr std::array<std::string_view, 2> kGeometryNames{"sphere", "cylinder"};
 constexpr std::array<std::string_view, 2> kDampingCapNames{"none", "elastic"};
 }  // namespace
+
+std::string_view to_string(ContactGeometry g) {
+  const auto i = static_cast<std::size_t>(g);
+  return i < kGeometryNames.size() ? kGeometryNames[i] : "unknown";
+}
+
+std::span<const std::string_view> contact_geometry_names() {
+  return kGeometryNames;
+}
 
 std::span<const std::string_view> damping_cap_names() {
   return kDampingCapNames;

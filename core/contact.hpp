@@ -102,6 +102,8 @@ enum class ContactGeometry {
   cylinder,  ///< pin in a bearing (revolute joint): F_el = K delta^n (2 (c + delta))^(-1/2)
 };
 std::string_view to_string(ContactGeometry g);
+/// The catalogue of geometries: the allowed values of contact.geometry, in enum order.
+std::span<const std::string_view> contact_geometry_names();
 
 /// Immutable model of one clearance contact (sphere in sphere, or cylinder in cylinder).
 struct ClearanceContactModel {

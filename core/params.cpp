@@ -5,6 +5,7 @@
 #include <functional>
 
 #include "core/scene.hpp"
+#include "core/scene_parameters.hpp"
 
 namespace rodend {
 namespace {
@@ -81,9 +82,9 @@ ParameterSet ParameterSet::from_json(const Json& tree, const std::string& origin
 }
 
 ParameterSet ParameterSet::defaults_for(std::string_view scene) {
-  const std::string_view text = scene_default_parameters_json(scene);
-  const Json doc = Json::parse(text);
-  return from_json(doc.at("parameters"), std::string(scene) + ".params.json");
+  const std::string file = std::string(scene) + ".params.json";
+  const Json doc = Json::parse(scene_default_parameters_json(scene));
+  return from_json(compose_scene_parameters(doc, file), file);
 }
 
 bool ParameterSet::has(const std::string& path) const {

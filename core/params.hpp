@@ -1,11 +1,13 @@
 // Parameter sets: a tree of named values, each with its unit and provenance.
 //
-// A scene's default parameter file (core/scenes/<scene>.params.json, embedded in the binary)
-// holds leaves of the form
+// A scene's defaults (core/scenes/<scene>.params.json and the part files it names,
+// core/scenes/parts/*.part.json, embedded in the binary; composed by core/scene_parameters.hpp)
+// are leaves of the form
 //   {"value": 0.2, "unit": "kg", "source": "thesis", "note": "thesis §3.3"}
 // with source one of "thesis", "assumed" (the note gives the reason) or "derived" (the note
-// says from what). String leaves may list their allowed "choices". Overrides address leaves by
-// dotted key path ("contact.clearance") and must match the leaf's type.
+// says from what). String leaves may list their allowed "choices" (in the files, a
+// "catalogue" of the code instead). Overrides address leaves by dotted key path
+// ("contact.clearance") and must match the leaf's type.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -25,7 +27,7 @@ class ParameterSet {
   ParameterSet() = default;
   /// Parses a parameter tree; `origin` names it in error messages. Checks every leaf's form.
   static ParameterSet from_json(const Json& tree, const std::string& origin);
-  /// The embedded defaults of a scene.
+  /// The embedded defaults of a scene: its scene file composed with its parts.
   static ParameterSet defaults_for(std::string_view scene);
 
   /// Replaces the value at `path`. Throws InputError (key path `path`) for an unknown key or a

@@ -25,7 +25,7 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from rodend_results import open_study  # noqa: E402
 
-# the default command profile of the rod-end scenes (core/scenes/rod-end-*.params.json)
+# the default command profile of the rod-end scenes (core/scenes/parts/stroke.part.json)
 EXTENSION_END = 1.0  # [s] end of the extension stroke
 RETRACTION = (1.2, 2.2)  # [s] the retraction stroke
 PISTON_AREA = 5e-4  # [m^2] actuator.piston_area

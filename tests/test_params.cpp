@@ -1,12 +1,14 @@
 // Parameter sets: the embedded defaults of every scene, the form of every leaf (unit and
 // provenance), overrides by key path, and the physical checks made when a scene is built.
 #include <algorithm>
+#include <array>
 #include <catch2/catch.hpp>
 #include <functional>
 #include <string>
 
 #include "core/params.hpp"
 #include "core/scene.hpp"
+#include "core/scene_parameters.hpp"
 #include "fixture.hpp"
 
 using namespace rodend;
@@ -171,6 +173,108 @@ TEST_CASE("unknown scenes are an InputError", "[params]") {
         "scene");
   CHECK(thrown_input_error([] { make_scene("no-such-scene", ParameterSet{}); }).key_path() ==
         "scene");
+}
+
+TEST_CASE("scene files compose their parts; overrides keep unit and provenance", "[params]") {
+  // two parts and a scene that places one twice, overrides a leaf by value only and another
+  // with a note, and adds a leaf of its own
+  const std::string mass = R"({"value": 0.2, "unit": "kg", "source": "thesis"})";
+  const std::string law =
+      R"({"value": "hertz", "unit": "1", "source": "thesis", "catalogue": "normal_laws"})";
+  const std::string body_part = R"({"part": "body", "parameters": {"mass": )" + mass + "}}";
+  const std::string contact_part = R"({"part": "contact", "parameters": {"law": )" + law + "}}";
+  const std::array<EmbeddedJson, 2> parts{EmbeddedJson{"body", body_part},
+                                          EmbeddedJson{"contact", contact_part}};
+  Json doc = Json::parse(R"({"scene": "s", "parts": [{"part": "body", "at": "ball"},
+      {"part": "body", "at": "outer"}, {"part": "contact", "at": "contact"}],
+      "parameters": {"ball": {"mass": {"value": 0.25}},
+                     "outer": {"mass": {"value": 0.3, "source": "assumed", "note": "housing"}},
+                     "gravity": {"value": [0, -9.81, 0], "unit": "m/s^2", "source": "thesis"}}})");
+  const ParameterSet p =
+      ParameterSet::from_json(compose_scene_parameters(doc, "s.json", parts), "s");
+  CHECK(p.paths() == std::vector<std::string>{"ball.mass", "contact.law", "gravity", "outer.mass"});
+  const Json leaves = p.leaves();
+  CHECK(leaves["ball.mass"] == Json::parse(R"({"value": 0.25, "unit": "kg", "source": "thesis"})"));
+  CHECK(leaves["outer.mass"]["source"] == "assumed");
+  CHECK(leaves["outer.mass"]["unit"] == "kg");
+  // the catalogue's names become the leaf's choices, in the catalogue's order
+  std::vector<std::string> names;
+  for (const NormalLaw* l : normal_laws()) names.emplace_back(l->name());
+  CHECK(leaves["contact.law"]["choices"].get<std::vector<std::string>>() == names);
+  CHECK_FALSE(leaves["contact.law"].contains("catalogue"));
+
+  struct Bad {
+    const char* what;
+    std::function<void(Json&)> edit;
+    std::string key;
+  };
+  const std::vector<Bad> bad{
+      {"unknown part", [](Json& d) { d["parts"][1]["part"] = "bdy"; }, "parts[1].part"},
+      {"same part twice at one key", [](Json& d) { d["parts"][1]["at"] = "ball"; }, "ball.mass"},
+      {"override changes the unit", [](Json& d) { d["parameters"]["ball"]["mass"]["unit"] = "g"; },
+       "ball.mass.unit"},
+      {"override changes the type",
+       [](Json& d) { d["parameters"]["ball"]["mass"]["value"] = "heavy"; }, "ball.mass.value"},
+      {"value only, for a key no part defines",
+       [](Json& d) {
+         d["parameters"]["ball"]["radius"] = {{"value", 0.01}};
+       },
+       "ball.radius"},
+      {"leaf inside a part's leaf",
+       [](Json& d) {
+         d["parameters"]["ball"]["mass"] = {
+             {"x", {{"value", 1}, {"unit", "1"}, {"source", "thesis"}}}};
+       },
+       "ball.mass.x"},
+      {"leaf over a part's group",
+       [](Json& d) {
+         d["parameters"].erase("ball");
+         d["parameters"]["outer"] = {{"value", 1}, {"unit", "1"}, {"source", "thesis"}};
+       },
+       "outer"},
+      {"unknown catalogue",
+       [](Json& d) {
+         d["parameters"]["contact"]["law"] = {{"value", "hertz"}, {"catalogue", "laws"}};
+       },
+       "contact.law.catalogue"},
+      {"unknown key in a part entry", [](Json& d) { d["parts"][0]["under"] = "x"; },
+       "parts[0].under"},
+  };
+  for (const Bad& b : bad) {
+    CAPTURE(b.what);
+    Json d = doc;
+    b.edit(d);
+    const InputError e = thrown_input_error([&] {
+      (void)ParameterSet::from_json(compose_scene_parameters(d, "s.json", parts), "s.json");
+    });
+    CHECK(e.key_path() == b.key);
+    CHECK(e.file() == "s.json");
+  }
+}
+
+TEST_CASE("scene and part files name catalogues instead of copying them", "[params]") {
+  // a "choices" list equal to a catalogue is a copy: the file names the catalogue instead
+  std::vector<std::vector<std::string>> catalogues;
+  for (const std::string& c : parameter_catalogue_names())
+    catalogues.push_back(parameter_catalogue(c));
+  std::vector<std::pair<std::string, Json>> files;
+  for (const EmbeddedJson& p : embedded_part_files())
+    files.emplace_back(std::string(p.first) + ".part.json", Json::parse(p.second));
+  for (const std::string& s : scene_names())
+    files.emplace_back(s + ".params.json", Json::parse(scene_default_parameters_json(s)));
+  CHECK(files.size() > scene_names().size());
+  for (const auto& [file, doc] : files) {
+    CAPTURE(file);
+    const Json flat = doc.at("parameters").flatten();
+    for (auto it = flat.begin(); it != flat.end(); ++it) {
+      if (it.key().find("/choices/") == std::string::npos) continue;
+      const std::string leaf = it.key().substr(0, it.key().find("/choices/"));
+      const auto choices = doc.at("parameters")[Json::json_pointer(leaf + "/choices")]
+                               .get<std::vector<std::string>>();
+      CAPTURE(leaf);
+      CHECK(std::find(catalogues.begin(), catalogues.end(), choices) == catalogues.end());
+    }
+  }
 }
 
 namespace {

@@ -1,5 +1,7 @@
 #include "core/scenes/drivers.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -9,6 +11,23 @@ namespace rodend {
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
+constexpr std::array<std::string_view, 3> kShapeNames{"raised-cosine", "minimum-jerk", "step"};
+constexpr std::array<std::string_view, 3> kHingeNames{"none", "constant", "proportional"};
+
+/// The position of the text at `path` in `names`; InputError naming them if it is not there.
+std::size_t catalogue_index(const ParameterSet& p, const std::string& path,
+                            std::span<const std::string_view> names) {
+  const std::string s = p.text(path);
+  const auto it = std::find(names.begin(), names.end(), s);
+  if (it != names.end()) return static_cast<std::size_t>(it - names.begin());
+  std::string expected;
+  for (std::size_t i = 0; i < names.size(); ++i)
+    expected += (i == 0                  ? ""
+                 : i + 1 == names.size() ? " or "
+                                         : ", ") +
+                ("\"" + std::string(names[i]) + "\"");
+  throw InputError(path, "expected " + expected);
+}
 
 /// Normalised stroke S(u), u in [0, 1], and its first two derivatives.
 void stroke_shape(ActuatorMotion::Shape s, double u, double& S, double& dS, double& ddS) {
@@ -61,17 +80,13 @@ ActuatorMotion::Sample ActuatorMotion::at(double t) const {
   return {-retraction, 0.0, 0.0};
 }
 
+std::span<const std::string_view> motion_shape_names() {
+  return kShapeNames;
+}
+
 ActuatorMotion read_motion(const ParameterSet& p, const std::string& prefix) {
   ActuatorMotion m;
-  const std::string s = p.text(prefix + ".shape");
-  if (s == "raised-cosine")
-    m.shape = ActuatorMotion::Shape::raised_cosine;
-  else if (s == "minimum-jerk")
-    m.shape = ActuatorMotion::Shape::minimum_jerk;
-  else if (s == "step")
-    m.shape = ActuatorMotion::Shape::step;
-  else
-    throw InputError(prefix + ".shape", "expected \"raised-cosine\", \"minimum-jerk\" or \"step\"");
+  m.shape = static_cast<ActuatorMotion::Shape>(catalogue_index(p, prefix + ".shape", kShapeNames));
   m.extension = read_positive(p, prefix + ".extension", true);
   m.retraction = read_positive(p, prefix + ".retraction", true);
   m.extension_time = read_positive(p, prefix + ".extension_time");
@@ -100,17 +115,13 @@ double HingeMoment::at(double t, double theta) const {
   return m;
 }
 
+std::span<const std::string_view> hinge_moment_names() {
+  return kHingeNames;
+}
+
 HingeMoment read_hinge(const ParameterSet& p, const std::string& prefix) {
   HingeMoment h;
-  const std::string k = p.text(prefix + ".kind");
-  if (k == "none")
-    h.kind = HingeMoment::Kind::none;
-  else if (k == "constant")
-    h.kind = HingeMoment::Kind::constant;
-  else if (k == "proportional")
-    h.kind = HingeMoment::Kind::proportional;
-  else
-    throw InputError(prefix + ".kind", "expected \"none\", \"constant\" or \"proportional\"");
+  h.kind = static_cast<HingeMoment::Kind>(catalogue_index(p, prefix + ".kind", kHingeNames));
   h.constant_moment = p.number(prefix + ".constant_moment");
   h.step_time = read_positive(p, prefix + ".step_time", true);
   h.stiffness = read_positive(p, prefix + ".stiffness", true);

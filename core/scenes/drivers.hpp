@@ -2,7 +2,9 @@
 // rod-end-kinematic, the position command in rod-end-actuator) and the hinge moment.
 #pragma once
 
+#include <span>
 #include <string>
+#include <string_view>
 
 #include "core/params.hpp"
 
@@ -35,6 +37,10 @@ struct ActuatorMotion {
   double duration() const;
 };
 
+/// The catalogue of profile shapes: the allowed values of `<prefix>.shape`, in the order of
+/// ActuatorMotion::Shape.
+std::span<const std::string_view> motion_shape_names();
+
 /// Reads `<prefix>.*` (shape, extension, retraction, extension_time, retraction_time,
 /// hold_time, start_time, cycles). Throws InputError.
 ActuatorMotion read_motion(const ParameterSet& p, const std::string& prefix);
@@ -53,6 +59,10 @@ struct HingeMoment {
 
   double at(double t, double theta) const;
 };
+
+/// The catalogue of hinge-moment kinds: the allowed values of hinge.kind, in the order of
+/// HingeMoment::Kind.
+std::span<const std::string_view> hinge_moment_names();
 
 HingeMoment read_hinge(const ParameterSet& p, const std::string& prefix);
 
