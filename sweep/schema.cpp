@@ -44,16 +44,18 @@ Json study_schema() {
   for (const auto& s : scene_catalogue()) scenes.push_back(std::string(s.name));
   for (const auto& s : signal_catalogue()) signals.push_back(std::string(s.name));
 
-  // the sections of settings, from the loader's field list
+  // the sections of settings, from the loader's field list (sweep/settings.def); output is the
+  // study's, not a grid key
   Json props = Json::object();
   std::set<std::string> sections{"parameters"};
   for (const StudyField& f : study_fields()) {
-    sections.insert(f.section);
+    if (f.section != "output") sections.insert(f.section);
     Json& sec = props[f.section];
     if (sec.is_null())
       sec = {{"type", "object"}, {"additionalProperties", false}, {"properties", Json::object()}};
     Json p = {{"type", f.type}, {"description", f.description + unit_note(f.unit)}};
     if (!f.choices.empty()) p["enum"] = f.choices;
+    if (!f.default_value.is_null()) p["default"] = f.default_value;
     sec["properties"][f.name] = p;
   }
   props["time"]["required"] = {"end", "sample_interval"};
@@ -88,7 +90,10 @@ Json study_schema() {
   props["grid"] = {{"type", "array"},
                    {"description", "axes combined as a cartesian product, last axis fastest"},
                    {"items", {{"$ref", "#/$defs/grid_entry"}}}};
-  props["output"] = {{"type", "string"}, {"description", "results directory"}};
+  props["output"] = {{"description",
+                      "results directory (default results/<name>), or an object with it and the "
+                      "storage settings of the histories"},
+                     {"oneOf", {{{"type", "string"}}, props["output"]}}};
 
   // the top-level keys are the loader's list: fail loudly if the two ever disagree
   for (const std::string& k : study_keys())
@@ -145,6 +150,24 @@ Json study_schema() {
           {"properties", props},
           {"allOf", per_scene},
           {"$defs", {{"axis", axis}, {"grid_entry", {{"oneOf", {axis, zip}}}}}}};
+}
+
+std::string study_settings_markdown() {
+  auto cell = [](std::string text) {  // a table cell: '|' escaped
+    for (std::size_t i = 0; (i = text.find('|', i)) != std::string::npos; i += 2)
+      text.insert(i, "\\");
+    return text;
+  };
+  std::string out = "| setting | type | unit | default | description |\n|---|---|---|---|---|\n";
+  for (const StudyField& f : study_fields()) {
+    std::string type = f.type;
+    for (std::size_t i = 0; i < f.choices.size(); ++i)
+      type += (i == 0 ? ": `" : ", `") + f.choices[i] + "`";
+    out += "| `" + f.section + "." + f.name + "` | " + type + " | " + f.unit + " | " +
+           (f.default_value.is_null() ? "" : "`" + f.default_value.dump() + "`") + " | " +
+           cell(f.description) + " |\n";
+  }
+  return out;
 }
 
 }  // namespace rodend
