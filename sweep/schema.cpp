@@ -1,6 +1,8 @@
 #include "sweep/schema.hpp"
 
+#include <iomanip>
 #include <set>
+#include <sstream>
 
 #include "core/scene.hpp"
 #include "core/signals.hpp"
@@ -163,9 +165,15 @@ std::string study_settings_markdown() {
     std::string type = f.type;
     for (std::size_t i = 0; i < f.choices.size(); ++i)
       type += (i == 0 ? ": `" : ", `") + f.choices[i] + "`";
+    std::string value = f.default_value.dump();  // numbers as 1e+08, 10000, 0.05
+    if (f.default_value.is_number()) {
+      std::ostringstream o;
+      o << std::setprecision(15) << f.default_value.get<double>();
+      value = o.str();
+    }
     out += "| `" + f.section + "." + f.name + "` | " + type + " | " + f.unit + " | " +
-           (f.default_value.is_null() ? "" : "`" + f.default_value.dump() + "`") + " | " +
-           cell(f.description) + " |\n";
+           (f.default_value.is_null() ? "" : "`" + value + "`") + " | " + cell(f.description) +
+           " |\n";
   }
   return out;
 }
