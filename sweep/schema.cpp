@@ -58,6 +58,8 @@ Json study_schema() {
     Json p = {{"type", f.type}, {"description", f.description + unit_note(f.unit)}};
     if (!f.choices.empty()) p["enum"] = f.choices;
     if (!f.default_value.is_null()) p["default"] = f.default_value;
+    if (!f.minimum.is_null()) p[f.exclusive_minimum ? "exclusiveMinimum" : "minimum"] = f.minimum;
+    if (!f.maximum.is_null()) p["maximum"] = f.maximum;
     sec["properties"][f.name] = p;
   }
   props["time"]["required"] = {"end", "sample_interval"};
@@ -160,20 +162,24 @@ std::string study_settings_markdown() {
       text.insert(i, "\\");
     return text;
   };
+  auto text = [](const Json& v) {  // numbers as 1e+08, 10000, 0.05
+    if (!v.is_number()) return v.dump();
+    std::ostringstream o;
+    o << std::setprecision(15) << v.get<double>();
+    return o.str();
+  };
   std::string out = "| setting | type | unit | default | description |\n|---|---|---|---|---|\n";
   for (const StudyField& f : study_fields()) {
     std::string type = f.type;
+    if (!f.maximum.is_null())
+      type += " " + text(f.minimum) + " to " + text(f.maximum);
+    else if (!f.minimum.is_null())
+      type += (f.exclusive_minimum ? " > " : " >= ") + text(f.minimum);
     for (std::size_t i = 0; i < f.choices.size(); ++i)
       type += (i == 0 ? ": `" : ", `") + f.choices[i] + "`";
-    std::string value = f.default_value.dump();  // numbers as 1e+08, 10000, 0.05
-    if (f.default_value.is_number()) {
-      std::ostringstream o;
-      o << std::setprecision(15) << f.default_value.get<double>();
-      value = o.str();
-    }
     out += "| `" + f.section + "." + f.name + "` | " + type + " | " + f.unit + " | " +
-           (f.default_value.is_null() ? "" : "`" + value + "`") + " | " + cell(f.description) +
-           " |\n";
+           (f.default_value.is_null() ? "" : "`" + text(f.default_value) + "`") + " | " +
+           cell(f.description) + " |\n";
   }
   return out;
 }

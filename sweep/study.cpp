@@ -208,7 +208,21 @@ Setting make_setting(const char* section, const char* key, Kind kind, const char
                      InId id, const char* description, Member (*of_draft)(Draft&),
                      ConstMember (*of_case)(const CaseSpec&)) {
   const char* type = kind == Kind::number ? "number" : kind == Kind::integer ? "integer" : "string";
-  StudyField info{section, key, type, unit, description, check.choices, Json()};
+  StudyField info;
+  info.section = section;
+  info.name = key;
+  info.type = type;
+  info.unit = unit;
+  info.description = description;
+  info.choices = check.choices;
+  using Rule = Check::Rule;
+  auto bound = [&](double x) {
+    return kind == Kind::integer ? Json(static_cast<long long>(x)) : Json(x);
+  };
+  if (check.rule == Rule::at_least || check.rule == Rule::above || check.rule == Rule::int_range)
+    info.minimum = bound(check.lo);
+  if (check.rule == Rule::int_range) info.maximum = bound(check.hi);
+  info.exclusive_minimum = check.rule == Rule::above;
   return {std::move(info), std::move(check), id, of_draft, of_case};
 }
 

@@ -176,6 +176,11 @@ struct StudyField {
   std::string unit;  ///< SI unit ("1" when dimensionless, "" for strings)
   std::string description;
   std::vector<std::string> choices;  ///< the allowed strings (empty: any)
+  /// bounds the loader checks on reading (null: none checked there; integrator and time
+  /// settings are checked together once a case is resolved); minimum excluded when
+  /// exclusive_minimum
+  Json minimum, maximum;
+  bool exclusive_minimum = false;
   /// the default (null: none of its own: the integrator's is the scene's balanced preset, the
   /// time keys are required, the preset and the output directory have none)
   Json default_value;
