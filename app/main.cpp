@@ -172,6 +172,8 @@ int main(int argc, char** argv) {
   signals->add_flag("--json", as_json, "as JSON");
   auto* metrics = app.add_subcommand("metrics", "Print the summary metrics.");
   metrics->add_flag("--markdown", markdown, "as a Markdown table");
+  schema->add_flag("--markdown", markdown,
+                   "instead, the settings of the study sections as a Markdown table");
 
   auto* compare = app.add_subcommand(
       "compare",
@@ -205,7 +207,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*schema) {
-      std::cout << study_schema().dump(2) << "\n";
+      std::cout << (markdown ? study_settings_markdown() : study_schema().dump(2) + "\n");
       return 0;
     }
     if (*signals) return list_signals(markdown, as_json);

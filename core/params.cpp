@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 
+#include "core/json_text.hpp"
 #include "core/scene.hpp"
 #include "core/scene_parameters.hpp"
 
@@ -12,21 +13,6 @@ namespace {
 
 bool is_leaf(const Json& j) {
   return j.is_object() && j.contains("value");
-}
-
-std::string type_name(const Json& j) {
-  if (j.is_array()) {
-    const bool numbers =
-        std::all_of(j.begin(), j.end(), [](const Json& v) { return v.is_number(); });
-    return "an array of " + std::to_string(j.size()) +
-           (numbers ? " numbers" : " values, not all numbers");
-  }
-  if (j.is_boolean()) return "a boolean";
-  if (j.is_number()) return "a number";
-  if (j.is_string()) return "a string";
-  if (j.is_array()) return "an array";
-  if (j.is_object()) return "an object";
-  return "null";
 }
 
 void walk(const Json& node, const std::string& prefix,
@@ -56,6 +42,20 @@ J* find(J& tree, const std::string& path) {
 }
 
 }  // namespace
+
+std::string json_type_name(const Json& j) {
+  if (j.is_array()) {
+    const bool numbers =
+        std::all_of(j.begin(), j.end(), [](const Json& v) { return v.is_number(); });
+    return "an array of " + std::to_string(j.size()) +
+           (numbers ? (j.size() == 1 ? " number" : " numbers") : " values, not all numbers");
+  }
+  if (j.is_boolean()) return "a boolean";
+  if (j.is_number()) return "a number";
+  if (j.is_string()) return "a string";
+  if (j.is_object()) return "an object";
+  return "null";
+}
 
 ParameterSet ParameterSet::from_json(const Json& tree, const std::string& origin) {
   if (!tree.is_object()) throw InputError("", "a parameter tree must be a JSON object", origin);
@@ -107,7 +107,8 @@ void ParameterSet::set(const std::string& path, const Json& value) {
   const bool ok = (old.is_number() && value.is_number()) ||
                   (old.is_string() && value.is_string()) ||
                   (old.is_boolean() && value.is_boolean()) || same_array;
-  if (!ok) throw InputError(path, "expected " + type_name(old) + ", got " + type_name(value));
+  if (!ok)
+    throw InputError(path, "expected " + json_type_name(old) + ", got " + json_type_name(value));
   if (old.is_string() && l->contains("choices")) {
     const Json& choices = (*l)["choices"];
     if (std::find(choices.begin(), choices.end(), value) == choices.end())

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Regenerates docs/signals.md and docs/metrics.md from the catalogues compiled into rodend
-# (core/signals.def, sweep/metrics.def). The test cli.docs_in_step fails when they are stale.
+# (core/signals.def, sweep/metrics.def), and the settings table of docs/studies.md (between its
+# "rodend schema --markdown" markers) from sweep/settings.def. The test cli.docs_in_step fails
+# when they are stale.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 rodend=${RODEND:-./build/rodend}
@@ -18,4 +20,12 @@ rodend=${RODEND:-./build/rodend}
   echo
   "$rodend" metrics --markdown
 } > docs/metrics.md
-echo "regenerated docs/signals.md and docs/metrics.md"
+table=$("$rodend" schema --markdown)
+begin='<!-- begin: rodend schema --markdown -->'
+end='<!-- end: rodend schema --markdown -->'
+TABLE="$table" awk -v begin="$begin" -v end="$end" '
+  $0 == begin { print; print ENVIRON["TABLE"]; skip = 1; next }
+  $0 == end { skip = 0 }
+  !skip { print }' docs/studies.md > docs/studies.md.new
+mv docs/studies.md.new docs/studies.md
+echo "regenerated docs/signals.md, docs/metrics.md and the settings table of docs/studies.md"

@@ -1,6 +1,8 @@
 #include "sweep/schema.hpp"
 
+#include <iomanip>
 #include <set>
+#include <sstream>
 
 #include "core/scene.hpp"
 #include "core/signals.hpp"
@@ -44,16 +46,20 @@ Json study_schema() {
   for (const auto& s : scene_catalogue()) scenes.push_back(std::string(s.name));
   for (const auto& s : signal_catalogue()) signals.push_back(std::string(s.name));
 
-  // the sections of settings, from the loader's field list
+  // the sections of settings, from the loader's field list (sweep/settings.def); output is the
+  // study's, not a grid key
   Json props = Json::object();
   std::set<std::string> sections{"parameters"};
   for (const StudyField& f : study_fields()) {
-    sections.insert(f.section);
+    if (f.section != "output") sections.insert(f.section);
     Json& sec = props[f.section];
     if (sec.is_null())
       sec = {{"type", "object"}, {"additionalProperties", false}, {"properties", Json::object()}};
     Json p = {{"type", f.type}, {"description", f.description + unit_note(f.unit)}};
     if (!f.choices.empty()) p["enum"] = f.choices;
+    if (!f.default_value.is_null()) p["default"] = f.default_value;
+    if (!f.minimum.is_null()) p[f.exclusive_minimum ? "exclusiveMinimum" : "minimum"] = f.minimum;
+    if (!f.maximum.is_null()) p["maximum"] = f.maximum;
     sec["properties"][f.name] = p;
   }
   props["time"]["required"] = {"end", "sample_interval"};
@@ -88,7 +94,10 @@ Json study_schema() {
   props["grid"] = {{"type", "array"},
                    {"description", "axes combined as a cartesian product, last axis fastest"},
                    {"items", {{"$ref", "#/$defs/grid_entry"}}}};
-  props["output"] = {{"type", "string"}, {"description", "results directory"}};
+  props["output"] = {{"description",
+                      "results directory (default results/<name>), or an object with it and the "
+                      "storage settings of the histories"},
+                     {"oneOf", {{{"type", "string"}}, props["output"]}}};
 
   // the top-level keys are the loader's list: fail loudly if the two ever disagree
   for (const std::string& k : study_keys())
@@ -145,6 +154,34 @@ Json study_schema() {
           {"properties", props},
           {"allOf", per_scene},
           {"$defs", {{"axis", axis}, {"grid_entry", {{"oneOf", {axis, zip}}}}}}};
+}
+
+std::string study_settings_markdown() {
+  auto cell = [](std::string text) {  // a table cell: '|' escaped
+    for (std::size_t i = 0; (i = text.find('|', i)) != std::string::npos; i += 2)
+      text.insert(i, "\\");
+    return text;
+  };
+  auto text = [](const Json& v) {  // numbers as 1e+08, 10000, 0.05
+    if (!v.is_number()) return v.dump();
+    std::ostringstream o;
+    o << std::setprecision(15) << v.get<double>();
+    return o.str();
+  };
+  std::string out = "| setting | type | unit | default | description |\n|---|---|---|---|---|\n";
+  for (const StudyField& f : study_fields()) {
+    std::string type = f.type;
+    if (!f.maximum.is_null())
+      type += " " + text(f.minimum) + " to " + text(f.maximum);
+    else if (!f.minimum.is_null())
+      type += (f.exclusive_minimum ? " > " : " >= ") + text(f.minimum);
+    for (std::size_t i = 0; i < f.choices.size(); ++i)
+      type += (i == 0 ? ": `" : ", `") + f.choices[i] + "`";
+    out += "| `" + f.section + "." + f.name + "` | " + type + " | " + f.unit + " | " +
+           (f.default_value.is_null() ? "" : "`" + text(f.default_value) + "`") + " | " +
+           cell(f.description) + " |\n";
+  }
+  return out;
 }
 
 }  // namespace rodend

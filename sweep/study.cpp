@@ -6,9 +6,13 @@
 #include <cstdio>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <sstream>
+#include <type_traits>
+#include <variant>
 
+#include "core/json_text.hpp"
 #include "core/presets.hpp"
 #include "core/scene.hpp"
 
@@ -45,67 +49,23 @@ Json as_doubles(const Json& j) {
   return j;
 }
 
-Json to_json(const IntegratorSettings& s) {
-  return {{"method", s.method},
-          {"abs_tol", s.abs_tol},
-          {"rel_tol", s.rel_tol},
-          {"step", s.step},
-          {"max_step", s.max_step},
-          {"min_step", s.min_step},
-          {"max_steps", s.max_steps},
-          {"max_rhs_calls", s.max_rhs_calls},
-          {"contact_onset", s.contact_onset}};
-}
-
 }  // namespace
-
-Json CaseSpec::canonical() const {
-  Json sig = Json::array();
-  for (SignalId id : signals) sig.push_back(std::string(signal_spec(id).name));
-  Json c = canonical_run(sig);
-  // only when enabled: the ids of ordinary cases do not change
-  if (wear_evolution.enabled) {
-    const auto& w = wear_evolution;
-    c["wear_evolution"] = {{"cycles_per_update", w.cycles_per_update},
-                           {"max_depth_change", w.max_depth_change},
-                           {"max_cycles", w.max_cycles},
-                           {"clearance_limit", w.clearance_limit},
-                           {"backlash_limit", w.backlash_limit},
-                           {"max_updates", static_cast<double>(w.max_updates)}};
-  }
-  // only when not the default: the stored values differ, the physics does not (study.hpp)
-  if (output.history_precision != HistoryPrecision::float64)
-    c["history_precision"] = std::string(to_string(output.history_precision));
-  return c;
-}
 
 std::string_view to_string(HistoryPrecision p) {
   return p == HistoryPrecision::float32 ? "float32" : "float64";
 }
 
-Json CaseSpec::canonical_run(const Json& sig) const {
-  return {{"scene", scene},
-          {"parameters", as_doubles(parameters.values())},
-          {"integrator", to_json(integrator)},
-          {"time", {{"end", time.end}, {"sample_interval", time.sample_interval}}},
-          {"health",
-           {{"max_penetration_strain", health.max_penetration_strain},
-            {"max_penetration_fraction", health.max_penetration_fraction},
-            {"max_energy_residual", health.max_energy_residual},
-            {"energy_flow_floor", health.energy_flow_floor},
-            {"max_tracking_error", health.max_tracking_error},
-            {"tracking_window", health.tracking_window}}},
-          {"metrics",
-           {{"post_impact_window", metrics.post_impact_window},
-            {"surface_motion_threshold", metrics.surface_motion_threshold}}},
-          {"signals", sig}};
-}
-
-std::string case_id(const CaseSpec& c) {
-  return fnv1a64_hex(c.canonical().dump());
+std::vector<std::string_view> history_precisions() {
+  return {"float64", "float32"};
 }
 
 namespace {
+
+/// The values of IntegratorSettings::contact_onset (validate() in core/integrator.cpp checks
+/// them; here for the schema).
+std::vector<std::string_view> contact_onset_modes() {
+  return {"locate", "step-end"};
+}
 
 /// Limits on what a study may ask for (README "Studies"): cases per study, nesting of the
 /// document, memory of one case's histories.
@@ -129,37 +89,26 @@ std::size_t nesting_depth(const Json& doc) {
   return deepest;
 }
 
-std::string describe(const Json& j) {
-  if (j.is_number()) return "a number";
-  if (j.is_string()) return "a string";
-  if (j.is_boolean()) return "a boolean";
-  if (j.is_array()) return "an array";
-  if (j.is_object()) return "an object";
-  return "null";
-}
-
 double need_number(const Json& v, const std::string& key) {
-  if (!v.is_number()) throw InputError(key, "expected a number, got " + describe(v));
+  if (!v.is_number()) throw InputError(key, "expected a number, got " + json_type_name(v));
   return v.get<double>();
 }
 long long need_integer(const Json& v, const std::string& key) {
-  if (!v.is_number()) throw InputError(key, "expected an integer, got " + describe(v));
+  if (!v.is_number()) throw InputError(key, "expected an integer, got " + json_type_name(v));
   const double d = v.get<double>();
   if (d != std::floor(d) || std::abs(d) > 9e18)
     throw InputError(key, "expected an integer, got " + v.dump());
   return static_cast<long long>(d);
 }
 std::string need_string(const Json& v, const std::string& key) {
-  if (!v.is_string()) throw InputError(key, "expected a string, got " + describe(v));
+  if (!v.is_string()) throw InputError(key, "expected a string, got " + json_type_name(v));
   return v.get<std::string>();
 }
 const Json& need_object(const Json& v, const std::string& key) {
-  if (!v.is_object()) throw InputError(key, "expected an object, got " + describe(v));
+  if (!v.is_object()) throw InputError(key, "expected an object, got " + json_type_name(v));
   return v;
 }
 
-/// The "output" key: the results directory as a string, or an object with `directory`,
-/// `compression_level` (0-12) and `history_precision` ("float64" | "float32").
 /// A path the study names for its results: not empty (NUL characters are refused before).
 fs::path output_path(const Json& v, const std::string& key) {
   const std::string s = need_string(v, key);
@@ -168,42 +117,6 @@ fs::path output_path(const Json& v, const std::string& key) {
                      "expected a non-empty directory path (or no \"output\" key: "
                      "results/<name>)");
   return fs::path(s);
-}
-
-void parse_output(const Json& v, Study& study) {
-  if (v.is_string()) {
-    study.output_dir = output_path(v, "output");
-    return;
-  }
-  if (!v.is_object())
-    throw InputError("output",
-                     "expected the results directory (a string) or an object with directory, "
-                     "compression_level, history_precision; got " +
-                         describe(v));
-  for (auto it = v.begin(); it != v.end(); ++it) {
-    const std::string key = "output." + it.key();
-    if (it.key() == "directory") {
-      study.output_dir = output_path(*it, key);
-    } else if (it.key() == "compression_level") {
-      const long long level = need_integer(*it, key);
-      if (level < 0 || level > 12)
-        throw InputError(
-            key, "expected a deflate level from 0 (no compression) to 12, got " + it->dump());
-      study.output.compression_level = static_cast<int>(level);
-    } else if (it.key() == "history_precision") {
-      const std::string p = need_string(*it, key);
-      if (p == "float64")
-        study.output.history_precision = HistoryPrecision::float64;
-      else if (p == "float32")
-        study.output.history_precision = HistoryPrecision::float32;
-      else
-        throw InputError(key, "expected \"float64\" or \"float32\", got \"" + p + "\"");
-    } else {
-      throw InputError(key,
-                       "unknown key; expected directory, compression_level or "
-                       "history_precision");
-    }
-  }
 }
 
 /// A case being resolved: the draft every setting is applied to.
@@ -215,111 +128,292 @@ struct Draft {
   HealthLimits health;
   MetricsSettings metrics;
   WearEvolutionSettings wear_evolution;
+  /// the study's storage settings: read with the same reader (parse_output), never per case
+  OutputSettings output;
   /// scene-axis studies: a parameter key this case's scene does not have is skipped (the study
   /// checks that some scene of it has the key)
   bool skip_absent_parameters = false;
 };
 
-/// Checks of the wear_evolution numbers: finite and > lo (open) or >= lo.
-double wear_number(const Json& v, const std::string& key, double lo, bool open) {
-  const double x = need_number(v, key);
-  if (!std::isfinite(x) || (open ? !(x > lo) : !(x >= lo)))
-    throw InputError(key, std::string("expected a finite number ") + (open ? "> " : ">= ") +
-                              std::to_string(static_cast<int>(lo)));
-  return x;
-}
-double metrics_number(const Json& v, const std::string& key) {
-  const double x = need_number(v, key);
-  if (!(x >= 0.0) || !std::isfinite(x)) throw InputError(key, "expected a finite number >= 0");
-  return x;
-}
+// --- the settings of the sections: sweep/settings.def ------------------------------------
 
-/// A setting of a section: what it is (StudyField, also what `rodend schema` prints) and how
-/// the loader applies it.
-struct Field {
-  StudyField info;
-  void (*set)(Draft&, const Json&, const std::string& key);
+/// What a setting's value must be beyond its JSON type (the `check` column of settings.def).
+struct Check {
+  enum class Rule { later, now, at_least, above, int_range, one_of, nonempty };
+  Rule rule = Rule::later;
+  double lo = 0.0, hi = 0.0;
+  std::string what;                  ///< int_range: what the integer is ("a deflate level")
+  std::vector<std::string> choices;  ///< the allowed strings (one_of; later: for the schema)
 };
 
-// clang-format off
-/// Strings of a list of names (the choices of a field).
+/// The checks settings.def names (see there).
+namespace checks {
+using Rule = Check::Rule;
+Check rule(Rule r, double lo = 0.0, double hi = 0.0, std::string what = "",
+           std::vector<std::string> choices = {}) {
+  return {r, lo, hi, std::move(what), std::move(choices)};
+}
 template <class Names>
 std::vector<std::string> strings(const Names& names) {
   return std::vector<std::string>(names.begin(), names.end());
 }
-
-/// Every setting of the integrator, time, health, metrics and wear_evolution sections: the one
-/// list the loader (apply) and the schema (study_fields) use.
-const std::vector<Field>& fields() {
-  static const std::vector<Field> kFields{
-  {{"integrator", "preset", "string", "", "named integrator settings, applied before the keys beside it", strings(preset_names())},
-   [](Draft& d, const Json& v, const std::string& key) {
-     const std::string name = need_string(v, key);
-     const auto p = preset_settings(d.scene, name);
-     if (!p) throw InputError(key, "unknown preset '" + name + "'; expected fast, balanced or reference");
-     d.integrator = *p;
-   }},
-  {{"integrator", "method", "string", "", "integration method (README \"The integrator menu\")", strings(integrator_methods())},
-   [](Draft& d, const Json& v, const std::string& key) { d.integrator.method = need_string(v, key); }},
-  {{"integrator", "abs_tol", "number", "1", "absolute tolerance on the scaled state", {}},
-   [](Draft& d, const Json& v, const std::string& key) { d.integrator.abs_tol = need_number(v, key); }},
-  {{"integrator", "rel_tol", "number", "1", "relative tolerance", {}},
-   [](Draft& d, const Json& v, const std::string& key) { d.integrator.rel_tol = need_number(v, key); }},
-  {{"integrator", "step", "number", "s", "rk4 step, or the first trial step of adaptive methods", {}},
-   [](Draft& d, const Json& v, const std::string& key) { d.integrator.step = need_number(v, key); }},
-  {{"integrator", "max_step", "number", "s", "largest step of adaptive methods", {}},
-   [](Draft& d, const Json& v, const std::string& key) { d.integrator.max_step = need_number(v, key); }},
-  {{"integrator", "min_step", "number", "s", "below this an adaptive step is an underflow", {}},
-   [](Draft& d, const Json& v, const std::string& key) { d.integrator.min_step = need_number(v, key); }},
-  {{"integrator", "max_steps", "integer", "1", "budget on accepted plus rejected steps", {}},
-   [](Draft& d, const Json& v, const std::string& key) { d.integrator.max_steps = need_integer(v, key); }},
-  {{"integrator", "max_rhs_calls", "integer", "1", "budget on right-hand-side calls", {}},
-   [](Draft& d, const Json& v, const std::string& key) { d.integrator.max_rhs_calls = need_integer(v, key); }},
-  {{"integrator", "contact_onset", "string", "", "how contact onset is latched", {"locate", "step-end"}},
-   [](Draft& d, const Json& v, const std::string& key) { d.integrator.contact_onset = need_string(v, key); }},
-  {{"time", "end", "number", "s", "end time", {}},
-   [](Draft& d, const Json& v, const std::string& key) { d.time.end = need_number(v, key); }},
-  {{"time", "sample_interval", "number", "s", "history sample interval", {}},
-   [](Draft& d, const Json& v, const std::string& key) { d.time.sample_interval = need_number(v, key); }},
-  {{"health", "max_penetration_strain", "number", "1", "penetration / contact radius (the smaller surface radius: ball, journal) beyond which a run fails: the contact laws' validity (default 0.05)", {}},
-   [](Draft& d, const Json& v, const std::string& key) { d.health.max_penetration_strain = need_number(v, key); validate(d.health); }},
-  {{"health", "max_penetration_fraction", "number", "1", "penetration / clearance beyond which a run fails (default 0: no limit)", {}},
-   [](Draft& d, const Json& v, const std::string& key) { d.health.max_penetration_fraction = need_number(v, key); validate(d.health); }},
-  {{"health", "max_energy_residual", "number", "1", "energy-audit residual relative to the largest energy flow beyond which a run fails", {}},
-   [](Draft& d, const Json& v, const std::string& key) { d.health.max_energy_residual = need_number(v, key); validate(d.health); }},
-  {{"health", "energy_flow_floor", "number", "J", "the energy check starts once the largest energy flow exceeds this", {}},
-   [](Draft& d, const Json& v, const std::string& key) { d.health.energy_flow_floor = need_number(v, key); validate(d.health); }},
-  {{"health", "max_tracking_error", "number", "m", "actuator |command - position| beyond which it is not following", {}},
-   [](Draft& d, const Json& v, const std::string& key) { d.health.max_tracking_error = need_number(v, key); validate(d.health); }},
-  {{"health", "tracking_window", "number", "s", "how long the tracking error may exceed its limit", {}},
-   [](Draft& d, const Json& v, const std::string& key) { d.health.tracking_window = need_number(v, key); validate(d.health); }},
-  {{"metrics", "post_impact_window", "number", "s", "window after the first impact of the post-impact metrics", {}},
-   [](Draft& d, const Json& v, const std::string& key) { d.metrics.post_impact_window = metrics_number(v, key); }},
-  {{"metrics", "surface_motion_threshold", "number", "rad", "surface rotation that counts as motion", {}},
-   [](Draft& d, const Json& v, const std::string& key) { d.metrics.surface_motion_threshold = metrics_number(v, key); }},
-  {{"wear_evolution", "cycles_per_update", "number", "1", "duty cycles one update stands for", {}},
-   [](Draft& d, const Json& v, const std::string& key) { d.wear_evolution.cycles_per_update = wear_number(v, key, 0.0, true); }},
-  {{"wear_evolution", "max_depth_change", "number", "m", "adaptive rule: deepest depth change of an update (0 = off)", {}},
-   [](Draft& d, const Json& v, const std::string& key) { d.wear_evolution.max_depth_change = wear_number(v, key, 0.0, false); }},
-  {{"wear_evolution", "max_cycles", "number", "1", "stop after this many duty cycles", {}},
-   [](Draft& d, const Json& v, const std::string& key) { d.wear_evolution.max_cycles = wear_number(v, key, 0.0, true); }},
-  {{"wear_evolution", "clearance_limit", "number", "m", "axial clearance at which the joint is worn out (0 = none)", {}},
-   [](Draft& d, const Json& v, const std::string& key) { d.wear_evolution.clearance_limit = wear_number(v, key, 0.0, false); }},
-  {{"wear_evolution", "backlash_limit", "number", "rad", "surface backlash at which the joint is worn out (0 = none)", {}},
-   [](Draft& d, const Json& v, const std::string& key) { d.wear_evolution.backlash_limit = wear_number(v, key, 0.0, false); }},
-  {{"wear_evolution", "max_updates", "integer", "1", "bound on the number of updates (1 to 100000)", {}},
-   [](Draft& d, const Json& v, const std::string& key) {
-     d.wear_evolution.max_updates = need_integer(v, key);
-     if (d.wear_evolution.max_updates < 1 || d.wear_evolution.max_updates > 100000)
-       throw InputError(key, "expected an integer from 1 to 100000");
-   }},
-  };
-  return kFields;
+Check validated_later() {
+  return rule(Rule::later);
 }
-// clang-format on
+template <class Names>
+Check validated_later(const Names& names) {
+  return rule(Rule::later, 0.0, 0.0, "", strings(names));
+}
+Check validated_now() {
+  return rule(Rule::now);
+}
+Check at_least(double lo) {
+  return rule(Rule::at_least, lo);
+}
+Check above(double lo) {
+  return rule(Rule::above, lo);
+}
+Check int_range(double lo, double hi, const char* what) {
+  return rule(Rule::int_range, lo, hi, what);
+}
+template <class Names>
+Check one_of(const Names& names) {
+  return rule(Rule::one_of, 0.0, 0.0, "", strings(names));
+}
+Check nonempty() {
+  return rule(Rule::nonempty);
+}
+}  // namespace checks
 
-/// Applies one setting addressed by a full key path (parameters.*, integrator.*, time.*,
-/// health.*, metrics.*). Throws InputError with that key path.
+/// How a setting enters the canonical form (the `id` column of settings.def).
+enum class InId { in_id, in_id_as_double, not_in_id, in_id_if_not_default, special };
+/// The `kind` column: the JSON type of the value.
+enum class Kind { number, integer, string, choice };
+
+/// The member a setting is, of a draft (read) or of a resolved case (written).
+using Member = std::variant<double*, int*, long*, long long*, std::string*, HistoryPrecision*>;
+using ConstMember = std::variant<const double*, const int*, const long*, const long long*,
+                                 const std::string*, const HistoryPrecision*>;
+
+/// One line of settings.def.
+struct Setting {
+  StudyField info;
+  Check check;
+  InId id = InId::special;
+  Member (*of_draft)(Draft&) = nullptr;  ///< null: a special setting, read by explicit code
+  ConstMember (*of_case)(const CaseSpec&) = nullptr;
+};
+
+Setting make_setting(const char* section, const char* key, Kind kind, const char* unit, Check check,
+                     InId id, const char* description, Member (*of_draft)(Draft&),
+                     ConstMember (*of_case)(const CaseSpec&)) {
+  const char* type = kind == Kind::number ? "number" : kind == Kind::integer ? "integer" : "string";
+  StudyField info;
+  info.section = section;
+  info.name = key;
+  info.type = type;
+  info.unit = unit;
+  info.description = description;
+  info.choices = check.choices;
+  using Rule = Check::Rule;
+  auto bound = [&](double x) {
+    return kind == Kind::integer ? Json(static_cast<long long>(x)) : Json(x);
+  };
+  if (check.rule == Rule::at_least || check.rule == Rule::above || check.rule == Rule::int_range)
+    info.minimum = bound(check.lo);
+  if (check.rule == Rule::int_range) info.maximum = bound(check.hi);
+  info.exclusive_minimum = check.rule == Rule::above;
+  return {std::move(info), std::move(check), id, of_draft, of_case};
+}
+
+/// Every line of settings.def, in its order: the one list the reader (apply, parse_output),
+/// the writer (CaseSpec::canonical), the schema and the docs table (study_fields) use.
+const std::vector<Setting>& settings() {
+  using namespace checks;
+  // clang-format off
+  static const std::vector<Setting> kSettings{
+#define RODEND_SETTING(SEC, KEY, KIND, UNIT, CHECK, ID, DESC)                       \
+  make_setting(#SEC, #KEY, Kind::KIND, UNIT, CHECK, InId::ID, DESC,                 \
+               [](Draft& d) -> Member { return &d.SEC.KEY; },                       \
+               [](const CaseSpec& c) -> ConstMember { return &c.SEC.KEY; }),
+#define RODEND_SPECIAL_SETTING(SEC, KEY, KIND, UNIT, CHECK, DESC) \
+  make_setting(#SEC, #KEY, Kind::KIND, UNIT, CHECK, InId::special, DESC, nullptr, nullptr),
+#include "sweep/settings.def"
+#undef RODEND_SETTING
+#undef RODEND_SPECIAL_SETTING
+  };
+  // clang-format on
+  return kSettings;
+}
+
+/// The setting `section`.`name`, or null.
+const Setting* find_setting(std::string_view section, std::string_view name) {
+  for (const Setting& s : settings())
+    if (s.info.section == section && s.info.name == name) return &s;
+  return nullptr;
+}
+
+/// "a, b or c" (quoted: "\"a\", \"b\" or \"c\"").
+std::string alternatives(const std::vector<std::string>& names, bool quoted,
+                         const char* last = " or ") {
+  std::string out;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (i > 0) out += i + 1 == names.size() ? last : ", ";
+    out += quoted ? "\"" + names[i] + "\"" : names[i];
+  }
+  return out;
+}
+
+/// The names of the settings of a section, in settings.def order.
+std::vector<std::string> setting_names(std::string_view section) {
+  std::vector<std::string> out;
+  for (const Setting& s : settings())
+    if (s.info.section == section) out.push_back(s.info.name);
+  return out;
+}
+
+/// The sections a case is resolved from (the keys a grid axis or --set may address):
+/// parameters and every section of settings.def but output, which is the study's.
+const std::vector<std::string>& case_sections() {
+  static const std::vector<std::string> kSections = [] {
+    std::vector<std::string> out{"parameters"};
+    for (const Setting& s : settings())
+      if (s.info.section != "output" &&
+          std::find(out.begin(), out.end(), s.info.section) == out.end())
+        out.push_back(s.info.section);
+    return out;
+  }();
+  return kSections;
+}
+
+std::string number_text(double x) {
+  std::ostringstream o;
+  o << x;
+  return o.str();
+}
+
+// The reader: one overload per member type, each with the checks of its line.
+void read_member(double& m, const Json& v, const std::string& key, const Check& c) {
+  const double x = need_number(v, key);
+  const bool open = c.rule == Check::Rule::above;
+  if ((open || c.rule == Check::Rule::at_least) &&
+      (!std::isfinite(x) || (open ? !(x > c.lo) : !(x >= c.lo))))
+    throw InputError(key, std::string("expected a finite number ") + (open ? "> " : ">= ") +
+                              number_text(c.lo) + ", got " + v.dump());
+  m = x;
+}
+template <class Int>
+requires std::is_integral_v<Int>
+void read_member(Int& m, const Json& v, const std::string& key, const Check& c) {
+  const long long n = need_integer(v, key);
+  const bool ranged = c.rule == Check::Rule::int_range;
+  const double lo = ranged ? c.lo : static_cast<double>(std::numeric_limits<Int>::min());
+  const double hi = ranged ? c.hi : static_cast<double>(std::numeric_limits<Int>::max());
+  if (static_cast<double>(n) < lo || static_cast<double>(n) > hi)
+    throw InputError(key, "expected " + (ranged ? c.what : std::string("an integer")) + " from " +
+                              number_text(lo) + " to " + number_text(hi) + ", got " + v.dump());
+  m = static_cast<Int>(n);
+}
+std::string read_string(const Json& v, const std::string& key, const Check& c) {
+  std::string s = need_string(v, key);
+  if (c.rule == Check::Rule::one_of &&
+      std::find(c.choices.begin(), c.choices.end(), s) == c.choices.end())
+    throw InputError(key, "expected " + alternatives(c.choices, true) + ", got \"" + s + "\"");
+  if (c.rule == Check::Rule::nonempty && s.empty())
+    throw InputError(key, "expected a non-empty string");
+  return s;
+}
+void read_member(std::string& m, const Json& v, const std::string& key, const Check& c) {
+  m = read_string(v, key, c);
+}
+void read_member(HistoryPrecision& m, const Json& v, const std::string& key, const Check& c) {
+  const std::string s = read_string(v, key, c);
+  for (const HistoryPrecision p : {HistoryPrecision::float64, HistoryPrecision::float32})
+    if (to_string(p) == s) m = p;
+}
+
+/// validated_now(): the section's own validate(), as soon as one of its keys is set.
+void validate_section(const Draft& d, const std::string& section) {
+  if (section != "health")
+    throw std::logic_error("settings.def: validated_now() has no validate() for " + section);
+  validate(d.health);
+}
+
+/// integrator.preset (special in settings.def): a whole IntegratorSettings, the scene's own.
+void read_preset(Draft& d, const Setting& s, const Json& v, const std::string& key) {
+  const std::string name = need_string(v, key);
+  const auto p = preset_settings(d.scene, name);
+  if (!p)
+    throw InputError(
+        key, "unknown preset '" + name + "'; expected " + alternatives(s.check.choices, false));
+  d.integrator = *p;
+}
+
+/// Sets one setting of a draft (the reader settings.def generates); `key` is its full path.
+void read_setting(Draft& d, const Setting& s, const Json& v, const std::string& key) {
+  if (!s.of_draft) {
+    if (s.info.section == "integrator" && s.info.name == "preset") return read_preset(d, s, v, key);
+    throw std::logic_error("settings.def: no reader for the special setting " + key);
+  }
+  std::visit([&](auto* m) { read_member(*m, v, key, s.check); }, s.of_draft(d));
+  if (s.check.rule == Check::Rule::now) validate_section(d, s.info.section);
+}
+
+// The writer: a member's value as JSON.
+template <class T>
+Json value_json(const T& x) {
+  return Json(x);
+}
+Json value_json(HistoryPrecision p) {
+  return std::string(to_string(p));
+}
+Json value_of(const Setting& s, const CaseSpec& c) {
+  return std::visit([](const auto* m) { return value_json(*m); }, s.of_case(c));
+}
+
+/// The settings of a case in its canonical form, added to `out` (settings.def, column id).
+void write_settings(const CaseSpec& c, Json& out) {
+  static const CaseSpec kDefaults{};
+  for (const Setting& s : settings()) {
+    if (s.id == InId::special || s.id == InId::not_in_id) continue;
+    // only a wear evolution has them: the ids of ordinary cases do not change
+    if (s.info.section == "wear_evolution" && !c.wear_evolution.enabled) continue;
+    Json v = value_of(s, c);
+    if (s.id == InId::in_id_as_double) v = v.get<double>();
+    if (s.id != InId::in_id_if_not_default)
+      out[s.info.section][s.info.name] = std::move(v);
+    else if (v != value_of(s, kDefaults))
+      out[s.info.name] = std::move(v);
+  }
+}
+
+/// The "output" key: the results directory as a string, or an object of the output settings
+/// of settings.def (directory, compression_level, history_precision).
+void parse_output(const Json& v, Study& study) {
+  if (v.is_string()) {
+    study.output_dir = output_path(v, "output");
+    return;
+  }
+  const std::vector<std::string> names = setting_names("output");
+  if (!v.is_object())
+    throw InputError("output", "expected the results directory (a string) or an object with " +
+                                   alternatives(names, false) + "; got " + json_type_name(v));
+  Draft d;
+  d.output = study.output;
+  for (auto it = v.begin(); it != v.end(); ++it) {
+    const std::string key = "output." + it.key();
+    const Setting* s = find_setting("output", it.key());
+    if (!s) throw InputError(key, "unknown key; expected " + alternatives(names, false));
+    if (it.key() == "directory")  // special in settings.def: the study's path, no setting
+      study.output_dir = output_path(*it, key);
+    else
+      read_setting(d, *s, *it, key);
+  }
+  study.output = d.output;
+}
+
+/// Applies one setting addressed by a full key path (parameters.*, or a section of
+/// settings.def but output). Throws InputError with that key path.
 void apply(Draft& d, const std::string& key, const Json& v) {
   const auto dot = key.find('.');
   const std::string section = key.substr(0, dot);
@@ -335,26 +429,18 @@ void apply(Draft& d, const std::string& key, const Json& v) {
     }
     return;
   }
+  const std::vector<std::string>& sections = case_sections();
+  if (std::find(sections.begin(), sections.end(), section) == sections.end())
+    throw InputError(
+        key, "unknown section '" + section + "'; expected " + alternatives(sections, false));
   if (section == "wear_evolution") d.wear_evolution.enabled = true;
-  const std::vector<Field>& kFields = fields();
-  for (const Field& f : kFields) {
-    if (f.info.section != section) continue;
-    if (f.info.name == field) {
-      f.set(d, v, key);
-      return;
-    }
-  }
-  if (std::any_of(kFields.begin(), kFields.end(),
-                  [&](const Field& f) { return f.info.section == section; })) {
+  const Setting* s = find_setting(section, field);
+  if (!s) {
     std::string names;
-    for (const Field& f : kFields)
-      if (f.info.section == section)
-        names += (names.empty() ? "" : ", ") + std::string(f.info.name);
+    for (const std::string& n : setting_names(section)) names += (names.empty() ? "" : ", ") + n;
     throw InputError(key, "unknown " + section + " setting; expected one of " + names);
   }
-  throw InputError(key, "unknown section '" + section +
-                            "'; expected parameters, integrator, time, health, metrics or "
-                            "wear_evolution");
+  read_setting(d, *s, v, key);
 }
 
 /// A case's histories are held in memory until its file is written: refuse sizes that cannot be.
@@ -538,9 +624,28 @@ std::optional<std::string> find_nul(const Json& doc) {
 
 }  // namespace
 
+Json CaseSpec::canonical() const {
+  Json sig = Json::array();
+  for (SignalId id : signals) sig.push_back(std::string(signal_spec(id).name));
+  Json c = {{"scene", scene}, {"parameters", as_doubles(parameters.values())}, {"signals", sig}};
+  write_settings(*this, c);
+  return c;
+}
+
+std::string case_id(const CaseSpec& c) {
+  return fnv1a64_hex(c.canonical().dump());
+}
+
 std::vector<StudyField> study_fields() {
+  // the defaults: of a default case, but for the integrator (a study's default is the scene's
+  // balanced preset) and time (both keys are required)
+  static const CaseSpec kDefaults{};
   std::vector<StudyField> out;
-  for (const Field& f : fields()) out.push_back(f.info);
+  for (const Setting& s : settings()) {
+    out.push_back(s.info);
+    if (s.of_case && s.info.section != "integrator" && s.info.section != "time")
+      out.back().default_value = value_of(s, kDefaults);
+  }
   return out;
 }
 
@@ -976,7 +1081,7 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
   if (section == "parameters") {
     const Json leaves = params.leaves();  // outlives items()
     for (const auto& [p, leaf] : leaves.items())
-      consider(p, describe(leaf["value"]), leaf.value("unit", ""));
+      consider(p, json_type_name(leaf["value"]), leaf.value("unit", ""));
   } else {
     for (const StudyField& f : study_fields())
       if (f.section == section)
@@ -1014,19 +1119,16 @@ Json apply_overrides(Json doc, const std::vector<std::string>& overrides, const 
       if (std::find(keys.begin(), keys.end(), section) == keys.end()) {
         std::string list;
         for (const auto& k : keys) list += (list.empty() ? "" : ", ") + k;
-        throw InputError(key, "unknown key; expected one of " + list + " (with a dotted path " +
-                                  "for parameters, integrator, time, health, metrics and " +
-                                  "wear_evolution)");
+        throw InputError(key, "unknown key; expected one of " + list + " (with a dotted path for " +
+                                  alternatives(case_sections(), false, " and ") + ")");
       }
       if (dot == std::string::npos) {  // a whole top-level value (parse_study checks it)
         doc[key] = value;
         continue;
       }
       const std::string rest = key.substr(dot + 1);
-      const bool settings = section == "parameters" || section == "integrator" ||
-                            section == "time" || section == "health" || section == "metrics" ||
-                            section == "wear_evolution";
-      if (!settings)
+      const auto& dotted = case_sections();
+      if (std::find(dotted.begin(), dotted.end(), section) == dotted.end())
         throw InputError(key, "'" + section + "' takes a whole value: --set " + section + "=...");
       // check the key and the type of the value as the loader will, on the study's scene
       if (!doc.contains("scene") || !doc["scene"].is_string())
@@ -1034,16 +1136,12 @@ Json apply_overrides(Json doc, const std::vector<std::string>& overrides, const 
       Draft d;
       d.scene = doc["scene"].get<std::string>();
       d.parameters = ParameterSet::defaults_for(d.scene);
-      const auto& fs_ = study_fields();
-      const bool known = section == "parameters"
-                             ? d.parameters.has(rest)
-                             : std::any_of(fs_.begin(), fs_.end(), [&](const StudyField& f) {
-                                 return f.section == section && f.name == rest;
-                               });
+      const bool known =
+          section == "parameters" ? d.parameters.has(rest) : find_setting(section, rest) != nullptr;
       if (!known) unknown_override_key(key, section, rest, d.parameters, d.scene);
       apply(d, key, value);
       if (doc.contains(section) && !doc[section].is_object())
-        throw InputError(section, "expected an object, got " + describe(doc[section]));
+        throw InputError(section, "expected an object, got " + json_type_name(doc[section]));
       erase_path(doc[section], rest);
       doc[section][rest] = value;
     } catch (const InputError& e) {

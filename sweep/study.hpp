@@ -61,6 +61,8 @@ struct OutputSettings {
   HistoryPrecision history_precision = HistoryPrecision::float64;
 };
 std::string_view to_string(HistoryPrecision p);
+/// The names of HistoryPrecision, in its order.
+std::vector<std::string_view> history_precisions();
 
 /// One fully resolved case of a study.
 struct CaseSpec {
@@ -77,13 +79,11 @@ struct CaseSpec {
   WearEvolutionSettings wear_evolution;
   OutputSettings output;  ///< how its histories are stored (the study's)
 
-  /// The canonical resolved description: scene, every parameter value, integrator, time,
-  /// health, metrics settings, recorded signals and (only when enabled) the wear evolution. Its
+  /// The canonical resolved description: scene, every parameter value, recorded signals and
+  /// the settings of sweep/settings.def as its `id` column says (integrator, time, health,
+  /// metrics; the wear evolution only when enabled; history_precision only when float32). Its
   /// compact dump (sorted keys, shortest round-trip floats) is hashed into the id.
   Json canonical() const;
-
- private:
-  Json canonical_run(const Json& signals) const;
 };
 
 /// The cases of a study (issue 16 item 6: memory flat in the number of cases). A grid is held
@@ -167,16 +167,25 @@ struct Study {
   std::vector<std::string> overrides;  ///< the --set key=value overrides, in order
 };
 
-/// One setting of a study section (integrator, time, health, metrics, wear_evolution), from the
-/// list the loader applies settings with; `rodend schema` describes the sections from it.
+/// One setting of a study section (integrator, time, health, metrics, wear_evolution, output):
+/// a line of sweep/settings.def, the list the loader reads and writes settings with;
+/// `rodend schema` describes the sections from it.
 struct StudyField {
   std::string section, name;
   std::string type;  ///< JSON type: "number", "integer" or "string"
   std::string unit;  ///< SI unit ("1" when dimensionless, "" for strings)
   std::string description;
   std::vector<std::string> choices;  ///< the allowed strings (empty: any)
+  /// bounds the loader checks on reading (null: none checked there; integrator and time
+  /// settings are checked together once a case is resolved); minimum excluded when
+  /// exclusive_minimum
+  Json minimum, maximum;
+  bool exclusive_minimum = false;
+  /// the default (null: none of its own: the integrator's is the scene's balanced preset, the
+  /// time keys are required, the preset and the output directory have none)
+  Json default_value;
 };
-/// Every setting of the sections, in the loader's order.
+/// Every setting of the sections, in the loader's order (settings.def).
 std::vector<StudyField> study_fields();
 /// The top-level keys of a study file.
 const std::vector<std::string>& study_keys();

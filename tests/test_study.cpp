@@ -270,6 +270,49 @@ TEST_CASE("a scene axis: a key no scene has, or the scene in two places, is an e
   CHECK(s.cases[2].signals.size() == 3);  // time, contact_force, jet_pipe_position
 }
 
+TEST_CASE("the canonical form keeps its keys and value types (writer of settings.def)", "[study]") {
+  Json doc = base_doc();
+  doc["integrator"] = {{"preset", "fast"}, {"max_steps", 1000000}};
+  doc["health"] = {{"tracking_window", 0.2}};
+  doc["metrics"] = {{"post_impact_window", 0.01}};
+  doc["output"] = {{"compression_level", 3}};
+  const Json c = parse(doc).cases[0].canonical();
+  std::vector<std::string> keys;
+  for (const auto& [k, v] : c.items()) keys.push_back(k);
+  // no preset, no output settings, no wear evolution: what the cases of main always hashed
+  CHECK(keys == std::vector<std::string>{"health", "integrator", "metrics", "parameters", "scene",
+                                         "signals", "time"});
+  CHECK(c["integrator"].size() == 9);
+  CHECK_FALSE(c["integrator"].contains("preset"));
+  CHECK(c["integrator"]["max_steps"].is_number_integer());
+  CHECK(c["integrator"]["max_steps"] == 1000000);
+  CHECK(c["integrator"]["max_rhs_calls"].is_number_integer());
+  CHECK(c["integrator"]["abs_tol"].is_number_float());
+  CHECK(c["integrator"]["method"] == preset_settings("gravity-drop", "fast")->method);
+  CHECK(c["time"] == Json{{"end", 0.1}, {"sample_interval", 1e-3}});
+  CHECK(c["health"].size() == 6);
+  CHECK(c["health"]["tracking_window"] == 0.2);
+  CHECK(c["metrics"] == Json{{"post_impact_window", 0.01}, {"surface_motion_threshold", 1e-3}});
+
+  // a default case with a wear evolution and float32 histories: the whole dump, as on main
+  // before the writer was generated (git f64bafc)
+  CaseSpec w;
+  w.wear_evolution.enabled = true;
+  w.output.history_precision = HistoryPrecision::float32;
+  w.output.compression_level = 7;
+  const std::string golden =
+      R"({"health":{"energy_flow_floor":1e-06,"max_energy_residual":0.01,"max_penetration_fractio)"
+      R"(n":0.0,"max_penetration_strain":0.05,"max_tracking_error":0.005,"tracking_window":0.1},")"
+      R"(history_precision":"float32","integrator":{"abs_tol":1e-06,"contact_onset":"locate","max)"
+      R"(_rhs_calls":200000000,"max_step":0.001,"max_steps":20000000,"method":"dopri5","min_step")"
+      R"(:1e-14,"rel_tol":1e-06,"step":1e-05},"metrics":{"post_impact_window":0.05,"surface_motio)"
+      R"(n_threshold":0.001},"parameters":{},"scene":"","signals":[],"time":{"end":1.0,"sample_in)"
+      R"(terval":0.001},"wear_evolution":{"backlash_limit":0.0,"clearance_limit":0.0,"cycles_per_)"
+      R"(update":10000.0,"max_cycles":100000000.0,"max_depth_change":0.0,"max_updates":1000.0}})";
+  CHECK(w.canonical().dump() == golden);
+  CHECK(w.canonical()["wear_evolution"]["max_updates"].is_number_float());
+}
+
 TEST_CASE("output controls: float32 histories change the case id, the compression level does not",
           "[study][output]") {
   const Study plain = parse(base_doc());
