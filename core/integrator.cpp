@@ -23,6 +23,10 @@ std::vector<std::string_view> integrator_methods() {
           "rosenbrock4", "cvode_bdf", "cvode_adams"};
 }
 
+std::vector<std::string_view> contact_onset_modes() {
+  return {"locate", "step-end"};
+}
+
 std::string_view to_string(RunStatus s) {
   switch (s) {
     case RunStatus::ok:
@@ -68,7 +72,8 @@ void validate(const IntegratorSettings& s) {
                      "larger than integrator.max_step; expected min_step <= max_step");
   if (s.max_steps <= 0) throw InputError("integrator.max_steps", "expected an integer > 0");
   if (s.max_rhs_calls <= 0) throw InputError("integrator.max_rhs_calls", "expected an integer > 0");
-  if (s.contact_onset != "locate" && s.contact_onset != "step-end")
+  const auto modes = contact_onset_modes();
+  if (std::find(modes.begin(), modes.end(), s.contact_onset) == modes.end())
     throw InputError("integrator.contact_onset", "expected \"locate\" or \"step-end\"");
 }
 

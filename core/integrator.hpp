@@ -71,6 +71,8 @@ inline double energy_audit_scale(double input_work, double dissipated, double ki
 }
 
 std::vector<std::string_view> integrator_methods();
+/// The values of IntegratorSettings::contact_onset.
+std::vector<std::string_view> contact_onset_modes();
 
 enum class RunStatus {
   ok,

@@ -56,16 +56,10 @@ std::string_view to_string(HistoryPrecision p) {
 }
 
 std::vector<std::string_view> history_precisions() {
-  return {"float64", "float32"};
+  return {to_string(HistoryPrecision::float64), to_string(HistoryPrecision::float32)};
 }
 
 namespace {
-
-/// The values of IntegratorSettings::contact_onset (validate() in core/integrator.cpp checks
-/// them; here for the schema).
-std::vector<std::string_view> contact_onset_modes() {
-  return {"locate", "step-end"};
-}
 
 /// Limits on what a study may ask for (README "Studies"): cases per study, nesting of the
 /// document, memory of one case's histories.
@@ -139,7 +133,7 @@ struct Draft {
 
 /// What a setting's value must be beyond its JSON type (the `check` column of settings.def).
 struct Check {
-  enum class Rule { later, now, at_least, above, int_range, one_of, nonempty };
+  enum class Rule { later, now, at_least, above, int_range, one_of };
   Rule rule = Rule::later;
   double lo = 0.0, hi = 0.0;
   std::string what;                  ///< int_range: what the integer is ("a deflate level")
@@ -179,9 +173,6 @@ Check int_range(double lo, double hi, const char* what) {
 template <class Names>
 Check one_of(const Names& names) {
   return rule(Rule::one_of, 0.0, 0.0, "", strings(names));
-}
-Check nonempty() {
-  return rule(Rule::nonempty);
 }
 }  // namespace checks
 
@@ -319,8 +310,6 @@ std::string read_string(const Json& v, const std::string& key, const Check& c) {
   if (c.rule == Check::Rule::one_of &&
       std::find(c.choices.begin(), c.choices.end(), s) == c.choices.end())
     throw InputError(key, "expected " + alternatives(c.choices, true) + ", got \"" + s + "\"");
-  if (c.rule == Check::Rule::nonempty && s.empty())
-    throw InputError(key, "expected a non-empty string");
   return s;
 }
 void read_member(std::string& m, const Json& v, const std::string& key, const Check& c) {
@@ -774,9 +763,7 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
       base.parameters = ParameterSet::defaults_for(name);        // unknown scene -> key "scene"
       base.integrator = *preset_settings(name, kDefaultPreset);  // overridden below
       try {
-        for (const char* section :
-             {"parameters", "integrator", "time", "health", "metrics", "wear_evolution"})
-          apply_section(base, doc, section);
+        for (const std::string& section : case_sections()) apply_section(base, doc, section);
       } catch (const InputError& e) {
         if (!several) throw;
         throw InputError(e.key_path(), e.problem() + " (scene " + name + ")");
