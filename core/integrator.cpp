@@ -231,10 +231,13 @@ class Driver {
     check_health_at_sample(t);
   }
 
-  /// A frame with a non-finite value never reaches the observer: the run ends there. Checks
-  /// `which` signals (the scene's, or those of a step frame).
+  /// A frame with a non-finite value among `which` (the scene's signals, or those of a step
+  /// frame) never reaches the observer: the run ends there. One pass over the whole frame first
+  /// (no per-signal lookups); only a frame with a non-finite entry is looked at signal by
+  /// signal.
   void check_frame_finite(double t) { check_frame_finite(t, signals_); }
   void check_frame_finite(double t, const std::vector<SignalId>& which) {
+    if (frame_.all_finite()) return;
     for (SignalId id : which)
       for (int k = 0; k < signal_spec(id).width; ++k)
         if (!std::isfinite(frame_.get(id, k))) {

@@ -499,6 +499,24 @@ constexpr hsize_t kUserBlock = 512;
 constexpr std::string_view kChecksumMagic = "RODEND-CHECKSUM 1\n";
 constexpr unsigned char kHdf5Signature[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
 
+/// Scratch of the calling thread: a buffer of at least `size` bytes, not zeroed, that the next
+/// call with the same `slot` reuses (its pages stay mapped: no fresh page faults per file).
+/// Only for bytes that are all written before they are read.
+enum class ScratchSlot { encode, image, count_ };
+unsigned char* thread_scratch(ScratchSlot slot, std::size_t size) {
+  struct Buffer {
+    std::unique_ptr<unsigned char[]> bytes;
+    std::size_t capacity = 0;
+  };
+  thread_local std::array<Buffer, static_cast<std::size_t>(ScratchSlot::count_)> buffers;
+  Buffer& b = buffers[static_cast<std::size_t>(slot)];
+  if (b.capacity < size) {
+    b.bytes = std::make_unique_for_overwrite<unsigned char[]>(size);
+    b.capacity = size;
+  }
+  return b.bytes.get();
+}
+
 /// Creates the in-memory file, runs build(file), and returns the file's image (without its
 /// user block), in a buffer of the calling thread that the next call reuses (its pages stay
 /// mapped: no fresh page faults per file). `estimate`: the expected size [bytes] (the core
@@ -517,12 +535,11 @@ ByteSpan build_image(const Context& cx, hsize_t user_block, std::size_t estimate
   cx.ok(H5Fflush(file.get(), H5F_SCOPE_LOCAL), "cannot flush the file");
   const ssize_t size = H5Fget_file_image(file.get(), nullptr, 0);
   if (size <= 0) cx.fail("cannot take the file's image");
-  thread_local std::vector<unsigned char> buffer;
-  if (buffer.size() < static_cast<std::size_t>(size)) buffer.resize(static_cast<std::size_t>(size));
-  if (H5Fget_file_image(file.get(), buffer.data(), static_cast<std::size_t>(size)) != size)
+  unsigned char* const buffer = thread_scratch(ScratchSlot::image, static_cast<std::size_t>(size));
+  if (H5Fget_file_image(file.get(), buffer, static_cast<std::size_t>(size)) != size)
     cx.fail("cannot take the file's image");
   cx.ok(file.close(), "cannot close the file");
-  return ByteSpan(buffer.data(), static_cast<std::size_t>(size));
+  return ByteSpan(buffer, static_cast<std::size_t>(size));
 }
 
 /// The user block of a case file, written before its HDF5 image (H5Fget_file_image leaves it
@@ -618,7 +635,10 @@ void write_case_parameters(const Context& cx, hid_t root, const ParameterSet& pa
 /// at full size) and encoded with the dataset's filter pipeline.
 struct EncodedSignal {
   hsize_t rows = 0, width = 1, chunk_rows = 1;
-  std::vector<std::vector<unsigned char>> chunks;  ///< in row order
+  /// The chunks in row order: views of the history itself (uncompressed float64 chunks that
+  /// are whole) or of `owned` (the rest). The history must outlive the write.
+  std::vector<ByteSpan> chunks;
+  std::vector<std::vector<unsigned char>> owned;  ///< the bytes of chunks not in the history
 };
 
 /// One libdeflate compressor per thread and level (they are not thread-safe, and cheap to keep).
@@ -650,34 +670,44 @@ EncodedSignal encode_signal(const std::vector<double>& values, long long samples
   const bool f32 = out.history_precision == HistoryPrecision::float32;
   const std::size_t es = f32 ? 4 : 8;  // element size in the file [bytes]
   const std::size_t per_chunk = static_cast<std::size_t>(e.chunk_rows * e.width);  // elements
-  std::vector<unsigned char> raw(per_chunk * es), shuffled(per_chunk * es);
+  const std::size_t chunk_bytes = per_chunk * es;
+  libdeflate_compressor* compressor =
+      out.compression_level > 0 ? thread_compressor(out.compression_level) : nullptr;
+  const std::size_t bound =
+      compressor ? libdeflate_zlib_compress_bound(compressor, chunk_bytes) : std::size_t{0};
+  // scratch: the chunk as stored (element bytes, padded), its shuffle, its compression
+  unsigned char* const raw = thread_scratch(ScratchSlot::encode, 2 * chunk_bytes + bound);
+  unsigned char* const shuffled = raw + chunk_bytes;
+  unsigned char* const z = shuffled + chunk_bytes;
   for (hsize_t r0 = 0; r0 < e.rows; r0 += e.chunk_rows) {
     const std::size_t n =
         static_cast<std::size_t>(std::min(e.chunk_rows, e.rows - r0) * e.width);  // filled
     const double* src = values.data() + static_cast<std::size_t>(r0 * e.width);
-    std::fill(raw.begin(), raw.end(), 0);  // the edge chunk's padding: the fill value 0
+    if (!f32 && !compressor && n == per_chunk) {  // stored as it is held: no copy
+      e.chunks.emplace_back(reinterpret_cast<const unsigned char*>(src), chunk_bytes);
+      continue;
+    }
     if (f32) {
       for (std::size_t i = 0; i < n; ++i) {
         const float v = static_cast<float>(src[i]);
-        std::memcpy(raw.data() + 4 * i, &v, 4);
+        std::memcpy(raw + 4 * i, &v, 4);
       }
     } else {
-      std::memcpy(raw.data(), src, 8 * n);
+      std::memcpy(raw, src, 8 * n);
     }
-    if (out.compression_level == 0) {
-      e.chunks.push_back(raw);
-      continue;
+    std::fill(raw + n * es, raw + chunk_bytes, 0);  // the edge chunk's padding: the fill value 0
+    const unsigned char* stored = raw;
+    std::size_t size = chunk_bytes;
+    if (compressor) {
+      // HDF5's shuffle filter: byte b of element i goes to b * count + i
+      for (std::size_t i = 0; i < per_chunk; ++i)
+        for (std::size_t b = 0; b < es; ++b) shuffled[b * per_chunk + i] = raw[i * es + b];
+      size = libdeflate_zlib_compress(compressor, shuffled, chunk_bytes, z, bound);
+      if (size == 0) throw std::runtime_error("libdeflate could not compress a chunk");
+      stored = z;
     }
-    // HDF5's shuffle filter: byte b of element i goes to b * count + i
-    for (std::size_t i = 0; i < per_chunk; ++i)
-      for (std::size_t b = 0; b < es; ++b) shuffled[b * per_chunk + i] = raw[i * es + b];
-    libdeflate_compressor* c = thread_compressor(out.compression_level);
-    std::vector<unsigned char> z(libdeflate_zlib_compress_bound(c, shuffled.size()));
-    const std::size_t size =
-        libdeflate_zlib_compress(c, shuffled.data(), shuffled.size(), z.data(), z.size());
-    if (size == 0) throw std::runtime_error("libdeflate could not compress a chunk");
-    z.resize(size);
-    e.chunks.push_back(std::move(z));
+    e.owned.emplace_back(stored, stored + size);
+    e.chunks.emplace_back(e.owned.back().data(), size);
   }
   return e;
 }
