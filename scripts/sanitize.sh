@@ -5,7 +5,8 @@
 # report aborts the test that triggered it. Extra arguments go to ctest:
 #
 #   bash scripts/sanitize.sh               # the whole suite (command-line tests included)
-#   bash scripts/sanitize.sh -E '^cli\.'   # the unit tests only (what .ci/run does)
+#   RODEND_BUILD_TARGETS=rodend_tests bash scripts/sanitize.sh -E '^cli\.'
+#                                          # the unit tests only, nothing else built (.ci/run)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 RODEND_BUILD_DIR=build-asan RODEND_BUILD_TYPE=RelWithDebInfo \

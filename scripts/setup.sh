@@ -4,6 +4,7 @@
 #
 #   bash scripts/setup.sh            # Release build in ./build
 #   RODEND_BUILD_DIR=build-asan RODEND_CMAKE_ARGS="-DRODEND_SANITIZE=ON" bash scripts/setup.sh
+#   RODEND_BUILD_TARGETS=rodend_tests bash scripts/setup.sh   # only the unit-test executable
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -36,7 +37,10 @@ build_dir="${RODEND_BUILD_DIR:-build}"
 # shellcheck disable=SC2086
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE="${RODEND_BUILD_TYPE:-Release}" \
   -DRODEND_WERROR="${RODEND_WERROR:-ON}" ${RODEND_CMAKE_ARGS:-} >/dev/null
-cmake --build "$build_dir" -j"$(nproc)"
+# RODEND_BUILD_TARGETS: build only these targets (space-separated; default: all)
+targets=()
+for t in ${RODEND_BUILD_TARGETS:-}; do targets+=(--target "$t"); done
+cmake --build "$build_dir" -j"$(nproc)" "${targets[@]}"
 
 # The Python module (README "Python"): `import rodend` under /usr/bin/python3 finds the package
 # python/rodend of this clone through a .pth file in site-packages (as root the system's
