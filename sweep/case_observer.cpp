@@ -65,7 +65,12 @@ void CaseObserver::on_sample(const SignalFrame& f) {
   for (std::size_t i = 0; i < history_->signals.size(); ++i) {
     const SignalId id = history_->signals[i];
     const double* v = f.data(id);
-    history_->values[i].insert(history_->values[i].end(), v, v + signal_spec(id).width);
+    std::vector<double>& column = history_->values[i];
+    const int width = signal_spec(id).width;
+    if (width == 1)
+      column.push_back(*v);  // most signals: no memmove call per value
+    else
+      column.insert(column.end(), v, v + width);
   }
   ++history_->samples;
 }
