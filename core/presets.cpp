@@ -29,11 +29,11 @@ const std::array<Entry, 12>& table() {
       // integral, first-impact peak force and stroke-end surface-angle errors against dopri5
       // 1e-11, cost in instructions (callgrind, whole run). dopri5's steps are held at ~1.3e-4 s
       // by the contact mode's eigenvalues (1.5e4 ... 7e4 1/s, rodend-eigen); cvode_bdf's are
-      // 3-4x longer. fast: cvode_bdf 1e-6 since git a0c8a30 (was 1e-5, which fails the energy
+      // 3-4x longer. fast: cvode_bdf 1e-6 since 2026-11-25 (was 1e-5, which fails the energy
       // audit at clearance 0.1 mm of the thesis clearance study, plots/work_precision.py; 1e-6:
       // largest error 5e-4 over its five clearances, the least wall time of every method with
       // <= 1 %; one 0.5 mm cycle 1.7e-4 at 525 M instructions). balanced:
-      // dopri5 1e-7 since git a0c8a30 (was 1e-8; remeasured with contact events, samples every
+      // dopri5 1e-7 since 2026-11-25 (was 1e-8; remeasured with contact events, samples every
       // 1 ms: 1e-7 has 2.5e-6 largest error at 674.8 M, 18,343 steps; 1e-8 8.5e-7 at 831.6 M,
       // 25,674 steps; 1e-5 and 1e-6 cost more, 692.6 M and 701.2 M, rejecting a third of their
       // steps). cvode_bdf 1e-6 (1.7e-4, 557 M) is within 1 % on these metrics, but its free
