@@ -24,33 +24,16 @@ struct Entry {
 /// documented there. Scenes without a row of their own use the "*" rows.
 const std::array<Entry, 12>& table() {
   static const std::array<Entry, 12> t{{
-      // measured (issue 20, bench/stiff-work-precision.py --callgrind; README "Speed and
-      // accuracy"): one thesis cycle, error on max contact force, max eccentricity, wear
-      // integral, first-impact peak force and stroke-end surface-angle errors against dopri5
-      // 1e-11, cost in instructions (callgrind, whole run). dopri5's steps are held at ~1.3e-4 s
-      // by the contact mode's eigenvalues (1.5e4 ... 7e4 1/s, rodend-eigen); cvode_bdf's are
-      // 3-4x longer. fast: cvode_bdf 1e-6 since 2026-11-25 (was 1e-5, which fails the energy
-      // audit at clearance 0.1 mm of the thesis clearance study, plots/work_precision.py; 1e-6:
-      // largest error 5e-4 over its five clearances, the least wall time of every method with
-      // <= 1 %; one 0.5 mm cycle 1.7e-4 at 525 M instructions). balanced:
-      // dopri5 1e-7 since 2026-11-25 (was 1e-8; remeasured with contact events, samples every
-      // 1 ms: 1e-7 has 2.5e-6 largest error at 674.8 M, 18,343 steps; 1e-8 8.5e-7 at 831.6 M,
-      // 25,674 steps; 1e-5 and 1e-6 cost more, 692.6 M and 701.2 M, rejecting a third of their
-      // steps). cvode_bdf 1e-6 (1.7e-4, 557 M) is within 1 % on these metrics, but its free
-      // flight is less accurate than the thesis-trend check allows (the socket's speed before
-      // any contact differs by 3e-5 between clearances, cli.thesis_trends_scenes asks 1e-6;
-      // dopri5 1e-7 gives 3.5e-7).
+      // Chosen on 2026-11-25 from docs/performance.md "Speed and accuracy" (the figures are
+      // there, not here). fast: the least wall time within 1 % (cvode_bdf 1e-5 failed the energy
+      // audit at 0.1 mm). balanced: explicit, because cvode_bdf's free flight misses the 1e-6
+      // agreement of cli.thesis_trends_scenes; 1e-7 is the dopri5 tolerance of fewest
+      // instructions. Checked by the [presets] test.
       {"rod-end-kinematic", "fast", adaptive("cvode_bdf", 1e-6)},
       {"rod-end-kinematic", "balanced", adaptive("dopri5", 1e-7)},
       {"rod-end-kinematic", "reference", adaptive("dopri5", 1e-10)},
-      // measured (issue 20, as above): fast: cvode_bdf 1e-5, largest error 3.0e-3, 765 M
-      // instructions (dopri5 1e-8: 7.9e-7, 1027 M; 1e-6 and 1e-7 cost as much, 1018 M and
-      // 1010 M). Its cost is not monotonic in the tolerance here (cvode_bdf 1e-6: 1398 M, twice
-      // the steps of 1e-5; 1e-7: 950 M). balanced stays dopri5 1e-8, the cheapest in wall time
-      // with <= 1 % error in issue 17's study (plots/work_precision.py), for the same reason as
-      // above (cvode_bdf 1e-5's socket speed before contact differs by 2e-3 between clearances).
-      // reference: dopri5 1e-10 (its measured 5.4e-3 is that study's floor: the two references
-      // differ by 5.7e-3 on the first-impact peak).
+      // Measured again on 2026-11-25 (docs/performance.md "Speed and accuracy") and kept:
+      // fast is the least wall time within 1 %, balanced the cheapest dopri5.
       {"rod-end-actuator", "fast", adaptive("cvode_bdf", 1e-5)},
       {"rod-end-actuator", "balanced", adaptive("dopri5", 1e-8)},
       {"rod-end-actuator", "reference", adaptive("dopri5", 1e-10)},
