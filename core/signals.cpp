@@ -3,9 +3,9 @@
 namespace rodend {
 
 std::optional<SignalId> signal_by_name(std::string_view name) {
-  for (int i = 0; i < signal_count; ++i)
-    if (detail::kSignalCatalogue[static_cast<std::size_t>(i)].name == name)
-      return static_cast<SignalId>(i);
+  const auto catalogue = signal_catalogue();
+  for (std::size_t i = 0; i < catalogue.size(); ++i)
+    if (catalogue[i].name == name) return static_cast<SignalId>(i);
   return std::nullopt;
 }
 

@@ -518,9 +518,8 @@ unsigned char* thread_scratch(ScratchSlot slot, std::size_t size) {
 }
 
 /// Creates the in-memory file, runs build(file), and returns the file's image (without its
-/// user block), in a buffer of the calling thread that the next call reuses (its pages stay
-/// mapped: no fresh page faults per file). `estimate`: the expected size [bytes] (the core
-/// driver's allocation step). Call under Hdf5Lock.
+/// user block), in the calling thread's ScratchSlot::image (valid until its next call). `estimate`:
+/// the expected size [bytes] (the core driver's allocation step). Call under Hdf5Lock.
 template <class Build>
 ByteSpan build_image(const Context& cx, hsize_t user_block, std::size_t estimate, Build&& build) {
   const Handle fapl = cx.own(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "cannot create the file");
