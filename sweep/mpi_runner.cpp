@@ -359,10 +359,10 @@ int run_study_mpi(const Session& session, const fs::path& study_file, const fs::
   if (rank == 0) {
     try {
       for (const std::size_t i : plan.todo) {
-        plan.records[i] = read_back(plan.cases_dir, study->cases[i]);
+        plan.spool->put(i, read_back(plan.cases_dir, study->cases[i]));
         plan.have[i] = 1;
       }
-      rc = write_run_summary(*study, plan, take_complete_records(plan));
+      rc = write_run_summary(*study, plan);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "rodend: error: %s\n", e.what());
       rc = 2;

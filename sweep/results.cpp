@@ -70,6 +70,7 @@
 #include <cstring>
 #include <ctime>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <limits>
 #include <memory>
@@ -375,9 +376,9 @@ fs::path temp_path_for(const fs::path& path) {
 /// Bytes a WriteFailureInjection still lets through (negative: no injection in place).
 std::atomic<long long> g_write_budget{-1};
 
-/// write(2) of all of `bytes` to `fd`, with the injected failure of WriteFailureInjection.
-/// Returns 0 or the errno of the failure.
-int write_all(int fd, const unsigned char* bytes, std::size_t size) {
+/// write(2) of all of `bytes` to `fd` (pwrite(2) at `offset` when it is not negative), with the
+/// injected failure of WriteFailureInjection. Returns 0 or the errno of the failure.
+int write_all(int fd, const unsigned char* bytes, std::size_t size, off_t offset = -1) {
   while (size > 0) {
     std::size_t n = std::min<std::size_t>(size, std::size_t{1} << 30);
     const long long budget = g_write_budget.load();
@@ -386,11 +387,12 @@ int write_all(int fd, const unsigned char* bytes, std::size_t size) {
       n = std::min<std::size_t>(n, static_cast<std::size_t>(budget));
       g_write_budget.fetch_sub(static_cast<long long>(n));
     }
-    const ssize_t w = ::write(fd, bytes, n);
+    const ssize_t w = offset < 0 ? ::write(fd, bytes, n) : ::pwrite(fd, bytes, n, offset);
     if (w < 0) {
       if (errno == EINTR) continue;
       return errno;
     }
+    if (offset >= 0) offset += w;
     bytes += w;
     size -= static_cast<std::size_t>(w);
   }
@@ -433,9 +435,12 @@ class AtomicFile {
   }
 
   void write(ByteSpan bytes) {
-    if (const int err = write_all(fd_, bytes.data(), bytes.size()); err != 0)
-      fail("write error on " + temp_.string(), err);
+    if (const int err = write_all(fd_, bytes.data(), bytes.size()); err != 0) fail_write(err);
   }
+  /// The temporary file, for a writer of its own (the summary's HDF5 driver, SinkDriver).
+  int fd() const { return fd_; }
+  /// That writer's failure (`err`: its errno): throws this class's message, as write() does.
+  [[noreturn]] void fail_write(int err) { fail("write error on " + temp_.string(), err); }
   /// Everything is written: flushes it to the disk (durable) and closes the temporary file.
   void finish(bool durable) {
     int err = 0;
@@ -555,6 +560,147 @@ std::array<unsigned char, kUserBlock> checksum_header(ByteSpan image) {
                 std::string(kChecksumMagic).c_str(), static_cast<unsigned>(crc),
                 static_cast<std::size_t>(kUserBlock) + image.size());
   return header;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Files HDF5 writes to the disk: the sink driver
+//
+// summary.h5 grows with the number of cases, so it is not built in memory (issue 16 item 6):
+// HDF5 writes it, block of rows by block of rows, through this minimal virtual file driver
+// straight into the temporary file of an AtomicFile. The driver never reports a failed write to
+// HDF5 (HDF5 1.10 cannot close a file whose writes failed, and crashed at exit on it): the
+// first failure (a full disk) is latched in its SinkTarget and later writes are dropped; the
+// writer reports the latched error once HDF5 has closed the file, through the AtomicFile, which
+// removes the temporary file. HDF5 reads back metadata it has evicted from its cache: reads
+// come from the temporary file (after a failure, what was dropped reads as zeros; an HDF5 error
+// that follows from it gives way to the latched one). Nothing of the driver is stored in the
+// file: any HDF5 reader opens it with its default driver.
+
+/// Where a sink file goes (its driver info): an open file descriptor, and the first failure.
+struct SinkTarget {
+  int fd = -1;
+  int error = 0;  ///< errno of the first failed write or truncation; 0: none
+};
+
+struct SinkFile {
+  H5FD_t pub;  // first: HDF5 holds an H5FD_t*
+  SinkTarget* target;
+  haddr_t eoa, eof;
+};
+
+SinkFile* sink_file(H5FD_t* f) {
+  return reinterpret_cast<SinkFile*>(f);
+}
+const SinkFile* sink_file(const H5FD_t* f) {
+  return reinterpret_cast<const SinkFile*>(f);
+}
+
+H5FD_t* sink_open(const char*, unsigned, hid_t fapl, haddr_t) {
+  const auto* info = static_cast<SinkTarget* const*>(H5Pget_driver_info(fapl));
+  if (!info || !*info) return nullptr;
+  auto* f = static_cast<SinkFile*>(std::calloc(1, sizeof(SinkFile)));
+  if (!f) return nullptr;
+  f->target = *info;
+  return &f->pub;
+}
+herr_t sink_close(H5FD_t* f) {
+  std::free(sink_file(f));
+  return 0;
+}
+int sink_cmp(const H5FD_t* a, const H5FD_t* b) {
+  return std::less<const H5FD_t*>{}(a, b) ? -1 : a == b ? 0 : 1;
+}
+herr_t sink_query(const H5FD_t*, unsigned long* flags) {
+  // as the default (sec2) driver: metadata and small raw data aggregated, a sieve buffer
+  *flags = H5FD_FEAT_AGGREGATE_METADATA | H5FD_FEAT_ACCUMULATE_METADATA | H5FD_FEAT_DATA_SIEVE |
+           H5FD_FEAT_AGGREGATE_SMALLDATA;
+  return 0;
+}
+haddr_t sink_get_eoa(const H5FD_t* f, H5FD_mem_t) {
+  return sink_file(f)->eoa;
+}
+herr_t sink_set_eoa(H5FD_t* f, H5FD_mem_t, haddr_t addr) {
+  sink_file(f)->eoa = addr;
+  return 0;
+}
+haddr_t sink_get_eof(const H5FD_t* f, H5FD_mem_t) {
+  return sink_file(f)->eof;
+}
+herr_t sink_read(H5FD_t* f, H5FD_mem_t, hid_t, haddr_t addr, size_t size, void* buffer) {
+  auto* out = static_cast<unsigned char*>(buffer);
+  const int fd = sink_file(f)->target->fd;
+  while (size > 0) {
+    const ssize_t r = ::pread(fd, out, size, static_cast<off_t>(addr));
+    if (r < 0 && errno == EINTR) continue;
+    if (r <= 0) break;  // past the end (or dropped): zeros below
+    out += r;
+    addr += static_cast<haddr_t>(r);
+    size -= static_cast<size_t>(r);
+  }
+  std::memset(out, 0, size);
+  return 0;
+}
+herr_t sink_write(H5FD_t* f, H5FD_mem_t, hid_t, haddr_t addr, size_t size, const void* buffer) {
+  SinkFile* s = sink_file(f);
+  if (s->target->error == 0)
+    s->target->error = write_all(s->target->fd, static_cast<const unsigned char*>(buffer), size,
+                                 static_cast<off_t>(addr));
+  s->eof = std::max(s->eof, addr + size);
+  return 0;
+}
+herr_t sink_truncate(H5FD_t* f, hid_t, hbool_t) {
+  SinkFile* s = sink_file(f);
+  if (s->eoa != s->eof && s->target->error == 0 &&
+      ::ftruncate(s->target->fd, static_cast<off_t>(s->eoa)) != 0)
+    s->target->error = errno;
+  s->eof = s->eoa;
+  return 0;
+}
+
+const H5FD_class_t kSinkClass = {
+    .name = "rodend_sink",
+    .maxaddr = (haddr_t{1} << 62) - 1,
+    .fc_degree = H5F_CLOSE_WEAK,
+    .terminate = nullptr,
+    .sb_size = nullptr,
+    .sb_encode = nullptr,
+    .sb_decode = nullptr,
+    .fapl_size = sizeof(SinkTarget*),
+    .fapl_get = nullptr,
+    .fapl_copy = nullptr,
+    .fapl_free = nullptr,
+    .dxpl_size = 0,
+    .dxpl_copy = nullptr,
+    .dxpl_free = nullptr,
+    .open = sink_open,
+    .close = sink_close,
+    .cmp = sink_cmp,
+    .query = sink_query,
+    .get_type_map = nullptr,
+    .alloc = nullptr,
+    .free = nullptr,
+    .get_eoa = sink_get_eoa,
+    .set_eoa = sink_set_eoa,
+    .get_eof = sink_get_eof,
+    .get_handle = nullptr,
+    .read = sink_read,
+    .write = sink_write,
+    .flush = nullptr,
+    .truncate = sink_truncate,
+    .lock = nullptr,
+    .unlock = nullptr,
+    .fl_map = H5FD_FLMAP_DICHOTOMY,
+};
+
+/// A file access property list that writes through the sink driver into `target` (which must
+/// outlive the file). Call under Hdf5Lock.
+Handle sink_access(const Context& cx, SinkTarget& target) {
+  static const hid_t driver = H5FDregister(&kSinkClass);
+  if (driver < 0) cx.fail("cannot register rodend's HDF5 file driver");
+  Handle fapl = cx.own(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "cannot create the file");
+  SinkTarget* info = &target;
+  cx.ok(H5Pset_driver(fapl.get(), driver, &info), "cannot create the file");
+  return fapl;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -948,31 +1094,51 @@ CaseRecord read_case_locked(const fs::path& path) {
 
 // ---------------------------------------------------------------------------------------------
 // Summary
+//
+// Written as a stream (issue 16 item 6): the rows come from a SummaryRows (a RecordSpool on the
+// disk, in a run) a block at a time, and each block goes to summary.csv and to the columns of
+// summary.h5 (datasets of the final size, written by hyperslabs through the sink driver) before
+// the next is read: the memory it takes does not grow with the number of cases.
 
+/// A summary column: name, unit, description and how a case record gives its value.
 struct Column {
   enum class Kind { text, integer, real };
   std::string name, unit, description;
   Kind kind = Kind::real;
+  std::function<std::string(const CaseRecord&)> text;
+  std::function<long long(const CaseRecord&)> integer;
+  std::function<double(const CaseRecord&)> real;
+};
+
+/// The values of one column for a block of rows (or for a whole table read back).
+struct ColumnValues {
+  Column::Kind kind = Column::Kind::real;
   std::vector<std::string> texts;
   std::vector<long long> integers;
   std::vector<double> reals;
 };
 
-std::vector<Column> summary_columns(const Study& study, const std::vector<CaseRecord>& rows) {
+/// The columns of the summary, in table order; `text_coordinates`: the grid keys whose values
+/// are not all numbers (a text column; the others are numeric).
+std::vector<Column> summary_columns(const Study& study,
+                                    const std::set<std::string>& text_coordinates) {
   std::vector<Column> cols;
-  auto text = [&](std::string name, std::string unit, std::string desc, auto get) {
+  using Get = std::function<std::string(const CaseRecord&)>;
+  auto text = [&](std::string name, std::string unit, std::string desc, Get get) {
     Column c{std::move(name), std::move(unit), std::move(desc), Column::Kind::text, {}, {}, {}};
-    for (const CaseRecord& r : rows) c.texts.push_back(get(r));
+    c.text = std::move(get);
     cols.push_back(std::move(c));
   };
-  auto integer = [&](std::string name, std::string unit, std::string desc, auto get) {
+  auto integer = [&](std::string name, std::string unit, std::string desc,
+                     std::function<long long(const CaseRecord&)> get) {
     Column c{std::move(name), std::move(unit), std::move(desc), Column::Kind::integer, {}, {}, {}};
-    for (const CaseRecord& r : rows) c.integers.push_back(get(r));
+    c.integer = std::move(get);
     cols.push_back(std::move(c));
   };
-  auto real = [&](std::string name, std::string unit, std::string desc, auto get) {
+  auto real = [&](std::string name, std::string unit, std::string desc,
+                  std::function<double(const CaseRecord&)> get) {
     Column c{std::move(name), std::move(unit), std::move(desc), Column::Kind::real, {}, {}, {}};
-    for (const CaseRecord& r : rows) c.reals.push_back(get(r));
+    c.real = std::move(get);
     cols.push_back(std::move(c));
   };
   constexpr double nan = std::numeric_limits<double>::quiet_NaN();
@@ -998,22 +1164,18 @@ std::vector<Column> summary_columns(const Study& study, const std::vector<CaseRe
         }
     }
     const std::string desc = "grid coordinate " + key;
-    const bool numeric = std::all_of(rows.begin(), rows.end(), [&](const CaseRecord& r) {
-      return !r.coordinates.is_object() || !r.coordinates.contains(key) ||
-             r.coordinates[key].is_number();
-    });
     auto value = [key](const CaseRecord& r) -> const Json* {
       if (!r.coordinates.is_object()) return nullptr;
       const auto it = r.coordinates.find(key);
       return it == r.coordinates.end() ? nullptr : &*it;
     };
-    if (numeric)
-      real(key, unit, desc, [&](const CaseRecord& r) {
+    if (text_coordinates.count(key) == 0)
+      real(key, unit, desc, [value](const CaseRecord& r) {
         const Json* v = value(r);
-        return v ? v->get<double>() : nan;
+        return v && v->is_number() ? v->get<double>() : nan;
       });
     else
-      text(key, unit, desc, [&](const CaseRecord& r) {
+      text(key, unit, desc, [value](const CaseRecord& r) {
         const Json* v = value(r);
         return !v ? std::string() : v->is_string() ? v->get<std::string>() : v->dump();
       });
@@ -1053,78 +1215,23 @@ std::vector<Column> summary_columns(const Study& study, const std::vector<CaseRe
   return cols;
 }
 
-void write_summary_column(const Context& cx, hid_t group, const Column& c) {
-  const std::string what = "cannot write summary column " + c.name;
-  const hsize_t n = c.kind == Column::Kind::text      ? c.texts.size()
-                    : c.kind == Column::Kind::integer ? c.integers.size()
-                                                      : c.reals.size();
-  const Handle space = vector_space(cx, n);
-  const Handle str = utf8_string_type(cx);
-  hid_t file_type = H5T_IEEE_F64LE, mem_type = H5T_NATIVE_DOUBLE;
-  const void* data = c.reals.data();
-  std::vector<const char*> ptrs;
-  if (c.kind == Column::Kind::text) {
-    for (const std::string& s : c.texts) ptrs.push_back(s.c_str());
-    file_type = mem_type = str.get();
-    data = ptrs.data();
-  } else if (c.kind == Column::Kind::integer) {
-    file_type = H5T_STD_I64LE;
-    mem_type = H5T_NATIVE_LLONG;
-    data = c.integers.data();
-  }
-  Handle d = cx.own(H5Dcreate2(group, c.name.c_str(), file_type, space.get(), H5P_DEFAULT,
-                               H5P_DEFAULT, H5P_DEFAULT),
-                    H5Dclose, what);
-  if (n > 0) cx.ok(H5Dwrite(d.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), what);
-  attr_units(cx, d.get(), c.unit, c.description, c.kind == Column::Kind::text);
-  cx.ok(d.close(), what);
-}
-
-/// The image of summary.h5; `csv_crc32`: the CRC-32 of the summary.csv written with it.
-/// Each column's values are freed once written (the image grows as the columns shrink).
-ByteSpan summary_h5_image(const fs::path& final_path, const Study& study, std::vector<Column>& cols,
-                          std::size_t row_count, const Json& prov, std::uint32_t csv_crc32) {
-  Hdf5Lock lock;  // held for the whole create-write-close
-  const Context cx(final_path, "cannot write summary file");
-  return build_image(cx, 0, 1 << 20, [&](hid_t file) {
-    const Handle root = cx.own(H5Gopen2(file, "/", H5P_DEFAULT), H5Gclose, "no root");
-    const hid_t g = root.get();
-    attr_int(cx, g, "schema_version", kResultsSchemaVersion);
-    attr_string(cx, g, "study_name", study.name);
-    const std::string study_file = prov_text(prov, "study_file");
-    attr_string(cx, g, "study_file", study_file.empty() ? study.file.string() : study_file);
-    for (const char* key : {"rodend_version", "git_revision", "host"})
-      attr_string(cx, g, key, prov_text(prov, key));
-    attr_int64(cx, g, "case_count", static_cast<long long>(row_count));
-    attr_string(cx, g, "provenance_json", prov.dump());
-    attr_string(cx, g, "study_json", study.source.dump());
-    // the summary.csv of the same run (summary_csv_matches, repair_summary_csv)
-    attr_int64(cx, g, "summary_csv_crc32", static_cast<long long>(csv_crc32));
-
-    const Handle summary = create_group(cx, g, "summary", /*track_link_order=*/true);
-    Json names = Json::array();
-    for (Column& c : cols) {
-      write_summary_column(cx, summary.get(), c);
-      names.push_back(c.name);
-      c.texts = {};
-      c.integers = {};
-      c.reals = {};
+/// The values of column `c` for the records of `block`, into `out`.
+void column_values(const Column& c, const std::vector<CaseRecord>& block, ColumnValues& out) {
+  out.kind = c.kind;
+  out.texts.clear();
+  out.integers.clear();
+  out.reals.clear();
+  for (const CaseRecord& r : block) switch (c.kind) {
+      case Column::Kind::text:
+        out.texts.push_back(c.text(r));
+        break;
+      case Column::Kind::integer:
+        out.integers.push_back(c.integer(r));
+        break;
+      case Column::Kind::real:
+        out.reals.push_back(c.real(r));
+        break;
     }
-    attr_string(cx, summary.get(), "columns", names.dump());
-    // case_index is the netCDF dimension of every column: the table is one call away,
-    // xarray.open_dataset(path, engine="h5netcdf", group="summary").to_dataframe()
-    std::vector<Handle> open;
-    std::vector<std::pair<hid_t, unsigned>> columns;
-    for (const Column& c : cols)
-      if (c.name != "case_index") {
-        open.push_back(cx.own(H5Dopen2(summary.get(), c.name.c_str(), H5P_DEFAULT), H5Dclose,
-                              "cannot open summary column " + c.name));
-        columns.emplace_back(open.back().get(), 0u);
-      }
-    const Handle index = cx.own(H5Dopen2(summary.get(), "case_index", H5P_DEFAULT), H5Dclose,
-                                "no case_index column");
-    attach_scale(cx, index.get(), "case_index", columns);
-  });
 }
 
 std::string csv_field(const std::string& s) {
@@ -1137,26 +1244,23 @@ std::string csv_field(const std::string& s) {
   return out + "\"";
 }
 
-std::string csv_number(double v) {
-  return shortest_decimal(v);
-}
-
 /// The header line of summary.csv: the column names.
-std::string summary_csv_header(const std::vector<Column>& cols) {
+std::string summary_csv_header(const std::vector<std::string>& names) {
   std::string text;
-  for (std::size_t j = 0; j < cols.size(); ++j) {
+  for (std::size_t j = 0; j < names.size(); ++j) {
     if (j) text += ',';
-    text += csv_field(cols[j].name);
+    text += csv_field(names[j]);
   }
   return text + '\n';
 }
 
-/// Rows [begin, end) of summary.csv, appended to `text`.
-void append_summary_csv_rows(const std::vector<Column>& cols, std::size_t begin, std::size_t end,
+/// The first `rows` rows of `cols` as lines of summary.csv, appended to `text`: numbers as the
+/// shortest decimal that reads back as the same double.
+void append_summary_csv_rows(const std::vector<ColumnValues>& cols, std::size_t rows,
                              std::string& text) {
-  for (std::size_t i = begin; i < end; ++i) {
+  for (std::size_t i = 0; i < rows; ++i) {
     for (std::size_t j = 0; j < cols.size(); ++j) {
-      const Column& c = cols[j];
+      const ColumnValues& c = cols[j];
       if (j) text += ',';
       switch (c.kind) {
         case Column::Kind::text:
@@ -1166,7 +1270,7 @@ void append_summary_csv_rows(const std::vector<Column>& cols, std::size_t begin,
           text += std::to_string(c.integers[i]);
           break;
         case Column::Kind::real:
-          text += csv_number(c.reals[i]);
+          text += shortest_decimal(c.reals[i]);
           break;
       }
     }
@@ -1174,11 +1278,50 @@ void append_summary_csv_rows(const std::vector<Column>& cols, std::size_t begin,
   }
 }
 
-std::string summary_csv_text(const std::vector<Column>& cols, std::size_t row_count) {
-  std::string text = summary_csv_header(cols);
-  append_summary_csv_rows(cols, 0, row_count, text);
-  return text;
+/// A summary dataset: `rows` values of the column's type, contiguous (the default layout),
+/// with its units and long_name.
+Handle create_summary_column(const Context& cx, hid_t group, const Column& c, hsize_t rows) {
+  const std::string what = "cannot write summary column " + c.name;
+  const Handle space = vector_space(cx, rows);
+  const Handle str = utf8_string_type(cx);
+  const hid_t file_type = c.kind == Column::Kind::text      ? str.get()
+                          : c.kind == Column::Kind::integer ? H5T_STD_I64LE
+                                                            : H5T_IEEE_F64LE;
+  Handle d = cx.own(H5Dcreate2(group, c.name.c_str(), file_type, space.get(), H5P_DEFAULT,
+                               H5P_DEFAULT, H5P_DEFAULT),
+                    H5Dclose, what);
+  attr_units(cx, d.get(), c.unit, c.description, c.kind == Column::Kind::text);
+  return d;
 }
+
+/// Writes `v` (a block of rows) into rows [begin, begin + its size) of dataset `d`.
+void write_summary_block(const Context& cx, hid_t d, const std::string& name, const ColumnValues& v,
+                         hsize_t begin) {
+  const std::string what = "cannot write summary column " + name;
+  const hsize_t n = v.kind == Column::Kind::text      ? v.texts.size()
+                    : v.kind == Column::Kind::integer ? v.integers.size()
+                                                      : v.reals.size();
+  if (n == 0) return;
+  const Handle file_space = cx.own(H5Dget_space(d), H5Sclose, what);
+  cx.ok(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, &begin, nullptr, &n, nullptr), what);
+  const Handle mem_space = vector_space(cx, n);
+  const Handle str = utf8_string_type(cx);
+  hid_t mem_type = H5T_NATIVE_DOUBLE;
+  const void* data = v.reals.data();
+  std::vector<const char*> ptrs;
+  if (v.kind == Column::Kind::text) {
+    for (const std::string& s : v.texts) ptrs.push_back(s.c_str());
+    mem_type = str.get();
+    data = ptrs.data();
+  } else if (v.kind == Column::Kind::integer) {
+    mem_type = H5T_NATIVE_LLONG;
+    data = v.integers.data();
+  }
+  cx.ok(H5Dwrite(d, mem_type, mem_space.get(), file_space.get(), H5P_DEFAULT, data), what);
+}
+
+/// Rows a summary is written in: the memory a summary takes is about this many case records.
+constexpr std::size_t kSummaryRowsPerBlock = 256;
 
 ByteSpan bytes_of(const std::string& text) {
   return ByteSpan(reinterpret_cast<const unsigned char*>(text.data()), text.size());
@@ -1403,39 +1546,350 @@ bool summary_csv_matches(const fs::path& dir) {
       return true;  // not readable: left for read_summary to report
     }
   }
+  // the CRC-32 of summary.csv, read in blocks (never whole in memory)
   std::ifstream in(dir / "summary.csv", std::ios::binary);
   if (!in) return false;
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return static_cast<long long>(crc32_of(text)) == stored;
+  std::uint32_t crc = 0;
+  std::vector<char> block(1 << 16);
+  while (in) {
+    in.read(block.data(), static_cast<std::streamsize>(block.size()));
+    crc = libdeflate_crc32(crc, block.data(), static_cast<std::size_t>(in.gcount()));
+  }
+  return static_cast<long long>(crc) == stored;
 }
 
-void write_summary(const fs::path& dir, const Study& study, std::vector<CaseRecord> rows,
+void write_summary(const fs::path& dir, const Study& study, const SummaryRows& rows,
                    const Json& prov) {
   const std::size_t row_count = rows.size();
-  std::vector<Column> cols = summary_columns(study, rows);
-  std::vector<CaseRecord>().swap(rows);  // the columns hold every value now
-  // summary.csv goes to its temporary file in blocks of rows (never whole in memory), with its
-  // CRC-32; then summary.h5, carrying that CRC-32, is written and renamed first, and only then
+  const std::vector<Column> cols = summary_columns(study, rows.text_coordinates());
+  std::vector<std::string> names;
+  for (const Column& c : cols) names.push_back(c.name);
+  // summary.csv and summary.h5 go to their temporary files block of rows by block of rows;
+  // summary.h5 carries the CRC-32 of summary.csv and is renamed first, and only then
   // summary.csv: a run stopped between the two renames leaves a summary.csv that does not
   // match, which the next run (or merge) rewrites from summary.h5 (repair_summary_csv)
   AtomicFile csv(dir / "summary.csv", "summary file");
-  std::string block = summary_csv_header(cols);
-  std::uint32_t crc = 0;
-  constexpr std::size_t kRowsPerBlock = 1024;
-  for (std::size_t begin = 0;; begin += kRowsPerBlock) {
-    append_summary_csv_rows(cols, begin, std::min(row_count, begin + kRowsPerBlock), block);
-    crc = libdeflate_crc32(crc, block.data(), block.size());
-    csv.write(bytes_of(block));
-    block.clear();
-    if (begin + kRowsPerBlock >= row_count) break;
+  const fs::path h5_path = dir / "summary.h5";
+  AtomicFile h5(h5_path, "summary file");
+  SinkTarget sink;
+  sink.fd = h5.fd();
+  try {
+    Hdf5Lock lock;  // held for the whole create-write-close
+    const Context cx(h5_path, "cannot write summary file");
+    const Handle fapl = sink_access(cx, sink);
+    Handle file = cx.own(H5Fcreate(h5_path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()),
+                         H5Fclose, "cannot create the file");
+    const Handle root = cx.own(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose, "no root");
+    const hid_t g = root.get();
+    attr_int(cx, g, "schema_version", kResultsSchemaVersion);
+    attr_string(cx, g, "study_name", study.name);
+    const std::string study_file = prov_text(prov, "study_file");
+    attr_string(cx, g, "study_file", study_file.empty() ? study.file.string() : study_file);
+    for (const char* key : {"rodend_version", "git_revision", "host"})
+      attr_string(cx, g, key, prov_text(prov, key));
+    attr_int64(cx, g, "case_count", static_cast<long long>(row_count));
+    attr_string(cx, g, "provenance_json", prov.dump());
+    attr_string(cx, g, "study_json", study.source.dump());
+
+    Handle summary = create_group(cx, g, "summary", /*track_link_order=*/true);
+    std::vector<Handle> datasets;
+    for (const Column& c : cols)
+      datasets.push_back(create_summary_column(cx, summary.get(), c, row_count));
+
+    std::vector<CaseRecord> block;
+    std::vector<ColumnValues> values(cols.size());
+    std::string text = summary_csv_header(names);
+    std::uint32_t crc = 0;
+    for (std::size_t begin = 0;; begin += kSummaryRowsPerBlock) {
+      const std::size_t end = std::min(row_count, begin + kSummaryRowsPerBlock);
+      if (end > begin) {
+        rows.read(begin, end, block);
+        if (block.size() != end - begin)
+          throw std::logic_error("the summary's rows gave " + std::to_string(block.size()) +
+                                 " records for " + std::to_string(end - begin) + " rows");
+        for (std::size_t j = 0; j < cols.size(); ++j) {
+          column_values(cols[j], block, values[j]);
+          write_summary_block(cx, datasets[j].get(), cols[j].name, values[j], begin);
+        }
+        append_summary_csv_rows(values, end - begin, text);
+      }
+      crc = libdeflate_crc32(crc, text.data(), text.size());
+      csv.write(bytes_of(text));
+      text.clear();
+      if (end >= row_count) break;
+    }
+
+    attr_string(cx, summary.get(), "columns", Json(names).dump());
+    // case_index is the netCDF dimension of every column: the table is one call away,
+    // xarray.open_dataset(path, engine="h5netcdf", group="summary").to_dataframe()
+    std::vector<std::pair<hid_t, unsigned>> columns;
+    hid_t index = H5I_INVALID_HID;
+    for (std::size_t j = 0; j < cols.size(); ++j)
+      if (cols[j].name == "case_index")
+        index = datasets[j].get();
+      else
+        columns.emplace_back(datasets[j].get(), 0u);
+    attach_scale(cx, index, "case_index", columns);
+    // the summary.csv of the same run (summary_csv_matches, repair_summary_csv)
+    attr_int64(cx, g, "summary_csv_crc32", static_cast<long long>(crc));
+    for (Handle& d : datasets) cx.ok(d.close(), "cannot close a summary column");
+    cx.ok(summary.close(), "cannot close the summary group");
+    cx.ok(file.close(), "cannot close the file");
+  } catch (const std::exception&) {
+    if (sink.error != 0) h5.fail_write(sink.error);  // the cause of what HDF5 reported
+    throw;
   }
-  std::string().swap(block);
+  if (sink.error != 0) h5.fail_write(sink.error);
   csv.finish(/*durable=*/true);
-  const fs::path h5 = dir / "summary.h5";
-  write_file_atomically(h5, "summary file",
-                        {summary_h5_image(h5, study, cols, row_count, prov, crc)},
-                        /*durable=*/true);
+  h5.finish(/*durable=*/true);
+  h5.commit(/*durable=*/true);
   csv.commit(/*durable=*/true);
+}
+
+void write_summary(const fs::path& dir, const Study& study, const std::vector<CaseRecord>& rows,
+                   const Json& prov) {
+  write_summary(dir, study, SummaryRowVector(rows), prov);
+}
+
+namespace {
+
+/// The grid keys to which `r` gives a value that is not a number, added to `keys`.
+void add_text_coordinates(const CaseRecord& r, std::set<std::string>& keys) {
+  if (!r.coordinates.is_object()) return;
+  for (const auto& [key, value] : r.coordinates.items())
+    if (!value.is_number()) keys.insert(key);
+}
+
+}  // namespace
+
+void SummaryRowVector::read(std::size_t begin, std::size_t end,
+                            std::vector<CaseRecord>& out) const {
+  out.assign(rows_.begin() + static_cast<std::ptrdiff_t>(begin),
+             rows_.begin() + static_cast<std::ptrdiff_t>(end));
+}
+
+std::set<std::string> SummaryRowVector::text_coordinates() const {
+  std::set<std::string> keys;
+  for (const CaseRecord& r : rows_) add_text_coordinates(r, keys);
+  return keys;
+}
+
+// ---------------------------------------------------------------------------------------------
+// RecordSpool
+//
+// A record on the spool: its size (uint32), then index, t_reached, wall_time, steps_accepted,
+// steps_rejected, rhs_calls, the metric count and the metrics (8 bytes each, native), then the
+// strings id, scene, status, message, started_utc, finished_utc and the coordinates as compact
+// JSON, each as its size (uint32) and bytes. The file is private to the process (native byte
+// order; nothing else reads it).
+
+namespace {
+
+template <class T>
+void put_raw(std::string& out, const T& v) {
+  out.append(reinterpret_cast<const char*>(&v), sizeof v);
+}
+void put_text(std::string& out, const std::string& s) {
+  put_raw(out, static_cast<std::uint32_t>(s.size()));
+  out += s;
+}
+
+/// Reads what put_raw / put_text wrote; throws on a record shorter than it says.
+class SpoolReader {
+ public:
+  SpoolReader(const char* p, std::size_t n) : p_(p), end_(p + n) {}
+  template <class T>
+  T raw() {
+    T v;
+    take(&v, sizeof v);
+    return v;
+  }
+  std::string text() {
+    const auto n = raw<std::uint32_t>();
+    if (static_cast<std::size_t>(end_ - p_) < n) throw std::runtime_error("truncated record");
+    std::string s(p_, n);
+    p_ += n;
+    return s;
+  }
+
+ private:
+  void take(void* v, std::size_t n) {
+    if (static_cast<std::size_t>(end_ - p_) < n) throw std::runtime_error("truncated record");
+    std::memcpy(v, p_, n);
+    p_ += n;
+  }
+  const char* p_;
+  const char* end_;
+};
+
+std::string encode_record(const CaseRecord& r) {
+  std::string out;
+  put_raw(out, std::uint32_t{0});  // the size, set below
+  put_raw(out, static_cast<std::int64_t>(r.index));
+  put_raw(out, r.t_reached);
+  put_raw(out, r.wall_time);
+  put_raw(out, static_cast<std::int64_t>(r.steps_accepted));
+  put_raw(out, static_cast<std::int64_t>(r.steps_rejected));
+  put_raw(out, static_cast<std::int64_t>(r.rhs_calls));
+  put_raw(out, static_cast<std::uint32_t>(r.metrics.size()));
+  out.append(reinterpret_cast<const char*>(r.metrics.data()), sizeof(double) * r.metrics.size());
+  for (const std::string* s :
+       {&r.id, &r.scene, &r.status, &r.message, &r.started_utc, &r.finished_utc})
+    put_text(out, *s);
+  put_text(out, r.coordinates.dump());
+  const auto size = static_cast<std::uint32_t>(out.size());
+  std::memcpy(out.data(), &size, sizeof size);
+  return out;
+}
+
+CaseRecord decode_record(const char* p, std::size_t n) {
+  SpoolReader in(p, n);
+  (void)in.raw<std::uint32_t>();
+  CaseRecord r;
+  r.index = static_cast<long>(in.raw<std::int64_t>());
+  r.t_reached = in.raw<double>();
+  r.wall_time = in.raw<double>();
+  r.steps_accepted = in.raw<std::int64_t>();
+  r.steps_rejected = in.raw<std::int64_t>();
+  r.rhs_calls = in.raw<std::int64_t>();
+  if (in.raw<std::uint32_t>() != r.metrics.size()) throw std::runtime_error("metric count");
+  for (double& m : r.metrics) m = in.raw<double>();
+  for (std::string* s : {&r.id, &r.scene, &r.status, &r.message, &r.started_utc, &r.finished_utc})
+    *s = in.text();
+  r.coordinates = Json::parse(in.text());
+  return r;
+}
+
+}  // namespace
+
+struct RecordSpool::Impl {
+  fs::path summary;  ///< dir/summary.h5, named in messages (the spool is the summary's rows)
+  int fd = -1;
+  mutable std::mutex mutex;
+  std::vector<std::int64_t> offsets;  ///< per slot: the record's offset, -1 when none
+  std::vector<char> failed;           ///< per slot: its record's status is not "ok"
+  std::string buffer;                 ///< records not yet written, from offset `written`
+  std::int64_t written = 0;           ///< bytes in the file
+  std::set<std::string> text_keys;
+  std::size_t count = 0;
+  /// rows: the slots with a record, in order (built on the first read after a put)
+  mutable std::vector<std::size_t> rows;
+  mutable bool rows_valid = false;
+
+  static constexpr std::size_t kBufferBytes = 1 << 16;
+
+  /// Writes the buffer out; call with `mutex` held.
+  void flush() {
+    if (buffer.empty()) return;
+    if (const int err = write_all(fd, reinterpret_cast<const unsigned char*>(buffer.data()),
+                                  buffer.size(), static_cast<off_t>(written));
+        err != 0)
+      throw std::runtime_error("cannot write summary file " + summary.string() +
+                               ": write error on its rows' spool in " +
+                               summary.parent_path().string() + ": " + std::strerror(err));
+    written += static_cast<std::int64_t>(buffer.size());
+    buffer.clear();
+  }
+  /// The record at `offset`; call with `mutex` held.
+  CaseRecord load(std::int64_t offset) const {
+    if (offset >= written) {  // still in the buffer
+      const std::size_t at = static_cast<std::size_t>(offset - written);
+      std::uint32_t size = 0;
+      std::memcpy(&size, buffer.data() + at, sizeof size);
+      return decode_record(buffer.data() + at, size);
+    }
+    std::uint32_t size = 0;
+    std::string bytes(sizeof size, '\0');
+    read_at(bytes.data(), sizeof size, offset);
+    std::memcpy(&size, bytes.data(), sizeof size);
+    bytes.resize(size);
+    read_at(bytes.data(), size, offset);
+    return decode_record(bytes.data(), size);
+  }
+  void read_at(char* out, std::size_t n, std::int64_t offset) const {
+    while (n > 0) {
+      const ssize_t r = ::pread(fd, out, n, static_cast<off_t>(offset));
+      if (r < 0 && errno == EINTR) continue;
+      if (r <= 0)
+        throw std::runtime_error("cannot read the rows' spool of " + summary.string() + ": " +
+                                 (r < 0 ? std::strerror(errno) : "unexpected end"));
+      out += r;
+      n -= static_cast<std::size_t>(r);
+      offset += r;
+    }
+  }
+};
+
+RecordSpool::RecordSpool(const fs::path& dir, std::size_t slots) : impl_(std::make_unique<Impl>()) {
+  impl_->summary = dir / "summary.h5";
+  const fs::path path = temp_path_for(dir / "summary-rows");
+  impl_->fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  if (impl_->fd < 0)
+    throw std::runtime_error("cannot write summary file " + impl_->summary.string() +
+                             ": cannot create its rows' spool " + path.string() + ": " +
+                             std::strerror(errno));
+  ::unlink(path.c_str());  // anonymous from now on (left behind, a later run removes it)
+  impl_->offsets.assign(slots, -1);
+  impl_->failed.assign(slots, 0);
+}
+
+RecordSpool::~RecordSpool() {
+  if (impl_ && impl_->fd >= 0) ::close(impl_->fd);
+}
+
+void RecordSpool::put(std::size_t slot, const CaseRecord& record) {
+  const std::string bytes = encode_record(record);
+  std::lock_guard lock(impl_->mutex);
+  if (slot >= impl_->offsets.size()) throw std::out_of_range("spool slot");
+  if (impl_->buffer.size() + bytes.size() > Impl::kBufferBytes) impl_->flush();
+  if (impl_->offsets[slot] < 0) ++impl_->count;
+  impl_->offsets[slot] = impl_->written + static_cast<std::int64_t>(impl_->buffer.size());
+  impl_->failed[slot] = record.status != "ok";
+  impl_->buffer += bytes;
+  add_text_coordinates(record, impl_->text_keys);
+  impl_->rows_valid = false;
+}
+
+bool RecordSpool::has(std::size_t slot) const {
+  std::lock_guard lock(impl_->mutex);
+  return slot < impl_->offsets.size() && impl_->offsets[slot] >= 0;
+}
+
+CaseRecord RecordSpool::get(std::size_t slot) const {
+  std::lock_guard lock(impl_->mutex);
+  if (slot >= impl_->offsets.size() || impl_->offsets[slot] < 0)
+    throw std::out_of_range("no record for case " + std::to_string(slot));
+  return impl_->load(impl_->offsets[slot]);
+}
+
+std::size_t RecordSpool::failed() const {
+  std::lock_guard lock(impl_->mutex);
+  return static_cast<std::size_t>(std::count(impl_->failed.begin(), impl_->failed.end(), 1));
+}
+
+std::size_t RecordSpool::size() const {
+  std::lock_guard lock(impl_->mutex);
+  return impl_->count;
+}
+
+void RecordSpool::read(std::size_t begin, std::size_t end, std::vector<CaseRecord>& out) const {
+  std::lock_guard lock(impl_->mutex);
+  if (!impl_->rows_valid) {
+    impl_->rows.clear();
+    impl_->rows.reserve(impl_->count);
+    for (std::size_t i = 0; i < impl_->offsets.size(); ++i)
+      if (impl_->offsets[i] >= 0) impl_->rows.push_back(i);
+    impl_->rows_valid = true;
+  }
+  if (begin > end || end > impl_->rows.size()) throw std::out_of_range("spool rows");
+  out.clear();
+  for (std::size_t k = begin; k < end; ++k)
+    out.push_back(impl_->load(impl_->offsets[impl_->rows[k]]));
+}
+
+std::set<std::string> RecordSpool::text_coordinates() const {
+  std::lock_guard lock(impl_->mutex);
+  return impl_->text_keys;
 }
 
 namespace {
@@ -1516,10 +1970,9 @@ bool repair_summary_csv(const fs::path& dir) {
   if (summary_csv_matches(dir)) return false;
   const fs::path h5 = dir / "summary.h5";
   const SummaryTable t = read_summary(dir);
-  std::vector<Column> cols;
+  std::vector<ColumnValues> cols;
   for (const std::string& name : t.columns) {
-    Column c;
-    c.name = name;
+    ColumnValues c;
     if (t.is_text(name)) {
       c.kind = Column::Kind::text;
       c.texts = t.texts.at(name);
@@ -1531,7 +1984,8 @@ bool repair_summary_csv(const fs::path& dir) {
     }
     cols.push_back(std::move(c));
   }
-  const std::string text = summary_csv_text(cols, t.rows);
+  std::string text = summary_csv_header(t.columns);
+  append_summary_csv_rows(cols, t.rows, text);
   long long stored = -1;
   {
     Hdf5Lock lock;

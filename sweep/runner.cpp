@@ -260,7 +260,7 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
   // to <id>.h5.corrupt (never deleted) and its case rerun. One that cannot be read for another
   // reason (another case's, another schema's, not a regular file, no permission) is never
   // touched: it is reported and nothing runs.
-  plan.records.assign(study.cases.size(), CaseRecord{});
+  plan.spool = std::make_unique<RecordSpool>(plan.dir, study.cases.size());
   plan.have.assign(study.cases.size(), 0);
   std::vector<std::string> unreadable;
   for (std::size_t i = 0; i < study.cases.size(); ++i) {
@@ -287,7 +287,7 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
       // a file reused from another grid of the study: its row takes this grid's place
       rec->index = c.index;
       rec->coordinates = c.coordinates;
-      plan.records[i] = *rec;
+      plan.spool->put(i, *rec);
       plan.have[i] = 1;
       continue;
     }
@@ -312,24 +312,10 @@ CaseRecord run_and_write_case(const Study& study, const RunPlan& plan, std::size
   return rec;
 }
 
-std::vector<CaseRecord> take_complete_records(RunPlan& plan) {
-  std::size_t kept = 0;
-  for (std::size_t i = 0; i < plan.records.size(); ++i)
-    if (i < plan.have.size() && plan.have[i]) {
-      if (kept != i) plan.records[kept] = std::move(plan.records[i]);
-      ++kept;
-    }
-  plan.records.resize(kept);
-  plan.records.shrink_to_fit();
-  return std::move(plan.records);
-}
-
-int write_run_summary(const Study& study, const RunPlan& plan, std::vector<CaseRecord> rows) {
+int write_run_summary(const Study& study, const RunPlan& plan) {
   fs::create_directories(plan.summary_dir);
-  const bool any_failed =
-      std::any_of(rows.begin(), rows.end(), [](const CaseRecord& r) { return r.status != "ok"; });
-  write_summary(plan.summary_dir, study, std::move(rows), plan.provenance);
-  return any_failed ? 1 : 0;
+  write_summary(plan.summary_dir, study, *plan.spool, plan.provenance);
+  return plan.spool->failed() > 0 ? 1 : 0;
 }
 
 int run_study(const Study& study, const RunOptions& opt) {
@@ -349,9 +335,10 @@ int run_study(const Study& study, const RunOptions& opt) {
     if (g_stop_signal.load() != 0 || write_failed.load()) continue;
     const std::size_t i = plan.todo[static_cast<std::size_t>(k)];
     try {
-      plan.records[i] = run_and_write_case(study, plan, i);
+      const CaseRecord rec = run_and_write_case(study, plan, i);
+      plan.spool->put(i, rec);
       plan.have[i] = 1;  // vector<char>: distinct elements written from threads
-      progress.case_done(plan.records[i].status != "ok");
+      progress.case_done(rec.status != "ok");
     } catch (const std::exception& e) {
       write_failed.store(true);
       std::lock_guard lock(error_mutex);
@@ -375,7 +362,7 @@ int run_study(const Study& study, const RunOptions& opt) {
     return 128 + sig;
   }
 
-  return write_run_summary(study, plan, take_complete_records(plan));
+  return write_run_summary(study, plan);
 }
 
 int merge_study(const Study& study, std::ostream& report) {
@@ -386,8 +373,7 @@ int merge_study(const Study& study, std::ostream& report) {
                      study.file.string());
   const auto lock =
       ResultsLock::claim(dir, std::string(kResultsMarker) + ".lock", study.file.string(), false);
-  std::vector<CaseRecord> rows;
-  rows.reserve(study.cases.size());
+  RecordSpool rows(dir, study.cases.size());
   std::vector<std::pair<long, std::string>> missing;  // case index, case id
   // the shard count, when the shard summaries present agree on one (to name missing shards)
   int shards = 0;
@@ -405,7 +391,9 @@ int merge_study(const Study& study, std::ostream& report) {
            << " did not match summary.h5 (a run was stopped between writing the two); rewritten "
               "from summary.h5\n";
   std::vector<std::string> unreadable, corrupt;
+  std::size_t slot = 0;
   for (const CaseSpec& c : study.cases) {
+    const std::size_t i = slot++;
     std::optional<CaseRecord> rec;
     try {
       rec = read_case_record_strict(cases_dir / (c.id + ".h5"));
@@ -419,7 +407,7 @@ int merge_study(const Study& study, std::ostream& report) {
     if (rec) {
       rec->index = c.index;
       rec->coordinates = c.coordinates;
-      rows.push_back(std::move(*rec));
+      rows.put(i, *rec);
     } else {
       missing.emplace_back(c.index, c.id);
     }
@@ -449,10 +437,8 @@ int merge_study(const Study& study, std::ostream& report) {
     }
     return 1;
   }
-  const auto failed =
-      std::count_if(rows.begin(), rows.end(), [](const CaseRecord& r) { return r.status != "ok"; });
-  const std::size_t merged = rows.size();
-  write_summary(dir, study, std::move(rows), provenance(study));
+  const std::size_t failed = rows.failed(), merged = rows.size();
+  write_summary(dir, study, rows, provenance(study));
   report << "rodend: merged " << merged << " cases (" << failed << " failed) into "
          << (dir / "summary.h5").string() << " and summary.csv\n";
   return 0;

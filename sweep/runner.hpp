@@ -13,6 +13,7 @@
 #include <chrono>
 #include <filesystem>
 #include <iosfwd>
+#include <memory>
 #include <mutex>
 
 #include "sweep/results.hpp"
@@ -60,7 +61,8 @@ struct RunPlan {
   std::filesystem::path cases_dir;    ///< dir/cases
   std::filesystem::path summary_dir;  ///< dir, or dir/shard-K-of-N for a shard
   Json provenance;
-  std::vector<CaseRecord> records;    ///< by case index; valid where have[i]
+  /// the records of the complete cases, on the disk (issue 16 item 6): the summary's rows
+  std::unique_ptr<RecordSpool> spool;
   std::vector<char> have;             ///< case i has a complete file that is kept
   std::vector<std::size_t> todo;      ///< case indices to run, in grid order
   long in_scope = 0;                  ///< cases of this shard (all cases without shards)
@@ -79,13 +81,9 @@ RunPlan plan_run(const Study& study, const RunOptions& options);
 /// does not build).
 CaseRecord run_and_write_case(const Study& study, const RunPlan& plan, std::size_t i);
 
-/// Moves the complete records (have[i]) to the front of plan.records, in grid order, drops the
-/// rest and returns them: the summary's rows, without a second copy of every record.
-std::vector<CaseRecord> take_complete_records(RunPlan& plan);
-
-/// Writes the summary of `rows` (grid order) into plan.summary_dir. Returns 0 when every row
-/// is ok, 1 otherwise.
-int write_run_summary(const Study& study, const RunPlan& plan, std::vector<CaseRecord> rows);
+/// Writes the summary of the records in plan.spool (grid order) into plan.summary_dir.
+/// Returns 0 when every row is ok, 1 otherwise.
+int write_run_summary(const Study& study, const RunPlan& plan);
 
 /// Progress on stderr: one updating line on a terminal, periodic plain lines otherwise.
 /// Thread-safe.
