@@ -11,7 +11,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
 peak() {  # peak RSS [kB] and wall time [s] of a command
-  /usr/bin/time -v "$@" > /dev/null 2> "$work/time.txt" || { cat "$work/time.txt"; exit 1; }
+  /usr/bin/time -v "$@" > /dev/null 2> "$work/time.txt" || { cat "$work/time.txt" >&2; exit 1; }
   local rss wall
   rss=$(awk -F': ' '/Maximum resident set size/ {print $2}' "$work/time.txt")
   wall=$(awk -F': ' '/Elapsed \(wall clock\)/ {print $2}' "$work/time.txt")
@@ -28,8 +28,9 @@ run_grid() {
 JSON
   peak "$rodend" run "$work/gd-$n.json" -j 1 -q
 }
-read -r rss16 wall16 < <(run_grid 16)
-read -r rss4096 wall4096 < <(run_grid 4096)
+# (through a file, not a process substitution: a failed run stops the script)
+run_grid 16 > "$work/peak.txt" && read -r rss16 wall16 < "$work/peak.txt"
+run_grid 4096 > "$work/peak.txt" && read -r rss4096 wall4096 < "$work/peak.txt"
 echo "run, gravity-drop, 16 cases:    peak RSS ${rss16} kB (wall ${wall16})"
 echo "run, gravity-drop, 4096 cases:  peak RSS ${rss4096} kB (wall ${wall4096})"
 awk -v a="$rss16" -v b="$rss4096" 'BEGIN {printf "4096 / 16 cases peak RSS: %.3f (issue 16: < 1.20)\n", b / a}'
@@ -44,7 +45,8 @@ dry() {
  "grid": [{"key": "parameters.contact.clearance", "linspace": [1e-4, 5e-4, 100]},
           {"key": "parameters.hinge.constant_moment", "linspace": [-50, 50, $m]}]}
 JSON
-  read -r rss wall < <(peak "$rodend" run "$work/rek-$m.json" --dry-run)
+  peak "$rodend" run "$work/rek-$m.json" --dry-run > "$work/peak.txt"
+  read -r rss wall < "$work/peak.txt"
   echo "dry-run, rod-end-kinematic, $((100 * m)) cases: wall ${wall}, peak RSS ${rss} kB"
 }
 dry 100

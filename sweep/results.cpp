@@ -700,6 +700,20 @@ Handle sink_access(const Context& cx, SinkTarget& target) {
   Handle fapl = cx.own(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "cannot create the file");
   SinkTarget* info = &target;
   cx.ok(H5Pset_driver(fapl.get(), driver, &info), "cannot create the file");
+  // memory that does not grow with the file (issue 16 item 6): no sieve buffer (one per open
+  // dataset, up to 64 kB each: the writes are whole blocks of rows anyway), and a metadata
+  // cache of a fixed 1 MiB (its adaptive default grows with the global heap's collections,
+  // which hold a summary's strings)
+  cx.ok(H5Pset_sieve_buf_size(fapl.get(), 0), "cannot create the file");
+  H5AC_cache_config_t mdc{};
+  mdc.version = H5AC__CURR_CACHE_CONFIG_VERSION;
+  cx.ok(H5Pget_mdc_config(fapl.get(), &mdc), "cannot create the file");
+  mdc.set_initial_size = true;
+  mdc.initial_size = mdc.min_size = mdc.max_size = std::size_t{1} << 20;
+  mdc.incr_mode = H5C_incr__off;
+  mdc.flash_incr_mode = H5C_flash_incr__off;
+  mdc.decr_mode = H5C_decr__off;
+  cx.ok(H5Pset_mdc_config(fapl.get(), &mdc), "cannot create the file");
   return fapl;
 }
 
@@ -1287,8 +1301,12 @@ Handle create_summary_column(const Context& cx, hid_t group, const Column& c, hs
   const hid_t file_type = c.kind == Column::Kind::text      ? str.get()
                           : c.kind == Column::Kind::integer ? H5T_STD_I64LE
                                                             : H5T_IEEE_F64LE;
+  // every row is written: no fill values written first (HDF5 requires them for strings)
+  const Handle dcpl = cx.own(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, what);
+  if (c.kind != Column::Kind::text)
+    cx.ok(H5Pset_fill_time(dcpl.get(), H5D_FILL_TIME_NEVER), what);
   Handle d = cx.own(H5Dcreate2(group, c.name.c_str(), file_type, space.get(), H5P_DEFAULT,
-                               H5P_DEFAULT, H5P_DEFAULT),
+                               dcpl.get(), H5P_DEFAULT),
                     H5Dclose, what);
   attr_units(cx, d.get(), c.unit, c.description, c.kind == Column::Kind::text);
   return d;
