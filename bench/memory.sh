@@ -29,8 +29,10 @@ JSON
   peak "$rodend" run "$work/gd-$n.json" -j 1 -q
 }
 # (through a file, not a process substitution: a failed run stops the script)
-run_grid 16 > "$work/peak.txt" && read -r rss16 wall16 < "$work/peak.txt"
-run_grid 4096 > "$work/peak.txt" && read -r rss4096 wall4096 < "$work/peak.txt"
+run_grid 16 > "$work/peak.txt"
+read -r rss16 wall16 < "$work/peak.txt"
+run_grid 4096 > "$work/peak.txt"
+read -r rss4096 wall4096 < "$work/peak.txt"
 echo "run, gravity-drop, 16 cases:    peak RSS ${rss16} kB (wall ${wall16})"
 echo "run, gravity-drop, 4096 cases:  peak RSS ${rss4096} kB (wall ${wall4096})"
 awk -v a="$rss16" -v b="$rss4096" 'BEGIN {printf "4096 / 16 cases peak RSS: %.3f (issue 16: < 1.20)\n", b / a}'
