@@ -421,7 +421,8 @@ class AtomicFile {
                                  ": cannot create directory " + dir.string() + ": " + ec.message());
     }
     temp_ = temp_path_for(path_);
-    fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    // read-write: the summary's HDF5 driver reads back what it wrote (the sink driver)
+    fd_ = ::open(temp_.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
     if (fd_ < 0) fail("cannot create " + temp_.string(), errno);
   }
   AtomicFile(const AtomicFile&) = delete;
@@ -437,7 +438,7 @@ class AtomicFile {
   void write(ByteSpan bytes) {
     if (const int err = write_all(fd_, bytes.data(), bytes.size()); err != 0) fail_write(err);
   }
-  /// The temporary file, for a writer of its own (the summary's HDF5 driver, SinkDriver).
+  /// The temporary file, for a writer of its own (the summary's HDF5 driver, the sink driver).
   int fd() const { return fd_; }
   /// That writer's failure (`err`: its errno): throws this class's message, as write() does.
   [[noreturn]] void fail_write(int err) { fail("write error on " + temp_.string(), err); }
@@ -579,7 +580,7 @@ std::array<unsigned char, kUserBlock> checksum_header(ByteSpan image) {
 /// Where a sink file goes (its driver info): an open file descriptor, and the first failure.
 struct SinkTarget {
   int fd = -1;
-  int error = 0;  ///< errno of the first failed write or truncation; 0: none
+  int error = 0;  ///< errno of the first failed write, read or truncation; 0: none
 };
 
 struct SinkFile {
@@ -632,7 +633,8 @@ herr_t sink_read(H5FD_t* f, H5FD_mem_t, hid_t, haddr_t addr, size_t size, void* 
   while (size > 0) {
     const ssize_t r = ::pread(fd, out, size, static_cast<off_t>(addr));
     if (r < 0 && errno == EINTR) continue;
-    if (r <= 0) break;  // past the end (or dropped): zeros below
+    if (r < 0 && sink_file(f)->target->error == 0) sink_file(f)->target->error = errno;
+    if (r <= 0) break;  // past the end (or dropped, or a read error): zeros below
     out += r;
     addr += static_cast<haddr_t>(r);
     size -= static_cast<size_t>(r);
@@ -1303,8 +1305,7 @@ Handle create_summary_column(const Context& cx, hid_t group, const Column& c, hs
                                                             : H5T_IEEE_F64LE;
   // every row is written: no fill values written first (HDF5 requires them for strings)
   const Handle dcpl = cx.own(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, what);
-  if (c.kind != Column::Kind::text)
-    cx.ok(H5Pset_fill_time(dcpl.get(), H5D_FILL_TIME_NEVER), what);
+  if (c.kind != Column::Kind::text) cx.ok(H5Pset_fill_time(dcpl.get(), H5D_FILL_TIME_NEVER), what);
   Handle d = cx.own(H5Dcreate2(group, c.name.c_str(), file_type, space.get(), H5P_DEFAULT,
                                dcpl.get(), H5P_DEFAULT),
                     H5Dclose, what);

@@ -470,3 +470,138 @@ TEST_CASE("numbers are written as the shortest decimal that reads back exactly",
   }
   CHECK(bad == 0);
 }
+
+// ---------------------------------------------------------------------------------------------
+// The summary as a stream (issue 16 item 6): records spooled on the disk, the table written a
+// block of rows at a time
+
+namespace {
+
+/// `n` records of varied content: every status and message kind, NaN metrics, coordinates of
+/// both kinds (a number, and for every seventh case a string), the slot in every number.
+std::vector<CaseRecord> varied_records(std::size_t n) {
+  std::vector<CaseRecord> rows;
+  for (std::size_t i = 0; i < n; ++i) {
+    CaseRecord r = make_record(make_spec(static_cast<long>(i), 1e-4 * static_cast<double>(i + 1)));
+    r.id = rodend::fnv1a64_hex("case " + std::to_string(i));
+    r.wall_time = 1.0 / static_cast<double>(i + 3);  // every bit of the double
+    r.message = i % 5 == 1 ? "line one,\nline \"two\", \xC2\xB5m" : r.message;
+    if (i % 7 == 3)
+      r.coordinates["parameters.contact.law"] = "flores";
+    else
+      r.coordinates["parameters.contact.law"] = static_cast<double>(i);
+    r.metrics[0] = std::ldexp(1.0, -1000) * static_cast<double>(i);  // a subnormal or zero
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+}  // namespace
+
+TEST_CASE("the record spool gives back every record exactly, in case order", "[results][spool]") {
+  TempDir tmp;
+  const std::size_t n = 700;  // ~0.7 kB each: several 64 kB buffers go to the file
+  const std::vector<CaseRecord> rows = varied_records(n);
+  RecordSpool spool(tmp.path(), n + 5);
+  // nothing of the spool is visible in the directory (anonymous file)
+  CHECK(entries(tmp.path()).empty());
+  // stored in a scrambled order, slots n..n+4 left empty, slot 10 stored twice (the last wins)
+  CaseRecord first_10 = rows[10];
+  first_10.status = "ok";
+  first_10.message = "superseded";
+  spool.put(10, first_10);
+  for (std::size_t k = 0; k < n; ++k)
+    spool.put((k * 337) % n, rows[(k * 337) % n]);  // 337, n coprime
+  CHECK(spool.size() == n);
+  CHECK_FALSE(spool.has(n));
+  CHECK(spool.has(n - 1));
+  CHECK(spool.failed() == n - 1);  // make_record: case 0 ok, the others not
+  CHECK(spool.text_coordinates() == std::set<std::string>{"parameters.contact.law"});
+  require_same_record(spool.get(10), rows[10]);
+  // read in blocks, as write_summary does: case order
+  std::vector<CaseRecord> block;
+  for (std::size_t begin = 0; begin < n; begin += 256) {
+    const std::size_t end = std::min(n, begin + 256);
+    spool.read(begin, end, block);
+    REQUIRE(block.size() == end - begin);
+    for (std::size_t k = begin; k < end; ++k) {
+      INFO("row " << k);
+      require_same_record(block[k - begin], rows[k]);
+    }
+  }
+  CHECK(entries(tmp.path()).empty());
+}
+
+TEST_CASE("a summary of many blocks reads back row for row", "[results][spool]") {
+  TempDir tmp;
+  Study study = make_study(tmp.path());
+  study.axis_keys = {"parameters.contact.clearance", "parameters.contact.law"};
+  // whole blocks of 256 rows and a partial one; strings enough that HDF5's metadata cache
+  // (1 MiB) evicts the group and column headers and reads them back from the file
+  const std::size_t n = 6000;
+  const std::vector<CaseRecord> rows = varied_records(n);
+  RecordSpool spool(tmp.path(), n);
+  for (std::size_t i = n; i-- > 0;) spool.put(i, rows[i]);  // last first
+  const fs::path dir = tmp.path() / "out";
+  write_summary(dir, study, spool, provenance(study));
+  CHECK(entries(dir) == std::vector<std::string>{"summary.csv", "summary.h5"});
+  CHECK(summary_csv_matches(dir));
+  CHECK(lines_of(dir / "summary.csv").size() == n + 1 + n / 5);  // messages with a newline
+
+  const SummaryTable t = read_summary(dir);
+  REQUIRE(t.rows == n);
+  CHECK(t.is_text("parameters.contact.law"));
+  CHECK_FALSE(t.is_text("parameters.contact.clearance"));
+  for (std::size_t i = 0; i < n; ++i) {
+    INFO("row " << i);
+    CHECK(t.texts.at("case_id")[i] == rows[i].id);
+    CHECK(t.numbers.at("case_index")[i] == static_cast<double>(rows[i].index));
+    CHECK(t.texts.at("message")[i] == rows[i].message);
+    CHECK(t.numbers.at("wall_time_s")[i] == rows[i].wall_time);
+    CHECK(t.numbers.at("parameters.contact.clearance")[i] ==
+          rows[i].coordinates["parameters.contact.clearance"].get<double>());
+    const Json& law = rows[i].coordinates["parameters.contact.law"];
+    CHECK(t.texts.at("parameters.contact.law")[i] ==
+          (law.is_string() ? law.get<std::string>() : law.dump()));
+    const std::string m0(metric_catalogue()[0].name);
+    CHECK(t.numbers.at(m0)[i] == rows[i].metrics[0]);
+  }
+  // the same table as from the rows in memory, byte for byte in summary.csv
+  const fs::path again = tmp.path() / "again";
+  write_summary(again, study, rows, provenance(study));
+  std::ifstream a(dir / "summary.csv", std::ios::binary),
+      b(again / "summary.csv", std::ios::binary);
+  const std::string text_a((std::istreambuf_iterator<char>(a)), std::istreambuf_iterator<char>());
+  const std::string text_b((std::istreambuf_iterator<char>(b)), std::istreambuf_iterator<char>());
+  CHECK(text_a == text_b);
+}
+
+TEST_CASE("a full disk while HDF5 writes summary.h5 is one message and leaves nothing",
+          "[results][faults]") {
+  TempDir tmp;
+  const Study study = make_study(tmp.path());
+  const std::vector<CaseRecord> rows = varied_records(600);
+  const fs::path ref = tmp.path() / "ref";
+  write_summary(ref, study, rows, provenance(study));
+  const auto csv_bytes = static_cast<long long>(fs::file_size(ref / "summary.csv"));
+  const auto h5_bytes = static_cast<long long>(fs::file_size(ref / "summary.h5"));
+  // the failure at several points of summary.h5: its superblock, the middle of the columns,
+  // its last bytes (summary.csv and summary.h5 are written side by side, a block at a time:
+  // each budget fails one of them)
+  for (const long long extra : {0LL, 100LL, 4096LL, h5_bytes / 2, h5_bytes - 1}) {
+    INFO("bytes the disk takes beyond summary.csv: " << extra);
+    const fs::path dir = tmp.path() / ("full-" + std::to_string(extra));
+    fs::create_directories(dir);
+    {
+      const WriteFailureInjection full(csv_bytes + extra);
+      CHECK_THROWS_WITH(write_summary(dir, study, rows, provenance(study)),
+                        Catch::Contains("cannot write summary file") &&
+                            Catch::Contains("No space left on device"));
+    }
+    CHECK(entries(dir).empty());  // no summary, no temporary file
+    // room again: the same call succeeds and reads back
+    write_summary(dir, study, rows, provenance(study));
+    CHECK(read_summary(dir).rows == rows.size());
+    CHECK(summary_csv_matches(dir));
+  }
+}
