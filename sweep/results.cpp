@@ -7,13 +7,16 @@
 //   call, held for the whole open-write-close (or open-read-close) of a file, so that a file is
 //   never seen half-built by another thread's calls. What is expensive stays outside it: the
 //   histories' chunks are shuffled and deflated (libdeflate) by the thread that ran the case,
-//   before it takes the lock, and handed to HDF5 finished (H5Dwrite_chunk); HDF5 builds the file
-//   in memory (core driver, no backing store) and the thread writes the image to the disk
+//   before it takes the lock, and handed to HDF5 finished (H5Dwrite_chunk); HDF5 builds a case
+//   file in memory (core driver, no backing store) and the thread writes the image to the disk
 //   after it has released the lock. Nothing outside this file calls HDF5.
 // - Quiet: HDF5's automatic error printing is switched off in every thread that calls HDF5
 //   (H5Eset_auto2; the error stacks are per thread); HDF5 failures become std::runtime_error
-//   naming the file (read_case_record returns nullopt instead). HDF5 never writes to the disk,
-//   so a full disk is one message from write_file_atomically, never a half-closed HDF5 file.
+//   naming the file (read_case_record returns nullopt instead). HDF5 never sees a failed write,
+//   so a full disk is one message from AtomicFile, never a half-closed HDF5 file: case files
+//   are images written by write_file_atomically; summary.h5, which grows with the number of
+//   cases, is written by HDF5 through the sink driver (below), which latches a failure instead
+//   of reporting it to HDF5.
 // - Crash safety: a file is written under a hidden temporary name in its final directory
 //   (.<name>.tmp.<host>.<pid>.<counter>), closed, then renamed to its final name (atomic on
 //   POSIX). A failed write removes the temporary file and throws; a partially written file never
@@ -494,11 +497,11 @@ void write_file_atomically(const fs::path& path, const std::string& what,
 // ---------------------------------------------------------------------------------------------
 // In-memory HDF5 files
 //
-// Every file rodend writes is built by HDF5 in memory (the core driver without a backing
-// store) and its finished image written by write_file_atomically. HDF5 therefore never writes
-// to the disk: a full disk, a quota or an I/O error is one clear message, never a half-closed
-// HDF5 file (which HDF5 1.10 cannot close again: it crashed at exit), and the write of the
-// bytes (the file system's share of the cost) runs outside g_hdf5_mutex.
+// Every case file is built by HDF5 in memory (the core driver without a backing store) and its
+// finished image written by write_file_atomically: a full disk, a quota or an I/O error is one
+// clear message, never a half-closed HDF5 file (which HDF5 1.10 cannot close again: it crashed
+// at exit), and the write of the bytes (the file system's share of the cost) runs outside
+// g_hdf5_mutex. (summary.h5 is written as a stream instead: the sink driver, below.)
 
 /// Size of the user block of a case file: the checksum header (case_checksum_header).
 constexpr hsize_t kUserBlock = 512;
@@ -1336,7 +1339,11 @@ void write_summary_block(const Context& cx, hid_t d, const std::string& name, co
     mem_type = H5T_NATIVE_LLONG;
     data = v.integers.data();
   }
-  cx.ok(H5Dwrite(d, mem_type, mem_space.get(), file_space.get(), H5P_DEFAULT, data), what);
+  // type conversion buffers of a block's size, not HDF5's default 1 MiB each (two per write:
+  // the strings' conversion and its background)
+  const Handle dxpl = cx.own(H5Pcreate(H5P_DATASET_XFER), H5Pclose, what);
+  cx.ok(H5Pset_buffer(dxpl.get(), std::max<std::size_t>(n * 16, 4096), nullptr, nullptr), what);
+  cx.ok(H5Dwrite(d, mem_type, mem_space.get(), file_space.get(), dxpl.get(), data), what);
 }
 
 /// Rows a summary is written in: the memory a summary takes is about this many case records.
