@@ -167,6 +167,7 @@ class SummaryRowVector final : public SummaryRows {
 /// records in case order (slot order), whichever order they came in. Thread-safe.
 class RecordSpool final : public SummaryRows {
  public:
+  /// The spool of the summary in `dir` (its file is there too; messages name dir/summary.h5);
   /// `slots`: the number of cases (slot = case position in the study).
   RecordSpool(const std::filesystem::path& dir, std::size_t slots);
   ~RecordSpool() override;

@@ -241,6 +241,11 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
   plan.summary_dir = opt.shard_count > 1 ? plan.dir / ("shard-" + std::to_string(opt.shard_index) +
                                                        "-of-" + std::to_string(opt.shard_count))
                                          : plan.dir;
+  fs::create_directories(plan.summary_dir, ec);
+  if (ec)
+    throw InputError(
+        "output", "cannot create the directory " + plan.summary_dir.string() + ": " + ec.message(),
+        study.file.string());
 
   // a summary.csv of another run than summary.h5 (a run stopped between the two renames)
   // (the run rewrites both at its end; this keeps the pair consistent until then)
@@ -260,7 +265,7 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
   // to <id>.h5.corrupt (never deleted) and its case rerun. One that cannot be read for another
   // reason (another case's, another schema's, not a regular file, no permission) is never
   // touched: it is reported and nothing runs.
-  plan.spool = std::make_unique<RecordSpool>(plan.dir, study.cases.size());
+  plan.spool = std::make_unique<RecordSpool>(plan.summary_dir, study.cases.size());
   plan.have.assign(study.cases.size(), 0);
   std::vector<std::string> unreadable;
   for (std::size_t i = 0; i < study.cases.size(); ++i) {
@@ -313,7 +318,6 @@ CaseRecord run_and_write_case(const Study& study, const RunPlan& plan, std::size
 }
 
 int write_run_summary(const Study& study, const RunPlan& plan) {
-  fs::create_directories(plan.summary_dir);
   write_summary(plan.summary_dir, study, *plan.spool, plan.provenance);
   return plan.spool->failed() > 0 ? 1 : 0;
 }
