@@ -665,7 +665,7 @@ herr_t sink_truncate(H5FD_t* f, hid_t, hbool_t) {
 const H5FD_class_t kSinkClass = {
     .name = "rodend_sink",
     .maxaddr = (haddr_t{1} << 62) - 1,
-    .fc_degree = H5F_CLOSE_WEAK,
+    .fc_degree = H5F_CLOSE_STRONG,
     .terminate = nullptr,
     .sb_size = nullptr,
     .sb_encode = nullptr,
@@ -705,6 +705,9 @@ Handle sink_access(const Context& cx, SinkTarget& target) {
   Handle fapl = cx.own(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "cannot create the file");
   SinkTarget* info = &target;
   cx.ok(H5Pset_driver(fapl.get(), driver, &info), "cannot create the file");
+  // closing the file closes whatever of it is still open (an error path), so that HDF5 never
+  // keeps it open past the life of `target`
+  cx.ok(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG), "cannot create the file");
   // memory that does not grow with the file (issue 16 item 6): no sieve buffer (one per open
   // dataset, up to 64 kB each: the writes are whole blocks of rows anyway), and a metadata
   // cache of a fixed 1 MiB (its adaptive default grows with the global heap's collections,
@@ -1353,9 +1356,6 @@ ByteSpan bytes_of(const std::string& text) {
   return ByteSpan(reinterpret_cast<const unsigned char*>(text.data()), text.size());
 }
 
-std::uint32_t crc32_of(const std::string& text) {
-  return libdeflate_crc32(0, text.data(), text.size());
-}
 
 }  // namespace
 
@@ -1605,7 +1605,7 @@ void write_summary(const fs::path& dir, const Study& study, const SummaryRows& r
     const Handle fapl = sink_access(cx, sink);
     Handle file = cx.own(H5Fcreate(h5_path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()),
                          H5Fclose, "cannot create the file");
-    const Handle root = cx.own(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose, "no root");
+    Handle root = cx.own(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose, "no root");
     const hid_t g = root.get();
     attr_int(cx, g, "schema_version", kResultsSchemaVersion);
     attr_string(cx, g, "study_name", study.name);
@@ -1638,6 +1638,8 @@ void write_summary(const fs::path& dir, const Study& study, const SummaryRows& r
           write_summary_block(cx, datasets[j].get(), cols[j].name, values[j], begin);
         }
         append_summary_csv_rows(values, end - begin, text);
+        // a latched failure (a full disk): reported at once, not after the remaining rows
+        if (sink.error != 0) throw std::runtime_error("the sink driver latched a failure");
       }
       crc = libdeflate_crc32(crc, text.data(), text.size());
       csv.write(bytes_of(text));
@@ -1660,6 +1662,9 @@ void write_summary(const fs::path& dir, const Study& study, const SummaryRows& r
     attr_int64(cx, g, "summary_csv_crc32", static_cast<long long>(crc));
     for (Handle& d : datasets) cx.ok(d.close(), "cannot close a summary column");
     cx.ok(summary.close(), "cannot close the summary group");
+    cx.ok(root.close(), "cannot close the root group");
+    // nothing of the file is open now, so this is the real close (the last flush, the
+    // superblock), whose result counts
     cx.ok(file.close(), "cannot close the file");
   } catch (const std::exception&) {
     if (sink.error != 0) h5.fail_write(sink.error);  // the cause of what HDF5 reported
@@ -1679,11 +1684,13 @@ void write_summary(const fs::path& dir, const Study& study, const std::vector<Ca
 
 namespace {
 
-/// The grid keys to which `r` gives a value that is not a number, added to `keys`.
-void add_text_coordinates(const CaseRecord& r, std::set<std::string>& keys) {
-  if (!r.coordinates.is_object()) return;
+/// The grid keys to which `r` gives a value that is not a number.
+std::vector<std::string> text_coordinate_keys(const CaseRecord& r) {
+  std::vector<std::string> keys;
+  if (!r.coordinates.is_object()) return keys;
   for (const auto& [key, value] : r.coordinates.items())
-    if (!value.is_number()) keys.insert(key);
+    if (!value.is_number()) keys.push_back(key);
+  return keys;
 }
 
 }  // namespace
@@ -1696,7 +1703,8 @@ void SummaryRowVector::read(std::size_t begin, std::size_t end,
 
 std::set<std::string> SummaryRowVector::text_coordinates() const {
   std::set<std::string> keys;
-  for (const CaseRecord& r : rows_) add_text_coordinates(r, keys);
+  for (const CaseRecord& r : rows_)
+    for (std::string& k : text_coordinate_keys(r)) keys.insert(std::move(k));
   return keys;
 }
 
@@ -1796,11 +1804,12 @@ struct RecordSpool::Impl {
   std::vector<char> failed;           ///< per slot: its record's status is not "ok"
   std::string buffer;                 ///< records not yet written, from offset `written`
   std::int64_t written = 0;           ///< bytes in the file
-  std::set<std::string> text_keys;
+  /// grid key -> records (as they stand) that give it a value that is not a number
+  std::map<std::string, std::size_t> text_keys;
   std::size_t count = 0;
-  /// rows: the slots with a record, in order (built on the first read after a put)
-  mutable std::vector<std::size_t> rows;
-  mutable bool rows_valid = false;
+  /// where read() is: `cursor_slot` is the slot of row `cursor_row` (reads in order walk the
+  /// offsets once; reset by put)
+  mutable std::size_t cursor_row = 0, cursor_slot = 0;
 
   static constexpr std::size_t kBufferBytes = 1 << 16;
 
@@ -1867,13 +1876,18 @@ void RecordSpool::put(std::size_t slot, const CaseRecord& record) {
   const std::string bytes = encode_record(record);
   std::lock_guard lock(impl_->mutex);
   if (slot >= impl_->offsets.size()) throw std::out_of_range("spool slot");
+  if (impl_->offsets[slot] < 0) {
+    ++impl_->count;
+  } else {  // replaced: what the old record said of its coordinates no longer holds
+    for (const std::string& k : text_coordinate_keys(impl_->load(impl_->offsets[slot])))
+      if (--impl_->text_keys[k] == 0) impl_->text_keys.erase(k);
+  }
   if (impl_->buffer.size() + bytes.size() > Impl::kBufferBytes) impl_->flush();
-  if (impl_->offsets[slot] < 0) ++impl_->count;
   impl_->offsets[slot] = impl_->written + static_cast<std::int64_t>(impl_->buffer.size());
   impl_->failed[slot] = record.status != "ok";
   impl_->buffer += bytes;
-  add_text_coordinates(record, impl_->text_keys);
-  impl_->rows_valid = false;
+  for (const std::string& k : text_coordinate_keys(record)) ++impl_->text_keys[k];
+  impl_->cursor_row = impl_->cursor_slot = 0;
 }
 
 bool RecordSpool::has(std::size_t slot) const {
@@ -1900,22 +1914,26 @@ std::size_t RecordSpool::size() const {
 
 void RecordSpool::read(std::size_t begin, std::size_t end, std::vector<CaseRecord>& out) const {
   std::lock_guard lock(impl_->mutex);
-  if (!impl_->rows_valid) {
-    impl_->rows.clear();
-    impl_->rows.reserve(impl_->count);
-    for (std::size_t i = 0; i < impl_->offsets.size(); ++i)
-      if (impl_->offsets[i] >= 0) impl_->rows.push_back(i);
-    impl_->rows_valid = true;
-  }
-  if (begin > end || end > impl_->rows.size()) throw std::out_of_range("spool rows");
+  if (begin > end || end > impl_->count) throw std::out_of_range("spool rows");
+  Impl& m = *impl_;
+  if (begin < m.cursor_row) m.cursor_row = m.cursor_slot = 0;
   out.clear();
-  for (std::size_t k = begin; k < end; ++k)
-    out.push_back(impl_->load(impl_->offsets[impl_->rows[k]]));
+  for (std::size_t row = begin; row < end; ++row) {
+    // to the slot of `row`: the next slot with a record, `row - cursor_row` times over
+    for (;; ++m.cursor_slot) {
+      while (m.offsets[m.cursor_slot] < 0) ++m.cursor_slot;
+      if (m.cursor_row == row) break;
+      ++m.cursor_row;
+    }
+    out.push_back(m.load(m.offsets[m.cursor_slot]));
+  }
 }
 
 std::set<std::string> RecordSpool::text_coordinates() const {
   std::lock_guard lock(impl_->mutex);
-  return impl_->text_keys;
+  std::set<std::string> keys;
+  for (const auto& [key, n] : impl_->text_keys) keys.insert(key);
+  return keys;
 }
 
 namespace {
@@ -1995,38 +2013,89 @@ SummaryTable read_summary(const fs::path& dir) {
 bool repair_summary_csv(const fs::path& dir) {
   if (summary_csv_matches(dir)) return false;
   const fs::path h5 = dir / "summary.h5";
-  const SummaryTable t = read_summary(dir);
-  std::vector<ColumnValues> cols;
-  for (const std::string& name : t.columns) {
-    ColumnValues c;
-    if (t.is_text(name)) {
-      c.kind = Column::Kind::text;
-      c.texts = t.texts.at(name);
-    } else if (t.integers.count(name)) {
-      c.kind = Column::Kind::integer;
-      for (double v : t.numbers.at(name)) c.integers.push_back(std::llround(v));
-    } else {
-      c.reals = t.numbers.at(name);
-    }
-    cols.push_back(std::move(c));
-  }
-  std::string text = summary_csv_header(t.columns);
-  append_summary_csv_rows(cols, t.rows, text);
+  if (!fs::exists(h5))
+    throw std::runtime_error(dir.string() + " is not a rodend study: no summary.h5");
+  // summary.csv again from summary.h5, a block of rows at a time (as write_summary wrote it),
+  // kept only if its CRC-32 is the one summary.h5 was written with
+  AtomicFile csv(dir / "summary.csv", "summary file");
+  std::uint32_t crc = 0;
   long long stored = -1;
   {
     Hdf5Lock lock;
     const Context cx(h5, "cannot read summary");
     Handle file =
         cx.own(H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, "cannot open the file");
-    const Handle root = cx.own(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose, "no root");
-    stored = read_attr_int64(cx, root.get(), "summary_csv_crc32");
+    {
+      const Handle root = cx.own(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose, "no root");
+      stored = read_attr_int64(cx, root.get(), "summary_csv_crc32");
+    }
+    const Handle g =
+        cx.own(H5Gopen2(file.get(), "/summary", H5P_DEFAULT), H5Gclose, "no /summary group");
+    std::vector<std::string> names;
+    for (const Json& c : Json::parse(read_attr_string(cx, g.get(), "columns")))
+      names.push_back(c.get<std::string>());
+    std::vector<Handle> datasets;
+    std::vector<ColumnValues> values(names.size());
+    hsize_t rows = 0;
+    for (std::size_t j = 0; j < names.size(); ++j) {
+      const std::string what = "cannot read summary column " + names[j];
+      datasets.push_back(cx.own(H5Dopen2(g.get(), names[j].c_str(), H5P_DEFAULT), H5Dclose, what));
+      const Handle space = cx.own(H5Dget_space(datasets[j].get()), H5Sclose, what);
+      rows = static_cast<hsize_t>(H5Sget_simple_extent_npoints(space.get()));
+      const Handle type = cx.own(H5Dget_type(datasets[j].get()), H5Tclose, what);
+      const H5T_class_t cls = H5Tget_class(type.get());
+      values[j].kind = cls == H5T_STRING    ? Column::Kind::text
+                       : cls == H5T_INTEGER ? Column::Kind::integer
+                                            : Column::Kind::real;
+    }
+    const Handle str = utf8_string_type(cx);
+    std::string text = summary_csv_header(names);
+    std::vector<char*> raw;
+    for (hsize_t begin = 0;; begin += kSummaryRowsPerBlock) {
+      const hsize_t n = std::min<hsize_t>(kSummaryRowsPerBlock, rows - begin);
+      for (std::size_t j = 0; j < names.size() && n > 0; ++j) {
+        const std::string what = "cannot read summary column " + names[j];
+        const hid_t d = datasets[j].get();
+        const Handle file_space = cx.own(H5Dget_space(d), H5Sclose, what);
+        cx.ok(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, &begin, nullptr, &n, nullptr),
+              what);
+        const Handle mem_space = vector_space(cx, n);
+        ColumnValues& v = values[j];
+        if (v.kind == Column::Kind::text) {
+          raw.assign(n, nullptr);
+          cx.ok(H5Dread(d, str.get(), mem_space.get(), file_space.get(), H5P_DEFAULT, raw.data()),
+                what);
+          v.texts.clear();
+          for (char* p : raw) {
+            v.texts.emplace_back(p ? p : "");
+            H5free_memory(p);
+          }
+        } else if (v.kind == Column::Kind::integer) {
+          v.integers.resize(n);
+          cx.ok(H5Dread(d, H5T_NATIVE_LLONG, mem_space.get(), file_space.get(), H5P_DEFAULT,
+                        v.integers.data()),
+                what);
+        } else {
+          v.reals.resize(n);
+          cx.ok(H5Dread(d, H5T_NATIVE_DOUBLE, mem_space.get(), file_space.get(), H5P_DEFAULT,
+                        v.reals.data()),
+                what);
+        }
+      }
+      append_summary_csv_rows(values, n, text);
+      crc = libdeflate_crc32(crc, text.data(), text.size());
+      csv.write(bytes_of(text));
+      text.clear();
+      if (begin + n >= rows) break;
+    }
   }
-  if (static_cast<long long>(crc32_of(text)) != stored)
+  if (static_cast<long long>(crc) != stored)
     throw std::runtime_error("cannot rewrite " + (dir / "summary.csv").string() + " from " +
                              h5.string() +
                              ": the table read back does not give the summary.csv "
                              "it was written with (summary_csv_crc32)");
-  write_file_atomically(dir / "summary.csv", "summary file", {bytes_of(text)}, /*durable=*/true);
+  csv.finish(/*durable=*/true);
+  csv.commit(/*durable=*/true);
   return true;
 }
 

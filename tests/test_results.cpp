@@ -518,6 +518,16 @@ TEST_CASE("the record spool gives back every record exactly, in case order", "[r
   CHECK(spool.failed() == n - 1);  // make_record: case 0 ok, the others not
   CHECK(spool.text_coordinates() == std::set<std::string>{"parameters.contact.law"});
   require_same_record(spool.get(10), rows[10]);
+  SECTION("a replaced record's coordinates count no longer") {
+    RecordSpool two(tmp.path(), 2);
+    CaseRecord r = rows[3];  // parameters.contact.law "flores": a text column
+    two.put(1, r);
+    CHECK(two.text_coordinates() == std::set<std::string>{"parameters.contact.law"});
+    r.coordinates["parameters.contact.law"] = 2.0;
+    two.put(1, r);
+    CHECK(two.text_coordinates().empty());
+    CHECK(two.size() == 1);
+  }
   // read in blocks, as write_summary does: case order
   std::vector<CaseRecord> block;
   for (std::size_t begin = 0; begin < n; begin += 256) {
@@ -574,6 +584,12 @@ TEST_CASE("a summary of many blocks reads back row for row", "[results][spool]")
   const std::string text_a((std::istreambuf_iterator<char>(a)), std::istreambuf_iterator<char>());
   const std::string text_b((std::istreambuf_iterator<char>(b)), std::istreambuf_iterator<char>());
   CHECK(text_a == text_b);
+  // and summary.csv rewritten from summary.h5, a block at a time, is the same bytes again
+  fs::remove(dir / "summary.csv");
+  CHECK(repair_summary_csv(dir));
+  std::ifstream c(dir / "summary.csv", std::ios::binary);
+  CHECK(std::string((std::istreambuf_iterator<char>(c)), std::istreambuf_iterator<char>()) ==
+        text_a);
 }
 
 TEST_CASE("a full disk while HDF5 writes summary.h5 is one message and leaves nothing",
