@@ -1356,7 +1356,6 @@ ByteSpan bytes_of(const std::string& text) {
   return ByteSpan(reinterpret_cast<const unsigned char*>(text.data()), text.size());
 }
 
-
 }  // namespace
 
 // -------------------------------------------------------------------------------------------
