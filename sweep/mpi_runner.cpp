@@ -358,10 +358,8 @@ int run_study_mpi(const Session& session, const fs::path& study_file, const fs::
   int rc = 0;
   if (rank == 0) {
     try {
-      for (const std::size_t i : plan.todo) {
+      for (const std::size_t i : plan.todo)
         plan.spool->put(i, read_back(plan.cases_dir, study->cases[i]));
-        plan.have[i] = 1;
-      }
       rc = write_run_summary(*study, plan);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "rodend: error: %s\n", e.what());

@@ -615,9 +615,11 @@ int sink_cmp(const H5FD_t* a, const H5FD_t* b) {
   return std::less<const H5FD_t*>{}(a, b) ? -1 : a == b ? 0 : 1;
 }
 herr_t sink_query(const H5FD_t*, unsigned long* flags) {
-  // as the default (sec2) driver: metadata and small raw data aggregated, a sieve buffer
-  *flags = H5FD_FEAT_AGGREGATE_METADATA | H5FD_FEAT_ACCUMULATE_METADATA | H5FD_FEAT_DATA_SIEVE |
-           H5FD_FEAT_AGGREGATE_SMALLDATA;
+  // as the default (sec2) driver, metadata and small raw data aggregated; but no sieve buffer
+  // (HDF5 keeps one per open dataset, up to 64 kB each, a summary's memory growing with its
+  // columns; the writes are whole blocks of rows anyway)
+  *flags =
+      H5FD_FEAT_AGGREGATE_METADATA | H5FD_FEAT_ACCUMULATE_METADATA | H5FD_FEAT_AGGREGATE_SMALLDATA;
   return 0;
 }
 haddr_t sink_get_eoa(const H5FD_t* f, H5FD_mem_t) {
@@ -708,11 +710,9 @@ Handle sink_access(const Context& cx, SinkTarget& target) {
   // closing the file closes whatever of it is still open (an error path), so that HDF5 never
   // keeps it open past the life of `target`
   cx.ok(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG), "cannot create the file");
-  // memory that does not grow with the file (issue 16 item 6): no sieve buffer (one per open
-  // dataset, up to 64 kB each: the writes are whole blocks of rows anyway), and a metadata
-  // cache of a fixed 1 MiB (its adaptive default grows with the global heap's collections,
-  // which hold a summary's strings)
-  cx.ok(H5Pset_sieve_buf_size(fapl.get(), 0), "cannot create the file");
+  // memory that does not grow with the file (issue 16 item 6): a metadata cache of a fixed
+  // 1 MiB (its adaptive default grows with the global heap's collections, which hold a
+  // summary's strings)
   H5AC_cache_config_t mdc{};
   mdc.version = H5AC__CURR_CACHE_CONFIG_VERSION;
   cx.ok(H5Pget_mdc_config(fapl.get(), &mdc), "cannot create the file");
@@ -1117,8 +1117,8 @@ CaseRecord read_case_locked(const fs::path& path) {
 // ---------------------------------------------------------------------------------------------
 // Summary
 //
-// Written as a stream (issue 16 item 6): the rows come from a SummaryRows (a RecordSpool on the
-// disk, in a run) a block at a time, and each block goes to summary.csv and to the columns of
+// Written as a stream (issue 16 item 6): the rows come from a RecordSpool on the disk, a block
+// at a time, and each block goes to summary.csv and to the columns of
 // summary.h5 (datasets of the final size, written by hyperslabs through the sink driver) before
 // the next is read: the memory it takes does not grow with the number of cases.
 
@@ -1138,6 +1138,11 @@ struct ColumnValues {
   std::vector<std::string> texts;
   std::vector<long long> integers;
   std::vector<double> reals;
+  std::size_t size() const {
+    return kind == Column::Kind::text      ? texts.size()
+           : kind == Column::Kind::integer ? integers.size()
+                                           : reals.size();
+  }
 };
 
 /// The columns of the summary, in table order; `text_coordinates`: the grid keys whose values
@@ -1323,9 +1328,7 @@ Handle create_summary_column(const Context& cx, hid_t group, const Column& c, hs
 void write_summary_block(const Context& cx, hid_t d, const std::string& name, const ColumnValues& v,
                          hsize_t begin) {
   const std::string what = "cannot write summary column " + name;
-  const hsize_t n = v.kind == Column::Kind::text      ? v.texts.size()
-                    : v.kind == Column::Kind::integer ? v.integers.size()
-                                                      : v.reals.size();
+  const hsize_t n = v.size();
   if (n == 0) return;
   const Handle file_space = cx.own(H5Dget_space(d), H5Sclose, what);
   cx.ok(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, &begin, nullptr, &n, nullptr), what);
@@ -1347,6 +1350,47 @@ void write_summary_block(const Context& cx, hid_t d, const std::string& name, co
   const Handle dxpl = cx.own(H5Pcreate(H5P_DATASET_XFER), H5Pclose, what);
   cx.ok(H5Pset_buffer(dxpl.get(), std::max<std::size_t>(n * 16, 4096), nullptr, nullptr), what);
   cx.ok(H5Dwrite(d, mem_type, mem_space.get(), file_space.get(), dxpl.get(), data), what);
+}
+
+/// The kind of summary dataset `d` (from its HDF5 type) and its number of rows, into `v`.
+hsize_t open_summary_column(const Context& cx, hid_t d, const std::string& what, ColumnValues& v) {
+  const Handle space = cx.own(H5Dget_space(d), H5Sclose, what);
+  const Handle type = cx.own(H5Dget_type(d), H5Tclose, what);
+  const H5T_class_t cls = H5Tget_class(type.get());
+  v.kind = cls == H5T_STRING    ? Column::Kind::text
+           : cls == H5T_INTEGER ? Column::Kind::integer
+                                : Column::Kind::real;
+  return static_cast<hsize_t>(H5Sget_simple_extent_npoints(space.get()));
+}
+
+/// Rows [begin, begin + n) of summary dataset `d` into `v` (of the kind open_summary_column
+/// gave), its old values replaced.
+void read_summary_block(const Context& cx, hid_t d, const std::string& what, hsize_t begin,
+                        hsize_t n, ColumnValues& v) {
+  v.texts.clear();
+  v.integers.assign(v.kind == Column::Kind::integer ? n : 0, 0);
+  v.reals.assign(v.kind == Column::Kind::real ? n : 0, 0.0);
+  if (n == 0) return;
+  const Handle file_space = cx.own(H5Dget_space(d), H5Sclose, what);
+  cx.ok(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, &begin, nullptr, &n, nullptr), what);
+  const Handle mem_space = vector_space(cx, n);
+  if (v.kind == Column::Kind::text) {
+    const Handle str = utf8_string_type(cx);
+    std::vector<char*> raw(n, nullptr);
+    cx.ok(H5Dread(d, str.get(), mem_space.get(), file_space.get(), H5P_DEFAULT, raw.data()), what);
+    for (char* p : raw) {
+      v.texts.emplace_back(p ? p : "");
+      H5free_memory(p);
+    }
+  } else if (v.kind == Column::Kind::integer) {
+    cx.ok(H5Dread(d, H5T_NATIVE_LLONG, mem_space.get(), file_space.get(), H5P_DEFAULT,
+                  v.integers.data()),
+          what);
+  } else {
+    cx.ok(H5Dread(d, H5T_NATIVE_DOUBLE, mem_space.get(), file_space.get(), H5P_DEFAULT,
+                  v.reals.data()),
+          what);
+  }
 }
 
 /// Rows a summary is written in: the memory a summary takes is about this many case records.
@@ -1583,7 +1627,7 @@ bool summary_csv_matches(const fs::path& dir) {
   return static_cast<long long>(crc) == stored;
 }
 
-void write_summary(const fs::path& dir, const Study& study, const SummaryRows& rows,
+void write_summary(const fs::path& dir, const Study& study, const RecordSpool& rows,
                    const Json& prov) {
   const std::size_t row_count = rows.size();
   const std::vector<Column> cols = summary_columns(study, rows.text_coordinates());
@@ -1676,11 +1720,6 @@ void write_summary(const fs::path& dir, const Study& study, const SummaryRows& r
   csv.commit(/*durable=*/true);
 }
 
-void write_summary(const fs::path& dir, const Study& study, const std::vector<CaseRecord>& rows,
-                   const Json& prov) {
-  write_summary(dir, study, SummaryRowVector(rows), prov);
-}
-
 namespace {
 
 /// The grid keys to which `r` gives a value that is not a number.
@@ -1693,19 +1732,6 @@ std::vector<std::string> text_coordinate_keys(const CaseRecord& r) {
 }
 
 }  // namespace
-
-void SummaryRowVector::read(std::size_t begin, std::size_t end,
-                            std::vector<CaseRecord>& out) const {
-  out.assign(rows_.begin() + static_cast<std::ptrdiff_t>(begin),
-             rows_.begin() + static_cast<std::ptrdiff_t>(end));
-}
-
-std::set<std::string> SummaryRowVector::text_coordinates() const {
-  std::set<std::string> keys;
-  for (const CaseRecord& r : rows_)
-    for (std::string& k : text_coordinate_keys(r)) keys.insert(std::move(k));
-  return keys;
-}
 
 // ---------------------------------------------------------------------------------------------
 // RecordSpool
@@ -1800,12 +1826,11 @@ struct RecordSpool::Impl {
   int fd = -1;
   mutable std::mutex mutex;
   std::vector<std::int64_t> offsets;  ///< per slot: the record's offset, -1 when none
-  std::vector<char> failed;           ///< per slot: its record's status is not "ok"
   std::string buffer;                 ///< records not yet written, from offset `written`
   std::int64_t written = 0;           ///< bytes in the file
   /// grid key -> records (as they stand) that give it a value that is not a number
   std::map<std::string, std::size_t> text_keys;
-  std::size_t count = 0;
+  std::size_t count = 0, failed = 0;  ///< records; of them, not "ok"
   /// where read() is: `cursor_slot` is the slot of row `cursor_row` (reads in order walk the
   /// offsets once; reset by put)
   mutable std::size_t cursor_row = 0, cursor_slot = 0;
@@ -1864,7 +1889,6 @@ RecordSpool::RecordSpool(const fs::path& dir, std::size_t slots) : impl_(std::ma
                              std::strerror(errno));
   ::unlink(path.c_str());  // anonymous from now on (left behind, a later run removes it)
   impl_->offsets.assign(slots, -1);
-  impl_->failed.assign(slots, 0);
 }
 
 RecordSpool::~RecordSpool() {
@@ -1877,33 +1901,23 @@ void RecordSpool::put(std::size_t slot, const CaseRecord& record) {
   if (slot >= impl_->offsets.size()) throw std::out_of_range("spool slot");
   if (impl_->offsets[slot] < 0) {
     ++impl_->count;
-  } else {  // replaced: what the old record said of its coordinates no longer holds
-    for (const std::string& k : text_coordinate_keys(impl_->load(impl_->offsets[slot])))
+  } else {  // replaced: what the old record counted no longer holds
+    const CaseRecord old = impl_->load(impl_->offsets[slot]);
+    if (old.status != "ok") --impl_->failed;
+    for (const std::string& k : text_coordinate_keys(old))
       if (--impl_->text_keys[k] == 0) impl_->text_keys.erase(k);
   }
   if (impl_->buffer.size() + bytes.size() > Impl::kBufferBytes) impl_->flush();
   impl_->offsets[slot] = impl_->written + static_cast<std::int64_t>(impl_->buffer.size());
-  impl_->failed[slot] = record.status != "ok";
+  if (record.status != "ok") ++impl_->failed;
   impl_->buffer += bytes;
   for (const std::string& k : text_coordinate_keys(record)) ++impl_->text_keys[k];
   impl_->cursor_row = impl_->cursor_slot = 0;
 }
 
-bool RecordSpool::has(std::size_t slot) const {
-  std::lock_guard lock(impl_->mutex);
-  return slot < impl_->offsets.size() && impl_->offsets[slot] >= 0;
-}
-
-CaseRecord RecordSpool::get(std::size_t slot) const {
-  std::lock_guard lock(impl_->mutex);
-  if (slot >= impl_->offsets.size() || impl_->offsets[slot] < 0)
-    throw std::out_of_range("no record for case " + std::to_string(slot));
-  return impl_->load(impl_->offsets[slot]);
-}
-
 std::size_t RecordSpool::failed() const {
   std::lock_guard lock(impl_->mutex);
-  return static_cast<std::size_t>(std::count(impl_->failed.begin(), impl_->failed.end(), 1));
+  return impl_->failed;
 }
 
 std::size_t RecordSpool::size() const {
@@ -1980,28 +1994,18 @@ SummaryTable read_summary(const fs::path& dir) {
     for (const std::string& name : t.columns) {
       const std::string what = "cannot read summary column " + name;
       const Handle d = cx.own(H5Dopen2(g.get(), name.c_str(), H5P_DEFAULT), H5Dclose, what);
-      const Handle space = cx.own(H5Dget_space(d.get()), H5Sclose, what);
-      const auto n = static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get()));
-      t.rows = n;
+      ColumnValues v;
+      const hsize_t n = open_summary_column(cx, d.get(), what, v);
+      t.rows = static_cast<std::size_t>(n);
       t.units[name] = read_dataset_unit(cx, d.get());
-      const Handle ft = cx.own(H5Dget_type(d.get()), H5Tclose, what);
-      if (H5Tget_class(ft.get()) == H5T_STRING) {
-        const Handle mt = utf8_string_type(cx);
-        std::vector<char*> raw(n, nullptr);
-        if (n > 0)
-          cx.ok(H5Dread(d.get(), mt.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, raw.data()), what);
-        auto& out = t.texts[name];
-        for (char* s : raw) {
-          out.emplace_back(s ? s : "");
-          H5free_memory(s);
-        }
+      read_summary_block(cx, d.get(), what, 0, n, v);
+      if (v.kind == Column::Kind::text) {
+        t.texts[name] = std::move(v.texts);
+      } else if (v.kind == Column::Kind::integer) {
+        t.integers.insert(name);
+        t.numbers[name].assign(v.integers.begin(), v.integers.end());
       } else {
-        if (H5Tget_class(ft.get()) == H5T_INTEGER) t.integers.insert(name);
-        auto& out = t.numbers[name];
-        out.resize(n);
-        if (n > 0)
-          cx.ok(H5Dread(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()),
-                what);
+        t.numbers[name] = std::move(v.reals);
       }
     }
   }
@@ -2039,48 +2043,14 @@ bool repair_summary_csv(const fs::path& dir) {
     for (std::size_t j = 0; j < names.size(); ++j) {
       const std::string what = "cannot read summary column " + names[j];
       datasets.push_back(cx.own(H5Dopen2(g.get(), names[j].c_str(), H5P_DEFAULT), H5Dclose, what));
-      const Handle space = cx.own(H5Dget_space(datasets[j].get()), H5Sclose, what);
-      rows = static_cast<hsize_t>(H5Sget_simple_extent_npoints(space.get()));
-      const Handle type = cx.own(H5Dget_type(datasets[j].get()), H5Tclose, what);
-      const H5T_class_t cls = H5Tget_class(type.get());
-      values[j].kind = cls == H5T_STRING    ? Column::Kind::text
-                       : cls == H5T_INTEGER ? Column::Kind::integer
-                                            : Column::Kind::real;
+      rows = open_summary_column(cx, datasets[j].get(), what, values[j]);
     }
-    const Handle str = utf8_string_type(cx);
     std::string text = summary_csv_header(names);
-    std::vector<char*> raw;
     for (hsize_t begin = 0;; begin += kSummaryRowsPerBlock) {
       const hsize_t n = std::min<hsize_t>(kSummaryRowsPerBlock, rows - begin);
-      for (std::size_t j = 0; j < names.size() && n > 0; ++j) {
-        const std::string what = "cannot read summary column " + names[j];
-        const hid_t d = datasets[j].get();
-        const Handle file_space = cx.own(H5Dget_space(d), H5Sclose, what);
-        cx.ok(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, &begin, nullptr, &n, nullptr),
-              what);
-        const Handle mem_space = vector_space(cx, n);
-        ColumnValues& v = values[j];
-        if (v.kind == Column::Kind::text) {
-          raw.assign(n, nullptr);
-          cx.ok(H5Dread(d, str.get(), mem_space.get(), file_space.get(), H5P_DEFAULT, raw.data()),
-                what);
-          v.texts.clear();
-          for (char* p : raw) {
-            v.texts.emplace_back(p ? p : "");
-            H5free_memory(p);
-          }
-        } else if (v.kind == Column::Kind::integer) {
-          v.integers.resize(n);
-          cx.ok(H5Dread(d, H5T_NATIVE_LLONG, mem_space.get(), file_space.get(), H5P_DEFAULT,
-                        v.integers.data()),
-                what);
-        } else {
-          v.reals.resize(n);
-          cx.ok(H5Dread(d, H5T_NATIVE_DOUBLE, mem_space.get(), file_space.get(), H5P_DEFAULT,
-                        v.reals.data()),
-                what);
-        }
-      }
+      for (std::size_t j = 0; j < names.size(); ++j)
+        read_summary_block(cx, datasets[j].get(), "cannot read summary column " + names[j], begin,
+                           n, values[j]);
       append_summary_csv_rows(values, n, text);
       crc = libdeflate_crc32(crc, text.data(), text.size());
       csv.write(bytes_of(text));

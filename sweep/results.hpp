@@ -135,57 +135,32 @@ std::optional<CaseRecord> read_case_record(const std::filesystem::path& path);
 /// file, no permission, another schema version, locked by another process).
 std::optional<CaseRecord> read_case_record_strict(const std::filesystem::path& path);
 
-/// The rows of a summary, handed to write_summary in grid order, a block at a time.
-class SummaryRows {
- public:
-  virtual ~SummaryRows() = default;
-  /// Number of rows.
-  virtual std::size_t size() const = 0;
-  /// Rows [begin, end) into `out` (its old content replaced).
-  virtual void read(std::size_t begin, std::size_t end, std::vector<CaseRecord>& out) const = 0;
-  /// The grid coordinate keys to which some row gives a value that is not a number: their
-  /// summary columns are text, the others numeric.
-  virtual std::set<std::string> text_coordinates() const = 0;
-};
-
-/// Rows held in a vector (a small table; the tests).
-class SummaryRowVector final : public SummaryRows {
- public:
-  explicit SummaryRowVector(const std::vector<CaseRecord>& rows) : rows_(rows) {}
-  std::size_t size() const override { return rows_.size(); }
-  void read(std::size_t begin, std::size_t end, std::vector<CaseRecord>& out) const override;
-  std::set<std::string> text_coordinates() const override;
-
- private:
-  const std::vector<CaseRecord>& rows_;
-};
-
-/// The case records of a run, kept on the disk instead of in memory (issue 16 item 6: memory
-/// flat in the number of cases): an anonymous file in the results directory (unlinked as soon
-/// as it is created, so that nothing is left behind, even by a crash) to which each record is
-/// appended when its case completes, in any order, and an offset per case. As SummaryRows, the
-/// records in case order (slot order), whichever order they came in. Thread-safe.
-class RecordSpool final : public SummaryRows {
+/// The case records of a run, the rows of its summary, kept on the disk instead of in memory
+/// (issue 16 item 6: memory flat in the number of cases): an anonymous file in the results
+/// directory (unlinked as soon as it is created, so that nothing is left behind, even by a
+/// crash) to which each record is appended when its case completes, in any order, and an
+/// offset per case. Read back in case order (slot order), whichever order the records came in.
+/// Thread-safe.
+class RecordSpool {
  public:
   /// The spool of the summary in `dir` (its file is there too; messages name dir/summary.h5);
   /// `slots`: the number of cases (slot = case position in the study).
   RecordSpool(const std::filesystem::path& dir, std::size_t slots);
-  ~RecordSpool() override;
+  ~RecordSpool();
   RecordSpool(const RecordSpool&) = delete;
   RecordSpool& operator=(const RecordSpool&) = delete;
 
   /// Stores the record of case `slot` (a later put for the same slot replaces it). Throws
   /// std::runtime_error "cannot write summary file <dir>/summary.h5: ..." when the disk is full.
   void put(std::size_t slot, const CaseRecord& record);
-  bool has(std::size_t slot) const;
-  /// The record of case `slot` (which must have one).
-  CaseRecord get(std::size_t slot) const;
-  /// Cases with a record whose status is not "ok".
+  /// Records stored (the summary's rows), and of them those whose status is not "ok".
+  std::size_t size() const;
   std::size_t failed() const;
-
-  std::size_t size() const override;
-  void read(std::size_t begin, std::size_t end, std::vector<CaseRecord>& out) const override;
-  std::set<std::string> text_coordinates() const override;
+  /// Rows [begin, end) (the records in slot order) into `out`, its old content replaced.
+  void read(std::size_t begin, std::size_t end, std::vector<CaseRecord>& out) const;
+  /// The grid coordinate keys to which some record gives a value that is not a number: their
+  /// summary columns are text, the others numeric.
+  std::set<std::string> text_coordinates() const;
 
  private:
   struct Impl;
@@ -193,16 +168,13 @@ class RecordSpool final : public SummaryRows {
 };
 
 /// Writes summary.h5 and summary.csv in `dir` (temporary names, then rename): one row per
-/// record of `rows`, in its order (grid order). Both are written as a stream, a block of rows
-/// at a time (HDF5 writes summary.h5 to the disk as it goes): the memory it takes does not
-/// grow with the number of rows. summary.h5 is renamed into place first, with the CRC-32 of
-/// the summary.csv that follows it (root attribute summary_csv_crc32), then summary.csv; each
-/// is flushed to the disk.
-void write_summary(const std::filesystem::path& dir, const Study& study, const SummaryRows& rows,
+/// record of `rows`, in slot (grid) order. Both are written as a stream, a block of rows at a
+/// time (HDF5 writes summary.h5 to the disk as it goes): the memory it takes does not grow with
+/// the number of rows. summary.h5 is renamed into place first, with the CRC-32 of the
+/// summary.csv that follows it (root attribute summary_csv_crc32), then summary.csv; each is
+/// flushed to the disk.
+void write_summary(const std::filesystem::path& dir, const Study& study, const RecordSpool& rows,
                    const Json& provenance);
-/// The same for rows held in a vector.
-void write_summary(const std::filesystem::path& dir, const Study& study,
-                   const std::vector<CaseRecord>& rows, const Json& provenance);
 
 /// True unless `dir` holds a summary.h5 whose summary_csv_crc32 does not match summary.csv
 /// (missing, or of another run: a run stopped between the two renames of write_summary).

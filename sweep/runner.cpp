@@ -266,7 +266,6 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
   // reason (another case's, another schema's, not a regular file, no permission) is never
   // touched: it is reported and nothing runs.
   plan.spool = std::make_unique<RecordSpool>(plan.summary_dir, study.cases.size());
-  plan.have.assign(study.cases.size(), 0);
   std::vector<std::string> unreadable;
   for (std::size_t i = 0; i < study.cases.size(); ++i) {
     const CaseSpec& c = study.cases[i];
@@ -293,7 +292,6 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
       rec->index = c.index;
       rec->coordinates = c.coordinates;
       plan.spool->put(i, *rec);
-      plan.have[i] = 1;
       continue;
     }
     plan.todo.push_back(i);
@@ -341,7 +339,6 @@ int run_study(const Study& study, const RunOptions& opt) {
     try {
       const CaseRecord rec = run_and_write_case(study, plan, i);
       plan.spool->put(i, rec);
-      plan.have[i] = 1;  // vector<char>: distinct elements written from threads
       progress.case_done(rec.status != "ok");
     } catch (const std::exception& e) {
       write_failed.store(true);
@@ -350,14 +347,14 @@ int run_study(const Study& study, const RunOptions& opt) {
     }
   }
   if (!first_error.empty()) {
-    const long complete = std::count(plan.have.begin(), plan.have.end(), char{1});
+    const auto complete = static_cast<long>(plan.spool->size());
     throw std::runtime_error(
         first_error + "\nrodend: stopped: " + std::to_string(complete) + " of " +
         std::to_string(plan.in_scope) + " case(s) complete in " + plan.cases_dir.string() +
         "; no summary written. Resume with: rodend run " + study.file.string());
   }
   if (const int sig = g_stop_signal.load(); sig != 0) {
-    const long complete = std::count(plan.have.begin(), plan.have.end(), char{1});
+    const auto complete = static_cast<long>(plan.spool->size());
     std::fprintf(stderr,
                  "rodend: stopped by %s: %ld of %ld case(s) complete in %s; no summary written. "
                  "Resume with: rodend run %s\n",

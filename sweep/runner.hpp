@@ -63,7 +63,6 @@ struct RunPlan {
   Json provenance;
   /// the records of the complete cases, on the disk (issue 16 item 6): the summary's rows
   std::unique_ptr<RecordSpool> spool;
-  std::vector<char> have;             ///< case i has a complete file that is kept
   std::vector<std::size_t> todo;      ///< case indices to run, in grid order
   long in_scope = 0;                  ///< cases of this shard (all cases without shards)
   std::shared_ptr<ResultsLock> lock;  ///< held for the run (sweep/results_dir.hpp)
