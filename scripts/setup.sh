@@ -14,6 +14,7 @@ packages=(
   libsundials-dev libopenmpi-dev openmpi-bin libdeflate-dev hdf5-tools
   python3 python3-numpy python3-h5py python3-matplotlib
   python3-pandas python3-xarray python3-h5netcdf python3-jsonschema pybind11-dev python3-pybind11
+  python3-openturns
 )
 
 missing=()
