@@ -25,6 +25,7 @@ void print_dry_run(const Study& s) {
   for (const auto& n : s.scenes) scenes += (scenes.empty() ? "" : ", ") + n;
   std::cout << "study " << s.name << ": scene" << (s.scenes.size() > 1 ? "s " : " ") << scenes
             << ", " << s.cases.size() << " case(s), results in " << s.output_dir.string() << "\n";
+  if (s.design) std::cout << s.design->statistics();
   std::cout << "index\tcase_id\tmethod\tend_s";
   for (const auto& k : s.axis_keys) std::cout << "\t" << k;
   std::cout << "\n";

@@ -304,6 +304,10 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
     throw std::runtime_error(m);
   }
   write_text_atomically(plan.dir / "study.json", study.source.dump(2) + "\n");
+  // the resolved design, where the analysis finds it (docs/uncertainty.md)
+  if (study.design)
+    write_text_atomically(plan.dir / "design.json",
+                          study.design->to_json(study.design_units).dump(2) + "\n");
   return plan;
 }
 

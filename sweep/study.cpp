@@ -611,6 +611,65 @@ std::optional<std::string> find_nul(const Json& doc) {
   return std::nullopt;
 }
 
+/// The design's points as an axis: "design.sample" (the point's index) zipped with each factor's
+/// values.
+Axis design_axis(const Design& design) {
+  Axis axis;
+  const std::size_t n = design.points(), d = design.dims();
+  axis.keys.push_back("design.sample");
+  axis.wheres.push_back("design");
+  axis.values.emplace_back();
+  for (std::size_t p = 0; p < n; ++p) axis.values.back().emplace_back(static_cast<long>(p));
+  for (std::size_t j = 0; j < d; ++j) {
+    axis.keys.push_back(design.factors[j].key);
+    axis.wheres.push_back(design.factors[j].where);
+    std::vector<Json> column;
+    column.reserve(n);
+    for (std::size_t p = 0; p < n; ++p) column.emplace_back(design.values[p * d + j]);
+    axis.values.push_back(std::move(column));
+  }
+  return axis;
+}
+
+/// Every sampled parameter is a parameter of some scene of the study (a typo is caught at its
+/// place in the design).
+void check_design_keys(const Design& design, const std::vector<std::string>& scenes) {
+  for (const DesignFactor& f : design.factors) {
+    if (f.key.rfind("parameters.", 0) != 0) continue;  // settings: checked by apply()
+    const std::string path = f.key.substr(11);
+    if (std::none_of(scenes.begin(), scenes.end(), [&](const std::string& scene) {
+          return ParameterSet::defaults_for(scene).has(path);
+        }))
+      throw InputError(f.where + ".key", "no scene of this study has parameter '" + path +
+                                             "' (see `rodend params SCENE`)");
+  }
+}
+
+/// Each design factor's SI unit: the parameter's (from the first scene that has it) or the
+/// setting's.
+std::vector<std::string> design_units(const Design& design,
+                                      const std::vector<std::string>& scenes) {
+  std::vector<std::string> units;
+  for (const DesignFactor& f : design.factors) {
+    std::string unit;
+    if (f.key.rfind("parameters.", 0) == 0) {
+      for (const std::string& scene : scenes) {
+        const ParameterSet p = ParameterSet::defaults_for(scene);
+        if (p.has(f.key.substr(11))) {
+          unit = p.unit(f.key.substr(11));
+          break;
+        }
+      }
+    } else {
+      const auto dot = f.key.find('.');
+      if (const Setting* s = find_setting(f.key.substr(0, dot), f.key.substr(dot + 1)))
+        unit = s->info.unit;
+    }
+    units.push_back(unit);
+  }
+  return units;
+}
+
 }  // namespace
 
 Json CaseSpec::canonical() const {
@@ -618,6 +677,7 @@ Json CaseSpec::canonical() const {
   for (SignalId id : signals) sig.push_back(std::string(signal_spec(id).name));
   Json c = {{"scene", scene}, {"parameters", as_doubles(parameters.values())}, {"signals", sig}};
   write_settings(*this, c);
+  if (design_sample >= 0) c["design_sample"] = design_sample;
   return c;
 }
 
@@ -640,8 +700,8 @@ std::vector<StudyField> study_fields() {
 
 const std::vector<std::string>& study_keys() {
   static const std::vector<std::string> keys{
-      "name",    "description", "scene",   "parameters", "integrator", "time",
-      "signals", "health",      "metrics", "grid",       "output",     "wear_evolution"};
+      "name",   "description", "scene", "parameters", "integrator",     "time",  "signals",
+      "health", "metrics",     "grid",  "output",     "wear_evolution", "design"};
   return keys;
 }
 
@@ -659,10 +719,7 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
     const std::vector<std::string>& kKeys = study_keys();
     for (auto it = doc.begin(); it != doc.end(); ++it)
       if (std::find(kKeys.begin(), kKeys.end(), it.key()) == kKeys.end())
-        throw InputError(it.key(),
-                         "unknown key; expected one of name, description, scene, "
-                         "parameters, integrator, time, signals, health, metrics, "
-                         "grid, output, wear_evolution");
+        throw InputError(it.key(), "unknown key; expected one of " + alternatives(kKeys, false));
     Study study;
     study.file = file;
     study.source = doc;
@@ -682,6 +739,15 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
       if (!g.is_array()) throw InputError("grid", "expected an array of axes");
       for (std::size_t i = 0; i < g.size(); ++i)
         axes.push_back(parse_axis(g[i], "grid[" + std::to_string(i) + "]"));
+    }
+    // a sampled design: one more axis, the last (every grid point runs every design point)
+    if (doc.contains("design")) {
+      std::size_t grid_points = 1;
+      for (const Axis& a : axes) grid_points *= std::max<std::size_t>(a.size(), 1);
+      auto design = std::make_shared<Design>(
+          parse_design(doc["design"], kMaxCases / std::max<std::size_t>(grid_points, 1)));
+      axes.push_back(design_axis(*design));
+      study.design = std::move(design);
     }
 
     // the scenes: the "scene" key, or the values of the grid axis "scene"
@@ -744,6 +810,8 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
           if (a.keys[k].rfind("parameters.", 0) == 0)
             check_known(a.keys[k].substr(11), a.wheres[k] + ".key");
     }
+    if (study.design) check_design_keys(*study.design, study.scenes);
+    if (study.design) study.design_units = design_units(*study.design, study.scenes);
     if (!doc.contains("time"))
       throw InputError("time", "missing: {\"end\": ..., \"sample_interval\": ...}");
 
@@ -892,6 +960,10 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
             const Json& v = g.axes[a].values[k][pos[a]];
             c.coordinates[g.axes[a].keys[k]] = v;
             if (g.axes[a].keys[k] == "scene") continue;  // chosen above
+            if (g.axes[a].keys[k] == "design.sample") {
+              c.design_sample = v.get<long>();
+              continue;
+            }
             apply(d, g.axes[a].keys[k], v);
           }
         if (check) {

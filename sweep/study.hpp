@@ -24,6 +24,7 @@
 #include "core/integrator.hpp"
 #include "core/params.hpp"
 #include "core/signals.hpp"
+#include "sweep/design.hpp"
 #include "sweep/metrics.hpp"
 
 namespace rodend {
@@ -78,6 +79,9 @@ struct CaseSpec {
   std::vector<SignalId> signals;  ///< recorded signals, catalogue order, time first
   WearEvolutionSettings wear_evolution;
   OutputSettings output;  ///< how its histories are stored (the study's)
+  /// its point of the study's sampled design ("design.sample"; -1 without a design): part of
+  /// the id, so that two design points drawn alike (a discrete factor) stay two cases
+  long design_sample = -1;
 
   /// The canonical resolved description: scene, every parameter value, recorded signals and
   /// the settings of sweep/settings.def as its `id` column says (integrator, time, health,
@@ -163,6 +167,10 @@ struct Study {
   OutputSettings output;               ///< "output.compression_level", ".history_precision"
   std::vector<std::string> axis_keys;  ///< grid coordinate keys, in axis order
   CaseList cases;                      ///< resolved one at a time from the grid (see CaseList)
+  /// the sampled design ("design" key; docs/uncertainty.md), else null; its points are the
+  /// last axis: axis_keys end with "design.sample" and the factors' keys
+  std::shared_ptr<const Design> design;
+  std::vector<std::string> design_units;  ///< each factor's SI unit, in factor order
   Json source;  ///< the study file as parsed, with the --set overrides applied
   std::vector<std::string> overrides;  ///< the --set key=value overrides, in order
 };

@@ -1,0 +1,109 @@
+// Sampled designs (study key "design"; docs/uncertainty.md): parameters given as distributions
+// instead of value lists, and the design points drawn from them in the resolver, so that the
+// command line, shards, MPI and Python see the same points. A design is one more axis of the
+// study (the last, fastest): its keys are "design.sample" (the point's index) and the factors'
+// key paths, so every grid point runs every design point.
+//
+// Methods: Monte Carlo, Latin hypercube and Sobol' points (sampling a population); Saltelli's
+// pick-freeze blocks (first-order and total Sobol' indices); Morris trajectories (screening by
+// elementary effects). The points are drawn in the unit hypercube (std::mt19937_64, whose
+// output the C++ standard fixes, and Boost.Random's Sobol' generator) and mapped through each
+// factor's quantile function (Boost.Math), so a study and its seed give the same points on any
+// machine.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/params.hpp"
+
+namespace rodend {
+
+/// The catalogue of design methods (names: the study language's "design.method").
+enum class DesignMethod { monte_carlo, latin_hypercube, sobol, saltelli, morris };
+/// The catalogue of distributions (names: "design.factors[i].distribution").
+enum class DistributionKind { uniform, normal, truncated_normal, lognormal, triangular, discrete };
+
+struct DesignMethodInfo {
+  DesignMethod method;
+  std::string_view name;
+  std::string_view description;
+};
+struct DistributionInfo {
+  DistributionKind kind;
+  std::string_view name;
+  std::vector<std::string_view> keys;  ///< its parameters, in the factor's unit
+  bool bounded;                        ///< finite support (what a Morris design needs)
+  std::string_view description;
+};
+const std::vector<DesignMethodInfo>& design_method_catalogue();
+const std::vector<DistributionInfo>& distribution_catalogue();
+std::string_view to_string(DesignMethod m);
+std::string_view to_string(DistributionKind k);
+const DistributionInfo& distribution_info(DistributionKind k);
+
+/// One factor's distribution; its parameters are in the unit of the key it samples.
+struct Distribution {
+  DistributionKind kind = DistributionKind::uniform;
+  /// normal, lognormal: the variable's mean and standard deviation; truncated-normal: those
+  /// of the parent normal
+  double mean = 0.0, std = 0.0;
+  double lower = 0.0, upper = 0.0, mode = 0.0;  ///< bounds (uniform, truncated, triangular)
+  std::vector<double> values, weights;          ///< discrete: sorted values, weights summing to 1
+
+  /// The inverse of the cumulative distribution at u in [0, 1] (clamped inside (0, 1) for an
+  /// unbounded support).
+  double quantile(double u) const;
+  double moment_mean() const;  ///< E[X]
+  double moment_std() const;   ///< sqrt(Var[X])
+  /// {"distribution", its parameters, "mean", "std"} (moments; for truncated-normal the parent's)
+  Json to_json() const;
+};
+
+struct DesignFactor {
+  std::string key;    ///< the key path it samples ("parameters.contact.clearance")
+  std::string where;  ///< its place in the study ("design.factors[0]")
+  Distribution distribution;
+};
+
+/// A resolved design: the points (unit hypercube and values) for one grid point.
+struct Design {
+  DesignMethod method = DesignMethod::monte_carlo;
+  DesignMethod base = DesignMethod::monte_carlo;  ///< saltelli: how A and B are drawn
+  std::size_t size = 0;                           ///< N: points, base size or trajectories
+  std::uint64_t seed = 0;
+  int levels = 4;  ///< morris: p
+  std::vector<DesignFactor> factors;
+  std::vector<double> unit;    ///< points() x factors, row-major, in [0, 1]
+  std::vector<double> values;  ///< the same mapped through the quantile functions
+
+  std::size_t dims() const { return factors.size(); }
+  /// Points per grid point: N, N (d + 2) for saltelli, N (d + 1) for morris.
+  std::size_t points() const { return dims() == 0 ? 0 : values.size() / dims(); }
+  double delta() const { return levels / (2.0 * (levels - 1)); }  ///< morris step (unit space)
+  /// design.json: method, base, size, seed, levels and delta (morris), points, the factors with
+  /// their distributions and units, and (morris) the unit-space points.
+  Json to_json(const std::vector<std::string>& units) const;
+  /// The --dry-run table: each factor's distribution moments beside the points' statistics.
+  std::string statistics() const;
+};
+
+/// Parses and draws the "design" block; `max_points` is the case limit left for it. Throws
+/// InputError naming the key path under "design".
+Design parse_design(const Json& block, std::size_t max_points);
+
+/// Points of `n` x `dims` in the unit hypercube, row-major: Monte Carlo, Latin hypercube or
+/// randomly shifted Sobol' points.
+std::vector<double> unit_points(DesignMethod method, std::size_t n, std::size_t dims,
+                                std::uint64_t seed);
+/// Saltelli's N (d + 2) points: A, B, then A with column i from B, for i = 0..d-1 (OpenTURNS's
+/// SobolIndicesExperiment order); A and B from a `base` sample of N x 2d.
+std::vector<double> saltelli_unit_points(DesignMethod base, std::size_t n, std::size_t d,
+                                         std::uint64_t seed);
+/// Morris's r trajectories of d + 1 points on the p-level grid, each factor moved once by
+/// p / (2 (p - 1)).
+std::vector<double> morris_unit_points(std::size_t r, std::size_t d, int p, std::uint64_t seed);
+
+}  // namespace rodend

@@ -1,0 +1,246 @@
+// The study's "design" block read and checked (docs/uncertainty.md): method, size, seed, the
+// method's own keys and the factors with their distributions; then the points drawn.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/errors.hpp"
+#include "core/json_text.hpp"
+#include "sweep/design.hpp"
+
+namespace rodend {
+namespace {
+
+constexpr std::size_t kMaxFactors = 1000;  // a Sobol' base of 2 d dimensions stays in Boost's table
+
+std::string quoted_names(const std::vector<std::string_view>& names) {
+  std::string out;
+  for (const auto n : names) out += (out.empty() ? "\"" : ", \"") + std::string(n) + "\"";
+  return out;
+}
+
+double finite_number(const Json& v, const std::string& where) {
+  if (!v.is_number()) throw InputError(where, "expected a number, got " + json_type_name(v));
+  const double x = v.get<double>();
+  if (!std::isfinite(x)) throw InputError(where, "expected a finite number");
+  return x;
+}
+
+double number_at(const Json& obj, const std::string& key, const std::string& where) {
+  if (!obj.contains(key)) throw InputError(where + "." + key, "missing: a number");
+  return finite_number(obj[key], where + "." + key);
+}
+
+long long integer_at(const Json& v, const std::string& where) {
+  if (!v.is_number_integer() && !(v.is_number() && v.get<double>() == std::floor(v.get<double>()) &&
+                                  std::abs(v.get<double>()) < 9e15))
+    throw InputError(where, "expected an integer, got " + v.dump());
+  return v.is_number_unsigned()
+             ? static_cast<long long>(std::min<std::uint64_t>(
+                   v.get<std::uint64_t>(), std::numeric_limits<long long>::max()))
+             : v.get<long long>();
+}
+
+template <class Info, class Pick>
+const Info& choice(const std::vector<Info>& catalogue, Pick name_of, const Json& v,
+                   const std::string& where) {
+  std::vector<std::string_view> names;
+  for (const Info& i : catalogue) names.push_back(name_of(i));
+  if (v.is_string())
+    for (const Info& i : catalogue)
+      if (name_of(i) == v.get<std::string>()) return i;
+  throw InputError(where, (v.is_string() ? "unknown '" + v.get<std::string>() + "'"
+                                         : "expected a string, got " + json_type_name(v)) +
+                              "; expected one of " + quoted_names(names));
+}
+
+void check_keys(const Json& obj, const std::vector<std::string_view>& allowed,
+                const std::string& where) {
+  for (auto it = obj.begin(); it != obj.end(); ++it)
+    if (std::find(allowed.begin(), allowed.end(), it.key()) == allowed.end())
+      throw InputError(where + "." + it.key(), "unknown key; expected " + quoted_names(allowed));
+}
+
+void read_discrete(Distribution& d, const Json& f, const std::string& where) {
+  const Json* vals = f.contains("values") ? &f["values"] : nullptr;
+  if (!vals || !vals->is_array() || vals->empty())
+    throw InputError(where + ".values", "expected a non-empty array of numbers");
+  std::vector<std::pair<double, double>> vw;
+  for (std::size_t i = 0; i < vals->size(); ++i)
+    vw.emplace_back(finite_number((*vals)[i], where + ".values[" + std::to_string(i) + "]"), 1.0);
+  if (f.contains("weights")) {
+    const Json& w = f["weights"];
+    if (!w.is_array() || w.size() != vw.size())
+      throw InputError(where + ".weights", "expected an array of " + std::to_string(vw.size()) +
+                                               " weights, one per value");
+    for (std::size_t i = 0; i < vw.size(); ++i) {
+      const std::string wi = where + ".weights[" + std::to_string(i) + "]";
+      vw[i].second = finite_number(w[i], wi);
+      if (vw[i].second < 0.0) throw InputError(wi, "expected a weight >= 0");
+    }
+  }
+  double total = 0.0;
+  for (const auto& p : vw) total += p.second;
+  if (!(total > 0.0)) throw InputError(where + ".weights", "expected weights with a positive sum");
+  std::stable_sort(vw.begin(), vw.end());
+  for (const auto& [v, w] : vw) {
+    d.values.push_back(v);
+    d.weights.push_back(w / total);
+  }
+}
+
+/// The distribution's own checks: positive spreads, ordered bounds, a truncation that keeps
+/// some probability.
+void check_distribution(const Distribution& d, const std::string& where) {
+  using K = DistributionKind;
+  if ((d.kind == K::normal || d.kind == K::truncated_normal || d.kind == K::lognormal) &&
+      !(d.std > 0.0))
+    throw InputError(where + ".std", "expected a standard deviation > 0");
+  if ((d.kind == K::uniform || d.kind == K::truncated_normal || d.kind == K::triangular) &&
+      !(d.lower < d.upper))
+    throw InputError(where + ".upper", "expected upper > lower (the bounds are inverted or equal)");
+  if (d.kind == K::lognormal && !(d.mean > 0.0))
+    throw InputError(where + ".mean", "expected a mean > 0 (a lognormal variable is positive)");
+  if (d.kind == K::triangular && !(d.mode >= d.lower && d.mode <= d.upper))
+    throw InputError(where + ".mode", "expected lower <= mode <= upper");
+  // an interval far in a tail holds no probability in double precision: its moments are not
+  // finite numbers
+  if (d.kind == K::truncated_normal &&
+      !(std::isfinite(d.moment_mean()) && d.moment_std() > 0.0 && std::isfinite(d.moment_std())))
+    throw InputError(where,
+                     "the truncation [lower, upper] lies where the normal of this mean and "
+                     "std has no probability; expected bounds within its support");
+}
+
+Distribution read_distribution(const Json& f, const std::string& where) {
+  const DistributionInfo& info = choice(
+      distribution_catalogue(), [](const DistributionInfo& i) { return i.name; },
+      f.contains("distribution") ? f["distribution"] : Json(), where + ".distribution");
+  std::vector<std::string_view> allowed{"key", "distribution"};
+  allowed.insert(allowed.end(), info.keys.begin(), info.keys.end());
+  check_keys(f, allowed, where);
+  Distribution d;
+  d.kind = info.kind;
+  if (d.kind == DistributionKind::discrete) {
+    read_discrete(d, f, where);
+    return d;
+  }
+  for (const std::string_view key : info.keys) {
+    const double x = number_at(f, std::string(key), where);
+    if (key == "mean") d.mean = x;
+    if (key == "std") d.std = x;
+    if (key == "lower") d.lower = x;
+    if (key == "upper") d.upper = x;
+    if (key == "mode") d.mode = x;
+  }
+  check_distribution(d, where);
+  return d;
+}
+
+std::vector<DesignFactor> read_factors(const Json& block) {
+  if (!block.contains("factors") || !block["factors"].is_array() || block["factors"].empty())
+    throw InputError("design.factors",
+                     "expected a non-empty array of factors {\"key\": ..., "
+                     "\"distribution\": ..., its parameters}");
+  const Json& fs = block["factors"];
+  if (fs.size() > kMaxFactors) throw InputError("design.factors", "more than 1000 factors");
+  std::vector<DesignFactor> out;
+  for (std::size_t i = 0; i < fs.size(); ++i) {
+    const std::string where = "design.factors[" + std::to_string(i) + "]";
+    if (!fs[i].is_object())
+      throw InputError(where, "expected an object, got " + json_type_name(fs[i]));
+    if (!fs[i].contains("key") || !fs[i]["key"].is_string() ||
+        fs[i]["key"].get<std::string>().empty())
+      throw InputError(where + ".key",
+                       "expected the key path it samples, such as "
+                       "parameters.contact.clearance");
+    const std::string key = fs[i]["key"].get<std::string>();
+    if (key == "scene" || key.rfind("design", 0) == 0 || key == "integrator.preset" ||
+        key.find('.') == std::string::npos)
+      throw InputError(where + ".key", "'" + key +
+                                           "' cannot be sampled; expected a numeric "
+                                           "key path such as parameters.contact.clearance");
+    for (const DesignFactor& f : out)
+      if (f.key == key) throw InputError(where + ".key", "'" + key + "' is sampled twice");
+    out.push_back({key, where, read_distribution(fs[i], where)});
+  }
+  return out;
+}
+
+/// Points per grid point, checked against the cases left (without overflowing).
+std::size_t count_points(DesignMethod m, std::size_t n, std::size_t d, std::size_t max_points) {
+  const std::size_t per = m == DesignMethod::saltelli ? d + 2
+                          : m == DesignMethod::morris ? d + 1
+                                                      : 1;
+  if (n > max_points / per)
+    throw InputError("design.size", "makes more than " + std::to_string(max_points) +
+                                        " cases with the grid, the limit of a study (1e7); "
+                                        "expected a smaller size");
+  return n * per;
+}
+
+void read_method_keys(Design& d, const Json& block) {
+  if (block.contains("levels")) {
+    if (d.method != DesignMethod::morris)
+      throw InputError("design.levels", "only a morris design has levels");
+    const long long p = integer_at(block["levels"], "design.levels");
+    if (p < 2 || p > 1000 || p % 2 != 0)
+      throw InputError("design.levels",
+                       "expected an even number of levels in [2, 1000] (the "
+                       "step p/(2(p-1)) then lands on the grid)");
+    d.levels = static_cast<int>(p);
+  }
+  if (block.contains("base")) {
+    if (d.method != DesignMethod::saltelli)
+      throw InputError("design.base", "only a saltelli design has a base");
+    const auto& cat = design_method_catalogue();
+    const std::vector<DesignMethodInfo> bases(cat.begin(), cat.begin() + 3);
+    d.base =
+        choice(
+            bases, [](const DesignMethodInfo& i) { return i.name; }, block["base"], "design.base")
+            .method;
+  }
+}
+
+}  // namespace
+
+Design parse_design(const Json& block, std::size_t max_points) {
+  if (!block.is_object())
+    throw InputError("design", "expected an object {\"method\", \"size\", \"seed\", \"factors\"}");
+  check_keys(block, {"method", "size", "seed", "levels", "base", "factors"}, "design");
+  Design d;
+  d.method = choice(
+                 design_method_catalogue(), [](const DesignMethodInfo& i) { return i.name; },
+                 block.contains("method") ? block["method"] : Json(), "design.method")
+                 .method;
+  if (!block.contains("size")) throw InputError("design.size", "missing: the number of points");
+  const long long n = integer_at(block["size"], "design.size");
+  if (n < 1) throw InputError("design.size", "expected a size >= 1, got " + std::to_string(n));
+  if (!block.contains("seed"))
+    throw InputError("design.seed",
+                     "missing: an integer seed (the same seed draws the same points)");
+  const long long seed = integer_at(block["seed"], "design.seed");
+  if (seed < 0) throw InputError("design.seed", "expected an integer seed >= 0");
+  read_method_keys(d, block);
+  d.factors = read_factors(block);
+  d.size = static_cast<std::size_t>(n);
+  d.seed = static_cast<std::uint64_t>(seed);
+  const std::size_t dims = d.factors.size();
+  const std::size_t points = count_points(d.method, d.size, dims, max_points);  // throws above
+  if (d.method == DesignMethod::morris)
+    for (const DesignFactor& f : d.factors)
+      if (!distribution_info(f.distribution.kind).bounded)
+        throw InputError(f.where + ".distribution",
+                         "a morris design needs bounded distributions (its grid reaches both "
+                         "ends): expected uniform, truncated-normal, triangular or discrete");
+  d.unit = d.method == DesignMethod::saltelli ? saltelli_unit_points(d.base, d.size, dims, d.seed)
+           : d.method == DesignMethod::morris ? morris_unit_points(d.size, dims, d.levels, d.seed)
+                                              : unit_points(d.method, d.size, dims, d.seed);
+  d.values.resize(points * dims);
+  for (std::size_t p = 0; p < points; ++p)
+    for (std::size_t j = 0; j < dims; ++j)
+      d.values[p * dims + j] = d.factors[j].distribution.quantile(d.unit[p * dims + j]);
+  return d;
+}
+
+}  // namespace rodend
