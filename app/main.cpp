@@ -7,6 +7,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "app/analyze.hpp"
 #include "app/report.hpp"
 #include "core/integrator.hpp"
 #include "core/scene.hpp"
@@ -161,6 +162,16 @@ int main(int argc, char** argv) {
   report->add_option("RESULTS", report_dir, "a study's results folder")->required();
   report->add_option("--out", report_out, "the page to write (default RESULTS/report.html)");
 
+  auto* analyze = app.add_subcommand(
+      "analyze",
+      "Sensitivity and uncertainty analysis of a study with a sampled design "
+      "(docs/uncertainty.md): Sobol' indices with intervals (saltelli), Morris screening "
+      "(morris), a polynomial-chaos surrogate, each metric's distribution and exceedance "
+      "probabilities, history bands. Writes RESULTS/analysis/ and RESULTS/plots/analysis-*.png "
+      "(which `rodend report` embeds). Runs the Python module rodend.analyze; every option "
+      "after RESULTS is its own (rodend analyze RESULTS --help).");
+  analyze->allow_extras();
+  analyze->prefix_command();
   auto* scenes = app.add_subcommand("scenes", "List the scenes.");
   auto* params =
       app.add_subcommand("params", "Print a scene's default parameters with units and provenance.");
@@ -203,6 +214,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*params) return list_params(scene_name, as_json);
+    if (*analyze) return exec_analyze(analyze->remaining());
     if (*report) {
       std::cout << write_report(report_dir, report_out).string() << "\n";
       return 0;

@@ -39,6 +39,47 @@ Json parameter_schema(const Json& leaf) {
   return s;
 }
 
+/// The "design" block (sweep/design.hpp), from its catalogues: the methods, and per
+/// distribution its parameters.
+Json design_schema(const std::string& key_pattern) {
+  Json methods = Json::array(), kinds = Json::array(), per_kind = Json::array();
+  for (const auto& m : design_method_catalogue()) methods.push_back(std::string(m.name));
+  for (const auto& d : distribution_catalogue()) {
+    kinds.push_back(std::string(d.name));
+    Json props = {{"key", true}, {"distribution", true}};
+    Json required = {"key", "distribution"};
+    for (const auto k : d.keys) {
+      const bool list = k == "values" || k == "weights";
+      props[std::string(k)] = list ? Json{{"type", "array"}, {"items", {{"type", "number"}}}}
+                                   : Json{{"type", "number"}};
+      if (k != "weights") required.push_back(std::string(k));
+    }
+    per_kind.push_back(
+        {{"if", {{"properties", {{"distribution", {{"const", std::string(d.name)}}}}}}},
+         {"then",
+          {{"properties", props}, {"required", required}, {"additionalProperties", false}}}});
+  }
+  const Json factor = {
+      {"type", "object"},
+      {"required", {"key", "distribution"}},
+      {"properties",
+       {{"key", {{"type", "string"}, {"pattern", key_pattern}, {"description", "full key path"}}},
+        {"distribution", {{"enum", kinds}}}}},
+      {"allOf", per_kind}};
+  return {
+      {"type", "object"},
+      {"description", "a sampled design: factors drawn from distributions (docs/uncertainty.md)"},
+      {"required", {"method", "size", "seed", "factors"}},
+      {"additionalProperties", false},
+      {"properties",
+       {{"method", {{"enum", methods}}},
+        {"size", {{"type", "integer"}, {"minimum", 1}}},
+        {"seed", {{"type", "integer"}, {"minimum", 0}}},
+        {"levels", {{"type", "integer"}, {"minimum", 2}, {"maximum", 1000}, {"multipleOf", 2}}},
+        {"base", {{"enum", {"monte-carlo", "latin-hypercube", "sobol"}}}},
+        {"factors", {{"type", "array"}, {"minItems", 1}, {"items", factor}}}}}};
+}
+
 }  // namespace
 
 Json study_schema() {
@@ -94,6 +135,7 @@ Json study_schema() {
   props["grid"] = {{"type", "array"},
                    {"description", "axes combined as a cartesian product, last axis fastest"},
                    {"items", {{"$ref", "#/$defs/grid_entry"}}}};
+  props["design"] = design_schema(key_pattern);
   props["output"] = {{"description",
                       "results directory (default results/<name>), or an object with it and the "
                       "storage settings of the histories"},
