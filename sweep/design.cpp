@@ -267,7 +267,10 @@ std::vector<double> shifted_sobol(std::size_t n, std::size_t dims, std::uint64_t
   std::vector<double> u(n * dims);
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t j = 0; j < dims; ++j) {
-      double x = std::ldexp(static_cast<double>(sequence()), -64) + shift[j];
+      // Boost's sequence starts after the origin, the sequence's point 0: put it back, so that
+      // the first 2^k points form the net that gives Sobol' points their balance
+      const double point = i == 0 ? 0.0 : std::ldexp(static_cast<double>(sequence()), -64);
+      double x = point + shift[j];
       if (x >= 1.0) x -= 1.0;
       u[i * dims + j] = std::clamp(x, 0x1p-60, 1.0 - 0x1p-53);
     }

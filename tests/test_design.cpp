@@ -1,0 +1,220 @@
+// Sampled designs (issue 30; sweep/design.hpp): the distributions' quantile functions against
+// closed forms, the structure of each method's points, and a design as the last axis of a study
+// (same seed -> same points and ids; another seed -> other points).
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <set>
+
+#include "sweep/design.hpp"
+#include "sweep/study.hpp"
+
+using namespace rodend;
+
+namespace {
+
+Json doc_with(const Json& design) {
+  Json doc = Json::parse(R"({"name": "d", "scene": "gravity-drop",
+                             "time": {"end": 0.01, "sample_interval": 1e-3}})");
+  doc["design"] = design;
+  return doc;
+}
+
+Json uniform_clearance() {
+  return Json::parse(R"({"key": "parameters.contact.clearance", "distribution": "uniform",
+                         "lower": 1e-4, "upper": 5e-4})");
+}
+
+Json two_factor_design(const std::string& method, int size, int seed) {
+  return {{"method", method},
+          {"size", size},
+          {"seed", seed},
+          {"factors",
+           {uniform_clearance(),
+            Json::parse(R"({"key": "parameters.contact.restitution", "distribution":
+                            "triangular", "lower": 0.3, "mode": 0.6, "upper": 0.9})")}}};
+}
+
+Distribution make(DistributionKind k, double a, double b, double c = 0.0, double d = 0.0) {
+  Distribution x;
+  x.kind = k;
+  if (k == DistributionKind::uniform) x.lower = a, x.upper = b;
+  if (k == DistributionKind::normal || k == DistributionKind::lognormal) x.mean = a, x.std = b;
+  if (k == DistributionKind::truncated_normal) x.mean = a, x.std = b, x.lower = c, x.upper = d;
+  if (k == DistributionKind::triangular) x.lower = a, x.mode = b, x.upper = c;
+  return x;
+}
+
+}  // namespace
+
+TEST_CASE("quantile functions match their closed forms", "[design]") {
+  using K = DistributionKind;
+  CHECK(make(K::uniform, 2.0, 6.0).quantile(0.25) == Approx(3.0).epsilon(1e-15));
+  // the normal's 97.5 % point is mean + 1.959963985 std (any table)
+  CHECK(make(K::normal, 1.0, 0.5).quantile(0.975) == Approx(1.0 + 0.5 * 1.959963985).epsilon(1e-9));
+  // lognormal of mean m, std s: median exp(mu) = m / sqrt(1 + (s/m)^2)
+  CHECK(make(K::lognormal, 2.0, 1.0).quantile(0.5) == Approx(2.0 / std::sqrt(1.25)).epsilon(1e-12));
+  // triangular: F(x) = (x-a)^2 / ((b-a)(c-a)) below the mode -> x = a + sqrt(u (b-a)(c-a))
+  CHECK(make(K::triangular, 0.0, 1.0, 4.0).quantile(0.1) == Approx(std::sqrt(0.4)).epsilon(1e-12));
+  // a truncated normal symmetric about its mean has it as median; its ends are the bounds
+  const Distribution t = make(K::truncated_normal, 3.0, 1.0, 2.0, 4.0);
+  CHECK(t.quantile(0.5) == Approx(3.0).epsilon(1e-12));
+  CHECK(t.quantile(0.0) == Approx(2.0).epsilon(1e-12));
+  CHECK(t.quantile(1.0) == Approx(4.0).epsilon(1e-12));
+  // its variance, closed form: 1 - 2 phi(1) / (2 Phi(1) - 1) for [-1, 1] (std 1)
+  const double phi1 = std::exp(-0.5) / std::sqrt(2.0 * M_PI), mass = std::erf(1.0 / std::sqrt(2.0));
+  CHECK(t.moment_std() == Approx(std::sqrt(1.0 - 2.0 * phi1 / mass)).epsilon(1e-12));
+  Distribution d;
+  d.kind = K::discrete;
+  d.values = {1.0, 2.0, 5.0};
+  d.weights = {0.2, 0.5, 0.3};
+  CHECK(d.quantile(0.1) == 1.0);
+  CHECK(d.quantile(0.6) == 2.0);
+  CHECK(d.quantile(0.71) == 5.0);
+  CHECK(d.moment_mean() == Approx(0.2 + 1.0 + 1.5));
+}
+
+TEST_CASE("a Latin hypercube has one point in each stratum of every factor", "[design]") {
+  const std::size_t n = 50, dims = 3;
+  const std::vector<double> u = unit_points(DesignMethod::latin_hypercube, n, dims, 11);
+  for (std::size_t j = 0; j < dims; ++j) {
+    std::set<long> strata;
+    for (std::size_t i = 0; i < n; ++i) strata.insert(static_cast<long>(u[i * dims + j] * n));
+    CHECK(strata.size() == n);
+  }
+}
+
+TEST_CASE("shifted Sobol' points keep the net property: 2^k points 1/2^k apart", "[design]") {
+  // the first 2^k points of a Sobol' coordinate are j / 2^k; a shift modulo 1 keeps the gaps
+  const std::size_t n = 64, dims = 4;
+  const std::vector<double> u = unit_points(DesignMethod::sobol, n, dims, 5);
+  for (std::size_t j = 0; j < dims; ++j) {
+    std::vector<double> c;
+    for (std::size_t i = 0; i < n; ++i) c.push_back(u[i * dims + j]);
+    std::sort(c.begin(), c.end());
+    for (std::size_t i = 1; i < n; ++i) CHECK(c[i] - c[i - 1] == Approx(1.0 / n).margin(1e-12));
+  }
+  CHECK(unit_points(DesignMethod::sobol, n, dims, 6) != u);  // the seed moves them
+}
+
+TEST_CASE("Saltelli's blocks: A, B, and A with column i from B", "[design]") {
+  const std::size_t n = 8, d = 3;
+  const std::vector<double> u = saltelli_unit_points(DesignMethod::monte_carlo, n, d, 2);
+  REQUIRE(u.size() == n * (d + 2) * d);
+  auto at = [&](std::size_t block, std::size_t r, std::size_t j) {
+    return u[(block * n + r) * d + j];
+  };
+  for (std::size_t i = 0; i < d; ++i)
+    for (std::size_t r = 0; r < n; ++r)
+      for (std::size_t j = 0; j < d; ++j) CHECK(at(2 + i, r, j) == at(j == i ? 1 : 0, r, j));
+  CHECK(at(0, 0, 0) != at(1, 0, 0));
+}
+
+TEST_CASE("Morris trajectories move each factor once by p/(2(p-1)) on the grid", "[design]") {
+  const std::size_t r = 20, d = 5;
+  const int p = 4;
+  const std::vector<double> u = morris_unit_points(r, d, p, 9);
+  REQUIRE(u.size() == r * (d + 1) * d);
+  const double delta = p / (2.0 * (p - 1));
+  for (std::size_t t = 0; t < r; ++t) {
+    std::set<std::size_t> moved;
+    for (std::size_t k = 1; k <= d; ++k) {
+      std::size_t changes = 0;
+      for (std::size_t j = 0; j < d; ++j) {
+        const double a = u[(t * (d + 1) + k - 1) * d + j], b = u[(t * (d + 1) + k) * d + j];
+        const double level = b * (p - 1);
+        CHECK(std::abs(level - std::round(level)) < 1e-12);  // on the grid
+        if (a != b) {
+          ++changes;
+          moved.insert(j);
+          CHECK(std::abs(b - a) == Approx(delta).epsilon(1e-12));
+        }
+      }
+      CHECK(changes == 1);
+    }
+    CHECK(moved.size() == d);
+  }
+}
+
+TEST_CASE("a design is the study's last axis; same seed, same points and ids", "[design]") {
+  Json doc = doc_with(two_factor_design("latin-hypercube", 16, 4));
+  doc["grid"] = Json::parse(R"([{"key": "integrator.rel_tol", "values": [1e-6, 1e-7]}])");
+  const Study a = parse_study(doc, "d.json", "/tmp/rodend-results");
+  const Study b = parse_study(doc, "d.json", "/tmp/rodend-results");
+  REQUIRE(a.cases.size() == 32);
+  CHECK(a.axis_keys == std::vector<std::string>{"integrator.rel_tol", "design.sample",
+                                                "parameters.contact.clearance",
+                                                "parameters.contact.restitution"});
+  CHECK(a.design_units == std::vector<std::string>{"m", "1"});
+  for (std::size_t i = 0; i < a.cases.size(); ++i) {
+    CHECK(a.cases[i].id == b.cases[i].id);
+    CHECK(a.cases[i].design_sample == static_cast<long>(i % 16));
+    CHECK(a.cases[i].parameters.number("contact.clearance") == a.design->values[(i % 16) * 2]);
+  }
+  // the second grid point runs the same design points
+  CHECK(a.cases[3].coordinates["parameters.contact.clearance"] ==
+        a.cases[19].coordinates["parameters.contact.clearance"]);
+  doc["design"]["seed"] = 5;
+  const Study c = parse_study(doc, "d.json", "/tmp/rodend-results");
+  CHECK(c.cases[0].id != a.cases[0].id);
+  CHECK(c.design->values != a.design->values);
+}
+
+TEST_CASE("discrete points drawn alike stay distinct cases", "[design]") {
+  const Json design = Json::parse(R"({"method": "monte-carlo", "size": 20, "seed": 1, "factors": [
+      {"key": "parameters.contact.clearance", "distribution": "discrete",
+       "values": [1e-4, 2e-4], "weights": [1, 3]}]})");
+  const Study s = parse_study(doc_with(design), "d.json", "/tmp/rodend-results");
+  std::set<std::string> ids;
+  std::size_t small = 0;
+  for (const CaseSpec& c : s.cases) {
+    ids.insert(c.id);
+    small += c.parameters.number("contact.clearance") == 1e-4;
+  }
+  CHECK(ids.size() == 20);
+  CHECK(small > 0);
+  CHECK(small < 20);
+}
+
+TEST_CASE("a design over a scene axis samples each scene's points", "[design]") {
+  Json doc = doc_with(two_factor_design("sobol", 8, 1));
+  doc.erase("scene");
+  doc["grid"] =
+      Json::parse(R"([{"key": "scene", "values": ["gravity-drop", "rod-end-kinematic"]}])");
+  const Study s = parse_study(doc, "d.json", "/tmp/rodend-results");
+  REQUIRE(s.cases.size() == 16);
+  CHECK(s.cases[0].scene == "gravity-drop");
+  CHECK(s.cases[8].scene == "rod-end-kinematic");
+  CHECK(s.cases[8].parameters.number("contact.clearance") ==
+        s.cases[0].parameters.number("contact.clearance"));
+}
+
+TEST_CASE("every distribution's drawn points have its closed-form moments", "[design]") {
+  // a Latin hypercube of 4096 points: the quantile function (Boost.Math) integrated by
+  // stratified sampling against the moments' closed forms (design.cpp): an error of the sample
+  // mean of a smooth monotone quantile is O(std / N) for LHS, far inside 1 % of the std
+  const Json factors = Json::parse(R"([
+    {"key": "parameters.contact.clearance", "distribution": "uniform", "lower": 1e-4, "upper": 5e-4},
+    {"key": "parameters.contact.restitution", "distribution": "triangular", "lower": 0.3, "mode": 0.4, "upper": 0.9},
+    {"key": "parameters.ball.mass", "distribution": "lognormal", "mean": 0.2, "std": 0.05},
+    {"key": "parameters.contact.stiffness_scale", "distribution": "truncated-normal", "mean": 1.0, "std": 0.3, "lower": 0.8, "upper": 2.0},
+    {"key": "parameters.friction.dynamic_coefficient", "distribution": "normal", "mean": 0.1, "std": 0.01},
+    {"key": "parameters.friction.static_coefficient", "distribution": "discrete", "values": [0.12, 0.2, 0.15], "weights": [2, 1, 1]}
+  ])");
+  const Json block = {
+      {"method", "latin-hypercube"}, {"size", 4096}, {"seed", 3}, {"factors", factors}};
+  const Design d = parse_design(block, 10'000'000);
+  REQUIRE(d.dims() == distribution_catalogue().size());
+  for (std::size_t j = 0; j < d.dims(); ++j) {
+    double sum = 0.0, sq = 0.0;
+    for (std::size_t p = 0; p < d.points(); ++p) sum += d.values[p * d.dims() + j];
+    const double mean = sum / d.points();
+    for (std::size_t p = 0; p < d.points(); ++p)
+      sq += std::pow(d.values[p * d.dims() + j] - mean, 2);
+    const double sd = std::sqrt(sq / (d.points() - 1));
+    const Distribution& x = d.factors[j].distribution;
+    INFO(d.factors[j].key);
+    CHECK(std::abs(mean - x.moment_mean()) < 0.01 * x.moment_std());
+    CHECK(std::abs(sd - x.moment_std()) < 0.01 * x.moment_std());
+  }
+}
