@@ -120,6 +120,8 @@ py::dict py_load_study(const std::string& path, const std::string& results_root,
   d["output_dir"] = s.output_dir.string();
   d["axis_keys"] = s.axis_keys;
   d["source"] = from_json(s.source);
+  // the sampled design as design.json records it (None without one)
+  d["design"] = s.design ? py::object(from_json(s.design->to_json(s.design_units))) : py::none();
   py::list cases;
   for (const CaseSpec& c : s.cases) {
     py::dict e;
