@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/spring3d.hpp"
 #include "fixture.hpp"
 
 using namespace rodend;
@@ -123,4 +124,110 @@ TEST_CASE("pins: bulirsch_stoer's first step on a stiff problem", "[pins][stiff]
       worst = std::max(worst, oversized_first_step("bulirsch_stoer", tol, phi).error_over_tol);
   measured("oversized first step: local error / tol, bulirsch_stoer", worst, 3.0);
   CHECK(worst <= 3.0);
+}
+
+// --- 2. the 3-D spring's restoring moment: the order of the quaternion product ------------------
+
+namespace {
+
+/// A body at rest at the origin with orientation q (w, x, y, z; normalised by from_state).
+BodyKinematics body_with(const Quat& q) {
+  const double x[13] = {0, 0, 0, 0, 0, 0, q.w(), q.x(), q.y(), q.z(), 0, 0, 0};
+  return BodyKinematics::from_state(x);
+}
+
+}  // namespace
+
+// Mutation: the relative rotation taken as q_ref^-1 q_body instead of q_body q_ref^-1
+// (core/spring3d.hpp, `b.q_WB * a.q_ref.conjugate()` -> `a.q_ref.conjugate() * b.q_WB`). Seen
+// then: all four moment checks fail, each moment off by sqrt(2) k_r theta (14.1 N m at 0.1
+// rad, 70.7 at 0.5): the swapped order gives +k_r theta y where -k_r theta x is due. The
+// issue's audit found this caught only by cli.regression's stored references: the two orders
+// agree whenever the reference and the deflection turn about the same axis.
+TEST_CASE("pins: 3-D spring moment for a reference rotated 90 deg about z", "[pins][spring]") {
+  // By hand, unit quaternions (w, x, y, z), a = 1/sqrt(2), c = cos(theta/2), s = sin(theta/2):
+  //   q_ref = 90 deg about z = (a, 0, 0, a)
+  //   tilted about the world x axis by theta: q_b = R_x(theta) q_ref = (c, s, 0, 0)(a, 0, 0, a)
+  //     = (c a - 0, c (0, 0, a) + a (s, 0, 0) + (s, 0, 0) x (0, 0, a)) = a (c, s, -s, c)
+  //   so q_b q_ref^-1 = R_x(theta): r = theta x, M = -k_r theta x (the world axis it was tilted
+  //   about); the swapped order gives q_ref^-1 R_x(theta) q_ref, theta about R_z(-90 deg) x = -y:
+  //   M = +k_r theta y.
+  //   tilted about the body's own x axis: q_b = q_ref R_x(theta) = a (c, s, s, c), whose world
+  //   axis is R_z(90 deg) x = y: M = -k_r theta y (the swapped order: -k_r theta x).
+  Spring3DParams sp;
+  sp.stiffness = 1e6;  // no linear deflection: the anchor sits at the body
+  sp.damping = 200.0;
+  sp.rotational_stiffness = 100.0;  // [N m/rad]
+  sp.rotational_damping = 0.02;     // at rest: no damping moment
+  SpringAnchor anchor;
+  const double a = 1.0 / std::sqrt(2.0);
+  anchor.q_ref = Quat(a, 0.0, 0.0, a);
+  // 0.1 rad: the series branch of rotation_vector_of_unit (below 14 deg); 0.5 rad: atan2
+  for (const double theta : {0.1, 0.5}) {
+    CAPTURE(theta);
+    const double c = std::cos(0.5 * theta), s = std::sin(0.5 * theta);
+    const double kr = sp.rotational_stiffness;
+    // the moment is k_r |r| with |r| recovered from a quaternion built from cos and sin of
+    // theta/2: round-off only, ~1e-16 relative; 1e-12 of k_r theta allows it many times
+    const double tol = 1e-12 * kr * theta;
+    const SpringEval world =
+        evaluate_spring(sp, anchor, body_with(Quat(a * c, a * s, -a * s, a * c)));
+    CHECK((world.moment_on_body - Vec3(-kr * theta, 0.0, 0.0)).norm() <= tol);
+    CHECK(world.force_on_body.norm() == 0.0);
+    CHECK(world.potential == Approx(0.5 * kr * theta * theta).epsilon(1e-12));
+    const SpringEval own = evaluate_spring(sp, anchor, body_with(Quat(a * c, a * s, a * s, a * c)));
+    CHECK((own.moment_on_body - Vec3(0.0, -kr * theta, 0.0)).norm() <= tol);
+  }
+}
+
+// --- 3. the control surface's inertia about the hinge -----------------------------------------
+
+// Mutation: the centre of mass put at half the crank instead of a third (core/scenes/
+// rod_end_mechanism.cpp, `m * (s / 3.0) * (s / 3.0) + I` -> `m * (s / 2.0) * (s / 2.0) + I`).
+// Seen then: both scenes fail, 569.4 rad/s^2 where M / J = 748.4 rad/s^2. The issue's audit
+// found this caught only by cli.regression's stored references (test_actuator.cpp recomputes
+// J from the parameters, not from the scene).
+TEST_CASE("pins: the surface's initial angular acceleration under a constant hinge moment",
+          "[pins][hinge]") {
+  // Thesis eq. 4.16 (the typo of 4.15 fixed; docs/model.md "Mechanism"): the crank and surface
+  // turn about the hinge with J theta'' = tau - c theta' + M_hinge, J = m (s/3)^2 + I: the
+  // surface a triangular plate of mass m whose centre of mass is at a third of the crank
+  // length s from the hinge, I its own inertia. At t = 0 everything is at rest (theta' = 0)
+  // and the crank torque tau is the same with or without the hinge moment, so the difference of
+  // two initial accelerations, with M and without, is M / J alone.
+  // The defaults (control-surface.part.json, rod-end-mechanism.part.json), restated:
+  constexpr double m = 5.0, I = 0.02, s = 0.11;        // [kg], [kg m^2], [m]
+  constexpr double J = m * (s / 3.0) * (s / 3.0) + I;  // 0.0267222 kg m^2
+  constexpr double M = 20.0;  // [N m] the constant moment of test_actuator.cpp's runs
+  const std::string scene_name =
+      GENERATE(as<std::string>{}, "rod-end-kinematic", "rod-end-actuator");
+  CAPTURE(scene_name);
+  const ParameterSet defaults = ParameterSet::defaults_for(scene_name);
+  REQUIRE(defaults.number("surface.mass") == m);
+  REQUIRE(defaults.number("surface.inertia") == I);
+  REQUIRE(defaults.number("geometry.crank") == s);
+  auto initial_acceleration = [&](double moment) {
+    ParameterSet p = defaults;
+    p.set("hinge.kind", "constant");
+    p.set("hinge.constant_moment", moment);
+    p.set("hinge.step_time", 0.0);
+    const auto scene = make_scene(scene_name, p);
+    Recorder rec({SignalId::surface_acceleration, SignalId::hinge_moment});
+    const RunResult r = simulate(*scene, IntegratorSettings{}, TimeSettings{1e-3, 1e-3}, rec);
+    INFO(r.message);
+    REQUIRE(r.status == RunStatus::ok);
+    REQUIRE(rec.samples.time(0) == 0.0);
+    CHECK(rec.samples.get(0, SignalId::hinge_moment) == moment);
+    return rec.samples.get(0, SignalId::surface_acceleration);
+  };
+  const double free = initial_acceleration(0.0), loaded = initial_acceleration(M);
+  // the sample at t = 0 is the right-hand side at the initial state: round-off only (measured
+  // 0 in both scenes), so 1e-9 relative; an inertia off by 1e-6 of itself would show
+  measured("surface: initial acceleration without a hinge moment [rad/s^2]", std::abs(free),
+           1e-9 * M / J);
+  measured("surface: (loaded - free) acceleration vs M / J (rel)",
+           std::abs((loaded - free) / (M / J) - 1.0), 1e-9);
+  CHECK(loaded - free == Approx(M / J).epsilon(1e-9));
+  // and the mechanism at rest has no crank torque at t = 0: the ball sits at the crank end
+  CHECK(std::abs(free) <= 1e-9 * M / J);
 }
