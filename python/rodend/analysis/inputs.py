@@ -122,9 +122,10 @@ def groups(summary, design):
     in case order; each group holds exactly the design's points."""
     keys = grid_keys(summary)
     s = summary.sort_values("case_index", kind="stable") if "case_index" in summary else summary
+    by = keys[0] if len(keys) == 1 else keys
     parts = [({}, s)] if not keys else \
         [(dict(zip(keys, k if isinstance(k, tuple) else (k,))), g)
-         for k, g in s.groupby(keys, sort=False)]
+         for k, g in s.groupby(by, sort=False)]
     out, points = [], int(design["points"])
     for coords, g in parts:
         g = g.sort_values("design.sample", kind="stable")
