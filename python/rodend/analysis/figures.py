@@ -47,14 +47,21 @@ def indices(folder, name, title, keys, sets):
 def morris(folder, name, title, keys, res, units):
     plt = _plt()
     fig, ax = plt.subplots(figsize=(4.6, 3.6))
-    ax.scatter(res["mu_star"], res["sigma"])
+    ivs = res.get("mu_star_interval") or []
+    if ivs and all(iv is not None for iv in ivs):
+        err = np.array([[max(m - a, 0), max(b - m, 0)] for m, (a, b) in
+                        zip(res["mu_star"], ivs)]).T
+        ax.errorbar(res["mu_star"], res["sigma"], xerr=err, fmt="o", capsize=3,
+                    label="μ* with its bootstrap interval")
+    else:
+        ax.scatter(res["mu_star"], res["sigma"])
     for k, x, y in zip(keys, res["mu_star"], res["sigma"]):
         ax.annotate(_short(k), (x, y), fontsize=8, xytext=(3, 3), textcoords="offset points")
     top = max(max(res["mu_star"]), max(res["sigma"])) * 1.1 or 1.0
     ax.plot([0, top], [0, top], "k:", lw=0.7, label="σ = μ*")
     ax.set_xlim(0, top)
     ax.set_ylim(0, top)
-    ax.set_xlabel(f"μ* [{units}]")
+    ax.set_xlabel(f"μ*, effect per unit-space step [{units}]")
     ax.set_ylabel(f"σ [{units}]")
     ax.set_title(title, fontsize=9)
     ax.legend(fontsize=8)

@@ -81,10 +81,15 @@ def table(doc):
                                  f"  {_iv(s['total'][i], (s.get('total_interval') or [None] * len(keys))[i])}")
             if "morris" in r:
                 s = r["morris"]
-                lines.append(f"  Morris (unit-space effects)  {'mu':>10}  {'mu*':>10}  {'sigma':>10}"
+                lines.append(f"  Morris (effects per unit-space step), {doc['confidence']:.0%} "
+                             "intervals")
+                lines.append(f"  {'factor':<{width}}  {'mu':>10}  {'mu*':>10}{'':23}  {'sigma':>10}"
                              "  effects")
                 for i, k in enumerate(keys):
-                    lines.append(f"  {k:<{width}}  {s['mu'][i]:10.4g}  {s['mu_star'][i]:10.4g}  "
+                    iv = s["mu_star_interval"][i]
+                    star = f"{s['mu_star'][i]:10.4g}" + \
+                        (f" [{iv[0]:9.4g}, {iv[1]:9.4g}]" if iv else " " * 23)
+                    lines.append(f"  {k:<{width}}  {s['mu'][i]:10.4g}  {star}  "
                                  f"{s['sigma'][i]:10.4g}  {s['effects'][i]}")
             c = r.get("chaos", {})
             if "first_order" in c:
