@@ -11,6 +11,8 @@
     res.summary                           # pandas.DataFrame, one row per case (summary.csv)
     res.histories                         # xarray.Dataset: dims = the grid axes and time
 
+    rodend.analyze(folder)                # a designed study: Sobol, Morris, chaos, exceedance
+
 Everything runs through the same C++ loader and runner as the `rodend` command: a bad input
 raises rodend.InputError (a ValueError) with the command line's message, naming the file, the
 key path and what was expected. Nothing is written to disk unless asked (`run_case(...,
@@ -27,7 +29,7 @@ import os
 import sys
 
 __all__ = ["InputError", "run_case", "run_study", "load_study", "open_results", "Case",
-           "Results", "schema", "scenes", "parameters", "signal_catalogue"]
+           "Results", "schema", "scenes", "parameters", "signal_catalogue", "analyze"]
 
 
 def _load_extension():
@@ -171,4 +173,9 @@ def __getattr__(name):
     if name == "Results":
         from .results import Results
         return Results
+    if name == "analyze":
+        # the analysis of a designed study (issue 30; rodend/analysis/run.py), imported on first
+        # use: it needs openturns and matplotlib, which nothing else of the module does
+        from .analysis.run import analyze
+        return analyze
     raise AttributeError(name)

@@ -1,0 +1,12 @@
+"""The analysis of a designed study (issue 30), behind rodend.analyze: one module per job.
+
+inputs     read a results folder with design.json: the design, the groups (grid points), the
+           metric columns, thresholds
+sobol      first-order and total Sobol indices from a Saltelli pick-freeze design (OpenTURNS)
+morris     Morris elementary effects from the design's unit-space trajectories
+chaos      a polynomial-chaos surrogate (OpenTURNS) with its exact leave-one-out Q²
+stats      a metric's distribution: mean, std, quantiles, exceedance, with intervals
+bands      quantile bands of histories over time across the ok cases
+figures    the analysis-*.png figures
+output     analysis.json, bands.h5 and the table printed to stdout
+"""
