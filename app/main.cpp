@@ -73,7 +73,14 @@ int list_signals(bool markdown, bool json) {
   return 0;
 }
 
-int list_metrics(bool markdown) {
+int list_metrics(bool markdown, bool json) {
+  if (json) {
+    Json out = Json::array();
+    for (const auto& m : metric_catalogue())
+      out.push_back({{"name", m.name}, {"unit", m.unit}, {"description", m.description}});
+    std::cout << out.dump(2) << "\n";
+    return 0;
+  }
   if (markdown) std::cout << "| metric | unit | description |\n|---|---|---|\n";
   for (const auto& m : metric_catalogue()) {
     if (markdown)
@@ -184,6 +191,7 @@ int main(int argc, char** argv) {
   signals->add_flag("--json", as_json, "as JSON");
   auto* metrics = app.add_subcommand("metrics", "Print the summary metrics.");
   metrics->add_flag("--markdown", markdown, "as a Markdown table");
+  metrics->add_flag("--json", as_json, "as JSON");
   schema->add_flag("--markdown", markdown,
                    "instead, the settings of the study sections as a Markdown table");
 
@@ -202,7 +210,13 @@ int main(int argc, char** argv) {
   compare->add_flag("--summary-only", summary_only,
                     "compare summaries only (a reference kept without its case files)");
 
-  CLI11_PARSE(app, argc, argv);
+  // the exit-code table (README "Command line"): a command line CLI11 cannot parse is bad
+  // input, 2, like every other (CLI11's own codes, 105-109, are not rodend's); help is 0
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
 
   // MPI only for `rodend run` started by an MPI launcher (mpirun, srun): a plain run never
   // initialises MPI (Open MPI's singleton start costs about 0.6 s and refuses root).
@@ -224,7 +238,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*signals) return list_signals(markdown, as_json);
-    if (*metrics) return list_metrics(markdown);
+    if (*metrics) return list_metrics(markdown, as_json);
     if (*compare) {
       CompareSettings cs;
       if (!tolerance_file.empty()) cs = load_tolerances(tolerance_file);
