@@ -31,7 +31,8 @@ the layout of docs/results.md; the design points are drawn here with OpenTURNS a
   its median misses its 95 % interval); at 99.9 % a miss is a bug, and the width bound on P
   keeps the check able to fail.
 - history bands: s(t) = x t with x = 0, 0.01, ..., 1 (101 ok cases, one failed case with
-  x = 100 left out): the bands are exactly t (0.05, 0.5, 0.95), per component for a vector.
+  x = 100 left out): the bands are exactly t (0.05, 0.5, 0.95), per component for a vector;
+  the same with every third case on a coarser time grid (interpolated: exact for a line).
 - bad input: no design.json, an unknown metric (the nearest names), a bad threshold, broken
   Morris points: ValueError; the command line prints it and exits 2.
 """
@@ -260,6 +261,15 @@ def test_bands(tmp):
     for i, k in enumerate(xs):
         fx.write_case(folder, f"c{i:06d}", t, {"s": k * t, "v": np.outer(k * t, [1, 2, -1])},
                       {"s": "m", "v": "N"})
+    _check_bands(folder, t, resampled=False)
+    for i, k in enumerate(xs):                   # every third case on a coarser time grid
+        tc = t if i % 3 else np.linspace(0, 0.5, 26)
+        fx.write_case(folder, f"c{i:06d}", tc, {"s": k * tc, "v": np.outer(k * tc, [1, 2, -1])},
+                      {"s": "m", "v": "N"})
+    _check_bands(folder, t, resampled=True)
+
+
+def _check_bands(folder, t, resampled):
     rodend.analyze(folder, histories=["s", "v"], quiet=True)
     with h5py.File(os.path.join(folder, "analysis", "bands.h5")) as f:
         s, v = f["g0/s"], f["g0/v"]
@@ -267,6 +277,7 @@ def test_bands(tmp):
         check(np.allclose(s["quantiles"][()], want, atol=1e-12), "scalar bands")
         check(s["quantiles"].attrs["units"] == "m" and s["time"].attrs["units"] == "s", "units")
         check(int(s.attrs["cases"]) == 101, f"cases {s.attrs['cases']}")
+        check(bool(s.attrs["resampled"]) == resampled, f"resampled {s.attrs['resampled']}")
         q = v["quantiles"][()]
         check(np.allclose(q[:, :, 1], 2 * want, atol=1e-12), "vector component 1")
         check(np.allclose(q[:, :, 2], -want[::-1], atol=1e-12), "vector component 2")

@@ -1,7 +1,9 @@
 """The analysis of a designed study (issue 30), behind rodend.analyze: one module per job.
 
+run        rodend.analyze, analyze_arrays (one metric from arrays) and the command line
 inputs     read a results folder with design.json: the design, the groups (grid points), the
            metric columns, thresholds
+distributions  design.json's factors as OpenTURNS distributions
 sobol      first-order and total Sobol indices from a Saltelli pick-freeze design (OpenTURNS)
 morris     Morris elementary effects from the design's unit-space trajectories
 chaos      a polynomial-chaos surrogate (OpenTURNS) with its exact leave-one-out Q²
@@ -9,4 +11,5 @@ stats      a metric's distribution: mean, std, quantiles, exceedance, with inter
 bands      quantile bands of histories over time across the ok cases
 figures    the analysis-*.png figures
 output     analysis.json, bands.h5 and the table printed to stdout
+results_io a helper of reading HDF5 text
 """
