@@ -1163,6 +1163,18 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
 
 }  // namespace
 
+/// `--set design.KEY=value` for the design's scalar keys; the loader checks the value.
+void set_design_key(Json& doc, const std::string& rest, const Json& value) {
+  static const std::vector<std::string> kScalars{"design.method", "design.size", "design.seed",
+                                                 "design.levels", "design.base"};
+  if (std::find(kScalars.begin(), kScalars.end(), "design." + rest) == kScalars.end())
+    throw InputError("design." + rest, "expected one of " + alternatives(kScalars, false) +
+                                           " (the factors: --set design=...)");
+  if (!doc.contains("design") || !doc["design"].is_object())
+    throw InputError("design", "the study has no design block to change");
+  doc["design"][rest] = value;
+}
+
 Json apply_overrides(Json doc, const std::vector<std::string>& overrides, const fs::path& file) {
   for (const std::string& o : overrides) {
     const auto eq = o.find('=');
@@ -1192,6 +1204,10 @@ Json apply_overrides(Json doc, const std::vector<std::string>& overrides, const 
         continue;
       }
       const std::string rest = key.substr(dot + 1);
+      if (section == "design") {  // its scalar keys (seed, size, method, base, levels)
+        set_design_key(doc, rest, value);
+        continue;
+      }
       const auto& dotted = case_sections();
       if (std::find(dotted.begin(), dotted.end(), section) == dotted.end())
         throw InputError(key, "'" + section + "' takes a whole value: --set " + section + "=...");

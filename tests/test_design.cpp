@@ -218,3 +218,12 @@ TEST_CASE("every distribution's drawn points have its closed-form moments", "[de
     CHECK(std::abs(sd - x.moment_std()) < 0.01 * x.moment_std());
   }
 }
+
+TEST_CASE("--set changes the design's scalar keys and refuses the rest", "[design]") {
+  const Json doc = doc_with(two_factor_design("monte-carlo", 8, 1));
+  const Json seeded = apply_overrides(doc, {"design.seed=2", "design.size=4"}, "d.json");
+  CHECK(seeded["design"]["seed"] == 2);
+  CHECK(parse_study(seeded, "d.json", "/tmp/r").cases.size() == 4);
+  CHECK_THROWS_WITH(apply_overrides(doc, {"design.factors=1"}, "d.json"),
+                    Catch::Contains("design.factors: expected one of design.method"));
+}
