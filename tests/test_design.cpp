@@ -219,7 +219,7 @@ TEST_CASE("every distribution's drawn points have its closed-form moments", "[de
   }
 }
 
-TEST_CASE("--set changes the design's scalar keys and refuses the rest", "[design]") {
+TEST_CASE("overrides change the design's scalar keys and refuses the rest", "[design]") {
   const Json doc = doc_with(two_factor_design("monte-carlo", 8, 1));
   const Json seeded = apply_overrides(doc, {"design.seed=2", "design.size=4"}, "d.json");
   CHECK(seeded["design"]["seed"] == 2);
