@@ -27,7 +27,7 @@ import tempfile
 
 import numpy as np
 
-from common import check, finish, run, write_study
+from common import assert_same_results, check, finish, run, write_study
 
 R_BALL = 0.01  # m: contact.ball_radius of gravity-drop (rodend params gravity-drop)
 C_LO, C_HI = 1e-4, 5e-4  # m: the clearance's band
@@ -129,4 +129,18 @@ with tempfile.TemporaryDirectory() as root:
     r = run(["analyze", os.path.join(root, "plain")])
     check(r.returncode == 2 and "design" in r.stderr,
           f"analyze without a design: exit {r.returncode}, {r.stderr!r}")
+    # 5. a design is an axis like any other: two shards merged are the whole run, bit for bit
+    small = {"name": "drop-small", "scene": "gravity-drop",
+             "time": {"end": 0.012, "sample_interval": 1e-3},
+             "design": {"method": "latin-hypercube", "size": 6, "seed": 3, "factors": [clearance]}}
+    path = write_study(os.path.join(root, "drop-small.json"), small)
+    whole, shards = os.path.join(root, "whole"), os.path.join(root, "shards")
+    for args in (["--results-root", whole], ["--results-root", shards, "--shard", "1/2"],
+                 ["--results-root", shards, "--shard", "2/2"]):
+        r = run(["run", path, "-q"] + args)
+        check(r.returncode == 0, f"run {args}: exit {r.returncode}\n{r.stderr}")
+    r = run(["merge", os.path.join(shards, "drop-small")])
+    check(r.returncode == 0, f"merge: exit {r.returncode}\n{r.stderr}")
+    assert_same_results(os.path.join(whole, "drop-small"), os.path.join(shards, "drop-small"),
+                        "a designed study in two shards")
 finish("uncertainty")
