@@ -1,6 +1,7 @@
 #include "sweep/schema.hpp"
 
 #include <iomanip>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -80,6 +81,67 @@ Json design_schema(const std::string& key_pattern) {
         {"factors", {{"type", "array"}, {"minItems", 1}, {"items", factor}}}}}};
 }
 
+/// A scene's parameters object: each parameter by its dotted path, or nested at any of its dots
+/// ("contact.clearance": x, or "contact": {"clearance": x}); nothing else.
+Json nested_parameters(const std::vector<std::pair<std::string, Json>>& leaves) {
+  Json props = Json::object();
+  std::map<std::string, std::vector<std::pair<std::string, Json>>> below;  // prefix -> the rest
+  for (const auto& [path, schema] : leaves) {
+    props[path] = schema;
+    for (auto dot = path.find('.'); dot != std::string::npos; dot = path.find('.', dot + 1))
+      below[path.substr(0, dot)].emplace_back(path.substr(dot + 1), schema);
+  }
+  for (const auto& [prefix, rest] : below) props[prefix] = nested_parameters(rest);
+  return {{"type", "object"}, {"additionalProperties", false}, {"properties", props}};
+}
+
+/// What a study of these scenes may name: its parameters (nested or dotted), and the keys of its
+/// grid axes and design factors (the scenes' parameters and every section setting).
+Json scene_rule(const std::vector<std::string>& scenes, const Json& condition) {
+  std::vector<std::pair<std::string, Json>> leaves;
+  std::set<std::string> seen;
+  Json keys = Json::array();
+  for (const StudyField& f : study_fields())
+    if (f.section != "output") keys.push_back(f.section + "." + f.name);
+  for (const std::string& scene : scenes) {
+    const Json all = ParameterSet::defaults_for(scene).leaves();
+    for (const auto& [path, leaf] : all.items())
+      if (seen.insert(path).second) {
+        leaves.emplace_back(path, parameter_schema(leaf));
+        keys.push_back("parameters." + path);
+      }
+  }
+  const Json factor_key = {{"properties", {{"key", {{"enum", keys}}}}}};
+  Json axis_keys = keys;
+  axis_keys.push_back("scene");
+  const Json axis_key = {{"properties", {{"key", {{"enum", axis_keys}}}}}};
+  const Json grid_entry = {
+      {"anyOf",
+       {{{"required", {"key"}}, {"properties", {{"key", {{"enum", axis_keys}}}}}},
+        {{"required", {"zip"}}, {"properties", {{"zip", {{"items", axis_key}}}}}}}}};
+  return {{"if", condition},
+          {"then",
+           {{"properties",
+             {{"parameters", nested_parameters(leaves)},
+              {"grid", {{"items", grid_entry}}},
+              {"design", {{"properties", {{"factors", {{"items", factor_key}}}}}}}}}}}};
+}
+
+/// Per scene, what a study of it may name; a study whose scene is a grid axis may name what any
+/// scene has (the loader then checks that some scene of the axis has it).
+Json scene_rules() {
+  Json rules = Json::array();
+  std::vector<std::string> every;
+  for (const auto& s : scene_catalogue()) {
+    every.emplace_back(s.name);
+    rules.push_back(scene_rule(
+        {std::string(s.name)},
+        {{"properties", {{"scene", {{"const", std::string(s.name)}}}}}, {"required", {"scene"}}}));
+  }
+  rules.push_back(scene_rule(every, {{"not", {{"required", {"scene"}}}}}));
+  return rules;
+}
+
 }  // namespace
 
 Json study_schema() {
@@ -104,6 +166,9 @@ Json study_schema() {
     sec["properties"][f.name] = p;
   }
   props["time"]["required"] = {"end", "sample_interval"};
+  // validate(TimeSettings) (core/integrator.cpp) refuses a time <= 0, with the other time rules
+  props["time"]["properties"]["end"]["exclusiveMinimum"] = 0;
+  props["time"]["properties"]["sample_interval"]["exclusiveMinimum"] = 0;
   props["integrator"]["description"] =
       "integrator settings; a study without them uses the balanced preset";
   props["time"]["description"] = "end time and history sample interval";
@@ -169,17 +234,7 @@ Json study_schema() {
       {"properties",
        {{"zip", {{"type", "array"}, {"minItems", 1}, {"items", {{"$ref", "#/$defs/axis"}}}}}}}};
 
-  // per scene, its parameters by dotted key path (nested objects are accepted as they are)
-  Json per_scene = Json::array();
-  for (const auto& s : scene_catalogue()) {
-    Json params = Json::object();
-    const Json leaves = ParameterSet::defaults_for(s.name).leaves();  // outlives items()
-    for (const auto& [path, leaf] : leaves.items()) params[path] = parameter_schema(leaf);
-    per_scene.push_back(
-        {{"if",
-          {{"properties", {{"scene", {{"const", std::string(s.name)}}}}}, {"required", {"scene"}}}},
-         {"then", {{"properties", {{"parameters", {{"properties", params}}}}}}}});
-  }
+  const Json per_scene = scene_rules();
 
   return {{"$schema", "https://json-schema.org/draft/2020-12/schema"},
           {"$id", "urn:rodend:study"},

@@ -53,7 +53,26 @@ def main():
         "grid axis without values": dict(base, grid=[{"key": "parameters.contact.clearance"}]),
         "grid key outside the sections": dict(base, grid=[{"key": "contact.clearance",
                                                           "values": [1e-4]}]),
+        # the schema knows every scene's parameters (issue 32 item 6)
+        "misspelled parameter": dict(base, parameters={"contact.clearence": 1e-4}),
+        "misspelled nested parameter": dict(base, parameters={"contact": {"clearence": 1e-4}}),
+        "wrong type under the nested form": dict(base, parameters={"contact": {"clearance": "x"}}),
+        "misspelled grid key": dict(base, grid=[{"key": "parameters.contact.clearence",
+                                                 "values": [1e-4]}]),
+        "misspelled key in a zip": dict(base, grid=[{"zip": [
+            {"key": "parameters.contact.clearance", "values": [1e-4]},
+            {"key": "integrator.abs_toll", "values": [1e-6]}]}]),
+        "another scene's parameter": dict(base, parameters={"actuator.bulk_modulus": 1e9}),
+        "negative end time": dict(base, time={"end": -1, "sample_interval": 1e-3}),
+        "misspelled design factor": dict(base, design={
+            "method": "sobol", "size": 8, "seed": 1, "factors": [
+                {"key": "parameters.contact.clearence", "distribution": "uniform",
+                 "lower": 1e-4, "upper": 2e-4}]}),
     }
+    good = {"nested parameters": dict(base, parameters={"contact": {"clearance": 1e-4}}),
+            "dotted parameters": dict(base, parameters={"contact.clearance": 1e-4})}
+    for what, doc in good.items():
+        check(v.is_valid(doc), f"the schema refuses a good study: {what}")
     for what, doc in bad.items():
         check(not v.is_valid(doc), f"the schema accepts a study with a mistake: {what}")
     check(v.is_valid(dict(base, grid=[{"zip": [
