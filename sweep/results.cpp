@@ -59,6 +59,7 @@
 #include <hdf5.h>
 #include <hdf5_hl.h>
 #include <libdeflate.h>
+#include <sys/random.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -365,14 +366,20 @@ std::string prov_text(const Json& prov, const char* key) {
 // ---------------------------------------------------------------------------------------------
 // Atomic file replacement
 
-/// `.<name>.tmp.<host>.<pid>.<counter>` beside `path`; unique within the process and across
-/// processes and hosts; a later run removes it when its writer is gone (sweep/results_dir.hpp).
+/// `.<name>.tmp.<host>.<pid>.<random>` beside `path`: the host and pid tell a later run whether
+/// its writer is gone (sweep/results_dir.hpp); the random part (64 bits from getrandom(2), in
+/// decimal) makes the name unpredictable, so that nobody can plant a link under it beforehand.
 fs::path temp_path_for(const fs::path& path) {
-  static std::atomic<unsigned long long> counter{0};
   static const std::string host = host_name();
+  std::uint64_t r = 0;
+  if (::getrandom(&r, sizeof r, 0) != static_cast<ssize_t>(sizeof r)) {
+    // no entropy source (very old kernels): the clock and a counter (O_EXCL still holds)
+    static std::atomic<std::uint64_t> counter{0};
+    r = static_cast<std::uint64_t>(clock_ns(CLOCK_REALTIME)) * 1000003u + counter.fetch_add(1);
+  }
   const std::string name = "." + path.filename().string() + ".tmp." + host + "." +
                            std::to_string(static_cast<long long>(::getpid())) + "." +
-                           std::to_string(counter.fetch_add(1));
+                           std::to_string(r);
   return path.parent_path() / name;
 }
 
@@ -423,10 +430,16 @@ class AtomicFile {
         throw std::runtime_error("cannot write " + what_ + " " + path_.string() +
                                  ": cannot create directory " + dir.string() + ": " + ec.message());
     }
-    temp_ = temp_path_for(path_);
-    // read-write: the summary's HDF5 driver reads back what it wrote (the sink driver)
-    fd_ = ::open(temp_.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-    if (fd_ < 0) fail("cannot create " + temp_.string(), errno);
+    // created fresh (O_EXCL: never an existing file, never through a link) under a name
+    // nobody can guess; read-write: the summary's HDF5 driver reads back what it wrote
+    for (int attempt = 0; fd_ < 0; ++attempt) {
+      temp_ = temp_path_for(path_);
+      fd_ = ::open(temp_.c_str(), O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+      const int err = errno;
+      if (fd_ < 0 && (err != EEXIST || attempt == 16))
+        throw std::runtime_error("cannot write " + what_ + " " + path_.string() +
+                                 ": cannot create " + temp_.string() + ": " + std::strerror(err));
+    }
   }
   AtomicFile(const AtomicFile&) = delete;
   AtomicFile& operator=(const AtomicFile&) = delete;
@@ -493,6 +506,17 @@ void write_file_atomically(const fs::path& path, const std::string& what,
   file.finish(durable);
   file.commit(durable);
 }
+
+}  // namespace
+
+void write_text_file_atomically(const fs::path& path, const std::string& what,
+                                const std::string& text, bool durable) {
+  write_file_atomically(
+      path, what, {ByteSpan(reinterpret_cast<const unsigned char*>(text.data()), text.size())},
+      durable);
+}
+
+namespace {
 
 // ---------------------------------------------------------------------------------------------
 // In-memory HDF5 files

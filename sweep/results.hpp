@@ -126,6 +126,13 @@ class CorruptCaseFile : public std::runtime_error {
 /// CorruptCaseFile naming the file and the damage, std::runtime_error when it cannot be read.
 bool verify_case_file(const std::filesystem::path& case_file);
 
+/// Writes `text` to `path` atomically: a fresh file (O_EXCL, O_NOFOLLOW) under an unpredictable
+/// temporary name in the same directory, then renamed over `path` (flushed to the disk when
+/// `durable`). A link under `path` is replaced, never followed. Throws std::runtime_error
+/// naming `what` and `path`; `path` is then left as it was.
+void write_text_file_atomically(const std::filesystem::path& path, const std::string& what,
+                                const std::string& text, bool durable);
+
 /// Reads the record of a complete case file; nullopt if the file is missing, unreadable or
 /// corrupt.
 std::optional<CaseRecord> read_case_record(const std::filesystem::path& path);

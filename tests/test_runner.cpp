@@ -170,6 +170,8 @@ TEST_CASE("a full disk (injected write failure) stops the run with one message",
   REQUIRE(run_study(ref, opt) == 0);
   const auto case_size =
       static_cast<long long>(fs::file_size(ref.output_dir / "cases" / (ref.cases[0].id + ".h5")));
+  // study.json goes first, through the same writer (and the same injected budget)
+  const auto study_json = static_cast<long long>(fs::file_size(ref.output_dir / "study.json"));
   long long all_cases = 0;
   for (const CaseSpec& c : ref.cases)
     all_cases += static_cast<long long>(fs::file_size(ref.output_dir / "cases" / (c.id + ".h5")));
@@ -178,7 +180,7 @@ TEST_CASE("a full disk (injected write failure) stops the run with one message",
   const fs::path cases = study.output_dir / "cases";
   SECTION("while writing a case file") {
     {
-      const WriteFailureInjection full(case_size + 100);  // room for case 0, not for case 1
+      const WriteFailureInjection full(study_json + case_size + 100);  // case 0, not case 1
       try {
         run_study(study, opt);
         FAIL("the run did not report the full disk");
@@ -202,7 +204,7 @@ TEST_CASE("a full disk (injected write failure) stops the run with one message",
   }
   SECTION("while writing the summary") {
     {
-      const WriteFailureInjection full(all_cases + 100);  // every case file, not summary.h5
+      const WriteFailureInjection full(study_json + all_cases + 100);  // not summary.h5
       CHECK_THROWS_WITH(run_study(study, opt), Catch::Contains("cannot write summary file") &&
                                                    Catch::Contains("No space left on device"));
     }
