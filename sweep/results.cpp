@@ -1607,7 +1607,13 @@ std::optional<CaseRecord> read_case_record_strict(const fs::path& path) {
   const bool verified = verify_case_file(path);  // outside the lock: reads the whole file
   Hdf5Lock lock;                                 // held for the whole open-read-close
   try {
-    return read_case_locked(path);
+    CaseRecord rec = read_case_locked(path);
+    // an intact file of another case copied under this name: not this case's result
+    if (rec.id != path.stem().string())
+      throw std::runtime_error("cannot read results file " + path.string() + ": it holds case " +
+                               rec.id + ", not " + path.stem().string() +
+                               " (a case file copied or moved under another case's name)");
+    return rec;
   } catch (const UnreadableVersion&) {
     throw;
   } catch (const std::exception& e) {

@@ -260,3 +260,22 @@ TEST_CASE("a case file with one byte changed fails its checksum", "[runner][faul
   CHECK_THROWS_AS(read_case_record_strict(file), CorruptCaseFile);
   CHECK_FALSE(read_case_record(file).has_value());
 }
+
+// issue 37 item 3
+TEST_CASE("merge refuses an intact case file under another case's name", "[runner][faults]") {
+  TempDir tmp;
+  const Study study = three_drops(tmp.path(), "dopri5");
+  RunOptions opt;
+  opt.progress = false;
+  REQUIRE(run_study(study, opt) == 0);
+  const fs::path cases = study.output_dir / "cases";
+  const fs::path other = cases / (study.cases[1].id + ".h5");
+  fs::copy_file(cases / (study.cases[0].id + ".h5"), other, fs::copy_options::overwrite_existing);
+  const std::string summary = file_text(study.output_dir / "summary.h5");
+  std::ostringstream report;
+  CHECK(merge_study(study, report) == 1);
+  CHECK_THAT(report.str(),
+             Catch::Contains(other.string()) && Catch::Contains("holds case " + study.cases[0].id));
+  CHECK(file_text(study.output_dir / "summary.h5") == summary);  // no summary written
+  CHECK_THROWS_WITH(read_case_record_strict(other), Catch::Contains("holds case"));
+}
