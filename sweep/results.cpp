@@ -18,14 +18,18 @@
 //   cases, is written by HDF5 through the sink driver (below), which latches a failure instead
 //   of reporting it to HDF5.
 // - Crash safety: a file is written under a hidden temporary name in its final directory
-//   (.<name>.tmp.<host>.<pid>.<counter>), closed, then renamed to its final name (atomic on
-//   POSIX). A failed write removes the temporary file and throws; a partially written file never
-//   appears under the final name. Case files are not fsync'd: one torn by an OS crash fails its
-//   checksum (below) and resume reruns it; summary.h5, summary.csv and their directory are.
-// - Integrity: a case file starts with a 512-byte HDF5 user block holding its checksum header,
-//   "RODEND-CHECKSUM 1\ncrc32 <8 hex>\nbytes <file size>\n" padded with NUL bytes: the CRC-32
-//   (zlib.crc32) of every byte after the user block and the file's size. verify_case_file checks
-//   it (resume, merge); HDF5 readers skip the user block.
+//   (.<name>.tmp.<host>.<pid>.<random>, created with O_EXCL|O_NOFOLLOW: never an existing
+//   file, never through a link, a name nobody can plant beforehand), closed, then renamed to
+//   its final name (atomic on POSIX; a link under the final name is replaced, not followed). A
+//   failed write removes the temporary file and throws; a partially written file never appears
+//   under the final name. Case files are not fsync'd: one torn by an OS crash fails its checksum
+//   (below) and resume reruns it; summary.h5, summary.csv and their directory are.
+// - Integrity: a case file and summary.h5 start with a 512-byte HDF5 user block holding the
+//   checksum header, "RODEND-CHECKSUM 1\ncrc32 <8 hex>\nbytes <file size>\n" padded with NUL
+//   bytes: the CRC-32 (zlib.crc32) of every byte after the user block and the file's size.
+//   verify_case_file and verify_summary_file check it (every byte of the block too) before any
+//   reader here opens the file with HDF5 (resume, merge, compare, report); HDF5 readers skip
+//   the user block.
 //
 // Case file layout (stable interface, schema_version 2; 1 is still read, see below):
 //   user block   512 bytes: the checksum header (Integrity, above)
@@ -44,14 +48,13 @@
 //                without a variable), so netCDF tools read the file as it is
 //   /metrics     one scalar double attribute per metric (catalogue name), NaN when not
 //                applicable; units_json = {"name": "unit"}
-// Summary: summary.h5 (group /summary, one 1-D dataset per column with units (not for text)
-// and long_name, case_index the dimension scale of the others, attribute columns = JSON array
-// of the names in order; root attribute summary_csv_crc32 (int64): the CRC-32 of the
-// summary.csv written with it) and summary.csv (one header line, one line per case, numbers as the
-// shortest decimal that reads back as the same double).
-// Schema 1 (before issue 22) named the attributes unit and description and had no dimension
-// scales; readers accept both.
-// All string attributes and string datasets are variable-length UTF-8.
+// Summary: summary.h5 (the checksum user block, group /summary, one 1-D dataset per column with
+// units (not for text) and long_name, case_index the dimension scale of the others, attribute
+// columns = JSON array of the names in order; root attribute summary_csv_crc32 (int64): the CRC-32
+// of the summary.csv written with it) and summary.csv (one header line, one line per case, numbers
+// as the shortest decimal that reads back as the same double). Schema 1 (before issue 22) named the
+// attributes unit and description and had no dimension scales; readers accept both. All string
+// attributes and string datasets are variable-length UTF-8.
 #include "sweep/results.hpp"
 #include "sweep/results_dir.hpp"
 
@@ -578,16 +581,18 @@ ByteSpan build_image(const Context& cx, hsize_t user_block, std::size_t estimate
 /// out): the checksum header "RODEND-CHECKSUM 1", then "crc32 <8 hex digits>" (CRC-32, as
 /// zlib.crc32, of every byte after the user block, the image) and "bytes <file size>", one per
 /// line, padded with NUL bytes to kUserBlock bytes.
+std::array<unsigned char, kUserBlock> checksum_header(std::uint32_t crc, std::size_t file_size) {
+  std::array<unsigned char, kUserBlock> header{};
+  std::snprintf(reinterpret_cast<char*>(header.data()), header.size(), "%scrc32 %08x\nbytes %zu\n",
+                std::string(kChecksumMagic).c_str(), static_cast<unsigned>(crc), file_size);
+  return header;
+}
 std::array<unsigned char, kUserBlock> checksum_header(ByteSpan image) {
   if (image.size() < sizeof kHdf5Signature ||
       std::memcmp(image.data(), kHdf5Signature, sizeof kHdf5Signature) != 0)
     throw std::logic_error("the HDF5 image of a case file does not start with its superblock");
-  const std::uint32_t crc = libdeflate_crc32(0, image.data(), image.size());
-  std::array<unsigned char, kUserBlock> header{};
-  std::snprintf(reinterpret_cast<char*>(header.data()), header.size(), "%scrc32 %08x\nbytes %zu\n",
-                std::string(kChecksumMagic).c_str(), static_cast<unsigned>(crc),
-                static_cast<std::size_t>(kUserBlock) + image.size());
-  return header;
+  return checksum_header(libdeflate_crc32(0, image.data(), image.size()),
+                         static_cast<std::size_t>(kUserBlock) + image.size());
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1519,13 +1524,32 @@ WriteFailureInjection::~WriteFailureInjection() {
   g_write_budget.store(-1);
 }
 
-bool verify_case_file(const fs::path& path) {
-  const auto corrupt = [&](const std::string& why) -> CorruptCaseFile {
-    return CorruptCaseFile("corrupt case file " + path.string() + ": " + why);
-  };
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+namespace {
+
+/// Reads `n` bytes at `offset` of `fd` into `buf`; throws naming `path` (CorruptFile `corrupt`
+/// when the file ends before them).
+void read_exactly(int fd, unsigned char* buf, std::size_t offset, std::size_t n,
+                  const fs::path& path, const std::string& corrupt) {
+  std::size_t got = 0;
+  while (got < n) {
+    const ssize_t r = ::pread(fd, buf + got, n - got, static_cast<off_t>(offset + got));
+    if (r < 0 && errno == EINTR) continue;
+    if (r < 0)
+      throw std::runtime_error("cannot read " + path.string() + ": " + std::strerror(errno));
+    if (r == 0) throw CorruptFile(corrupt + "shorter than it was a moment ago");
+    got += static_cast<std::size_t>(r);
+  }
+}
+
+/// The checksum of a case file or summary.h5 (`kind`: "case file", "summary file"): its user
+/// block must be exactly the header checksum_header writes (every byte of the 512, padding
+/// included), its size the one stated, the CRC-32 of the rest the one stated. False for a
+/// file without a user block (an HDF5 file written before checksums). Throws CorruptFile.
+bool verify_checksum(const fs::path& path, const std::string& kind) {
+  const std::string corrupt = "corrupt " + kind + " " + path.string() + ": ";
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0)
-    throw std::runtime_error("cannot read results file " + path.string() + ": " +
+    throw std::runtime_error("cannot read " + kind + " " + path.string() + ": " +
                              std::strerror(errno));
   struct FdCloser {
     int fd;
@@ -1533,44 +1557,37 @@ bool verify_case_file(const fs::path& path) {
   } closer{fd};
   struct stat st {};
   if (::fstat(fd, &st) != 0)
-    throw std::runtime_error("cannot read results file " + path.string() + ": " +
+    throw std::runtime_error("cannot read " + kind + " " + path.string() + ": " +
                              std::strerror(errno));
+  if (!S_ISREG(st.st_mode))
+    throw std::runtime_error("cannot read " + kind + " " + path.string() + ": not a regular file");
   const auto size = static_cast<std::size_t>(st.st_size);
   std::vector<unsigned char> buf(std::size_t{1} << 20);
-  const auto read_at = [&](std::size_t offset, std::size_t n) {
-    std::size_t got = 0;
-    while (got < n) {
-      const ssize_t r = ::pread(fd, buf.data() + got, n - got, static_cast<off_t>(offset + got));
-      if (r < 0 && errno == EINTR) continue;
-      if (r < 0)
-        throw std::runtime_error("cannot read results file " + path.string() + ": " +
-                                 std::strerror(errno));
-      if (r == 0) throw corrupt("shorter than it was a moment ago");
-      got += static_cast<std::size_t>(r);
-    }
-  };
   const std::size_t head = std::min<std::size_t>(size, kUserBlock);
-  read_at(0, head);
+  read_exactly(fd, buf.data(), 0, head, path, corrupt);
   if (head >= sizeof kHdf5Signature &&
       std::memcmp(buf.data(), kHdf5Signature, sizeof kHdf5Signature) == 0)
     return false;  // no user block: written before checksums (HDF5 checks what it can)
   if (head < kChecksumMagic.size() ||
       std::memcmp(buf.data(), kChecksumMagic.data(), kChecksumMagic.size()) != 0)
-    throw corrupt(size == 0 ? "empty file"
-                            : "no checksum header (\"RODEND-CHECKSUM\") and not an HDF5 file");
+    throw CorruptFile(corrupt + (size == 0 ? "empty file"
+                                           : "no checksum header (\"RODEND-CHECKSUM\") and not an "
+                                             "HDF5 file"));
   const std::string header(reinterpret_cast<const char*>(buf.data()), head);
   unsigned stored = 0;
   unsigned long long bytes = 0;
-  if (std::sscanf(header.c_str() + kChecksumMagic.size(), "crc32 %8x\nbytes %llu", &stored,
-                  &bytes) != 2)
-    throw corrupt("damaged checksum header");
+  if (head < kUserBlock ||
+      std::sscanf(header.c_str() + kChecksumMagic.size(), "crc32 %8x\nbytes %llu", &stored,
+                  &bytes) != 2 ||
+      std::memcmp(buf.data(), checksum_header(stored, bytes).data(), kUserBlock) != 0)
+    throw CorruptFile(corrupt + "damaged checksum header");
   if (bytes != size)
-    throw corrupt(std::to_string(size) + " bytes, its checksum header says " +
-                  std::to_string(bytes) + " (truncated or extended)");
+    throw CorruptFile(corrupt + std::to_string(size) + " bytes, its checksum header says " +
+                      std::to_string(bytes) + " (truncated or extended)");
   std::uint32_t crc = 0;
   for (std::size_t offset = kUserBlock; offset < size;) {
     const std::size_t n = std::min(buf.size(), size - offset);
-    read_at(offset, n);
+    read_exactly(fd, buf.data(), offset, n, path, corrupt);
     crc = libdeflate_crc32(crc, buf.data(), n);
     offset += n;
   }
@@ -1579,9 +1596,23 @@ bool verify_case_file(const fs::path& path) {
     std::snprintf(text, sizeof text,
                   "content does not match its checksum (CRC-32 %08x, stored %08x)",
                   static_cast<unsigned>(crc), stored);
-    throw corrupt(text);
+    throw CorruptFile(corrupt + text);
   }
   return true;
+}
+
+}  // namespace
+
+bool verify_case_file(const fs::path& path) {
+  try {
+    return verify_checksum(path, "case file");
+  } catch (const CorruptFile& e) {
+    throw CorruptCaseFile(e.what());
+  }
+}
+
+bool verify_summary_file(const fs::path& path) {
+  return verify_checksum(path, "summary file");
 }
 
 std::optional<CaseRecord> read_case_record(const fs::path& path) {
@@ -1632,6 +1663,11 @@ bool summary_csv_matches(const fs::path& dir) {
   if (!fs::is_regular_file(h5, ec)) return true;
   long long stored = -1;
   {
+    try {
+      verify_summary_file(h5);
+    } catch (const std::exception&) {
+      return true;  // damaged: left for read_summary (and repair_summary_csv) to report
+    }
     Hdf5Lock lock;
     const Context cx(h5, "cannot read summary");
     try {
@@ -1657,6 +1693,33 @@ bool summary_csv_matches(const fs::path& dir) {
   return static_cast<long long>(crc) == stored;
 }
 
+namespace {
+
+/// Writes the checksum header (checksum_header) into the user block of the summary.h5 HDF5 has
+/// just written to `h5`'s temporary file: the CRC-32 of every byte after the block.
+void seal_summary(AtomicFile& h5) {
+  struct stat st {};
+  if (::fstat(h5.fd(), &st) != 0) h5.fail_write(errno);
+  const auto size = static_cast<std::size_t>(st.st_size);
+  if (size < kUserBlock + sizeof kHdf5Signature)
+    throw std::logic_error("summary.h5 is shorter than its user block");
+  std::vector<unsigned char> buf(std::size_t{1} << 20);
+  std::uint32_t crc = 0;
+  for (std::size_t offset = kUserBlock; offset < size;) {
+    const std::size_t n = std::min(buf.size(), size - offset);
+    const ssize_t r = ::pread(h5.fd(), buf.data(), n, static_cast<off_t>(offset));
+    if (r < 0 && errno == EINTR) continue;
+    if (r <= 0) h5.fail_write(r < 0 ? errno : EIO);
+    crc = libdeflate_crc32(crc, buf.data(), static_cast<std::size_t>(r));
+    offset += static_cast<std::size_t>(r);
+  }
+  const auto header = checksum_header(crc, size);
+  if (const int err = write_all(h5.fd(), header.data(), header.size(), 0); err != 0)
+    h5.fail_write(err);
+}
+
+}  // namespace
+
 void write_summary(const fs::path& dir, const Study& study, const RecordSpool& rows,
                    const Json& prov) {
   const std::size_t row_count = rows.size();
@@ -1676,7 +1739,10 @@ void write_summary(const fs::path& dir, const Study& study, const RecordSpool& r
     Hdf5Lock lock;  // held for the whole create-write-close
     const Context cx(h5_path, "cannot write summary file");
     const Handle fapl = sink_access(cx, sink);
-    Handle file = cx.own(H5Fcreate(h5_path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()),
+    // the user block: the checksum header, written once HDF5 is done (seal_summary)
+    const Handle fcpl = cx.own(H5Pcreate(H5P_FILE_CREATE), H5Pclose, "cannot create the file");
+    cx.ok(H5Pset_userblock(fcpl.get(), kUserBlock), "cannot create the file");
+    Handle file = cx.own(H5Fcreate(h5_path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()),
                          H5Fclose, "cannot create the file");
     Handle root = cx.own(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose, "no root");
     const hid_t g = root.get();
@@ -1744,6 +1810,7 @@ void write_summary(const fs::path& dir, const Study& study, const RecordSpool& r
     throw;
   }
   if (sink.error != 0) h5.fail_write(sink.error);
+  seal_summary(h5);
   csv.finish(/*durable=*/true);
   h5.finish(/*durable=*/true);
   h5.commit(/*durable=*/true);
@@ -2006,6 +2073,7 @@ SummaryTable read_summary(const fs::path& dir) {
   const fs::path path = dir / "summary.h5";
   if (!fs::exists(path))
     throw std::runtime_error(dir.string() + " is not a rodend study: no summary.h5");
+  verify_summary_file(path);  // never hands a damaged file to HDF5
   Hdf5Lock lock;
   const Context cx(path, "cannot read summary");
   Handle file =
@@ -2050,6 +2118,7 @@ bool repair_summary_csv(const fs::path& dir) {
     throw std::runtime_error(dir.string() + " is not a rodend study: no summary.h5");
   // summary.csv again from summary.h5, a block of rows at a time (as write_summary wrote it),
   // kept only if its CRC-32 is the one summary.h5 was written with
+  verify_summary_file(h5);
   AtomicFile csv(dir / "summary.csv", "summary file");
   std::uint32_t crc = 0;
   long long stored = -1;
@@ -2099,6 +2168,7 @@ bool repair_summary_csv(const fs::path& dir) {
 }
 
 std::vector<std::string> list_signals(const fs::path& case_file) {
+  verify_case_file(case_file);  // never hands a damaged file to HDF5
   Hdf5Lock lock;
   const Context cx(case_file, "cannot read case file");
   Handle file = cx.own(H5Fopen(case_file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose,
@@ -2115,6 +2185,7 @@ std::vector<std::string> list_signals(const fs::path& case_file) {
 }
 
 SignalData read_signal(const fs::path& case_file, const std::string& name) {
+  verify_case_file(case_file);  // never hands a damaged file to HDF5
   Hdf5Lock lock;
   const Context cx(case_file, "cannot read case file");
   Handle file = cx.own(H5Fopen(case_file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose,
