@@ -1979,7 +1979,7 @@ struct RecordSpool::Impl {
 RecordSpool::RecordSpool(const fs::path& dir, std::size_t slots) : impl_(std::make_unique<Impl>()) {
   impl_->summary = dir / "summary.h5";
   const fs::path path = temp_path_for(dir / "summary-rows");
-  impl_->fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  impl_->fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
   if (impl_->fd < 0)
     throw std::runtime_error("cannot write summary file " + impl_->summary.string() +
                              ": cannot create its rows' spool " + path.string() + ": " +
@@ -2167,8 +2167,41 @@ bool repair_summary_csv(const fs::path& dir) {
   return true;
 }
 
+namespace {
+
+/// verify_case_file, once per version of a file in this process: compare opens a case file
+/// once per signal, and checks it the first time only. A file changed since (another inode,
+/// size, modification or status-change time) is checked again.
+void verify_case_file_once(const fs::path& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) {
+    verify_case_file(path);  // reports why it cannot be read
+    return;
+  }
+  using Key = std::array<long long, 7>;
+  const Key key{static_cast<long long>(st.st_dev),
+                static_cast<long long>(st.st_ino),
+                static_cast<long long>(st.st_size),
+                st.st_mtim.tv_sec,
+                st.st_mtim.tv_nsec,
+                st.st_ctim.tv_sec,
+                st.st_ctim.tv_nsec};
+  static std::mutex mutex;
+  static std::set<Key> verified;
+  {
+    const std::lock_guard lock(mutex);
+    if (verified.count(key)) return;
+  }
+  verify_case_file(path);
+  const std::lock_guard lock(mutex);
+  if (verified.size() >= 4096) verified.clear();  // memory that does not grow with the cases
+  verified.insert(key);
+}
+
+}  // namespace
+
 std::vector<std::string> list_signals(const fs::path& case_file) {
-  verify_case_file(case_file);  // never hands a damaged file to HDF5
+  verify_case_file_once(case_file);  // never hands a damaged file to HDF5
   Hdf5Lock lock;
   const Context cx(case_file, "cannot read case file");
   Handle file = cx.own(H5Fopen(case_file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose,
@@ -2185,7 +2218,7 @@ std::vector<std::string> list_signals(const fs::path& case_file) {
 }
 
 SignalData read_signal(const fs::path& case_file, const std::string& name) {
-  verify_case_file(case_file);  // never hands a damaged file to HDF5
+  verify_case_file_once(case_file);  // never hands a damaged file to HDF5
   Hdf5Lock lock;
   const Context cx(case_file, "cannot read case file");
   Handle file = cx.own(H5Fopen(case_file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose,
