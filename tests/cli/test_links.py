@@ -3,7 +3,8 @@ unpredictable temporary name, and renames it into place; it never opens an exist
 writing. Planted, each pointing at a file of the user's (precious.txt), which must not change:
 
 - a symbolic link, and a hard link, at the lock file .rodend.lock: `rodend run` and `rodend
-  merge` refuse (exit 2), naming the lock file;
+  merge` refuse (exit 2), naming the lock file; a symbolic link at a shard's lock file and at
+  the marker .rodend: `rodend run` refuses (exit 2), naming it;
 - symbolic links at every temporary name the previous naming scheme predicted
   (.<name>.tmp.<host>.<pid>.<n> for study.json, summary.h5, summary.csv and each case file, the
   pid known before the process starts): the run ends as an undisturbed run (exit 0, every file a
@@ -63,6 +64,22 @@ def lock_links(tmp):
                   f"{r.stderr!r}")
             unchanged(target, f"{kind} at the lock file, {cmd[0]}")
         os.remove(lock)
+    # a shard's lock file, and the marker .rodend
+    target = precious(tmp)
+    shard_lock = os.path.join(root, "lock", ".rodend.lock.shard-1-of-2")
+    os.symlink(target, shard_lock)
+    r = run(["run", s, "--results-root", root, "-q", "--shard", "1/2"])
+    check(r.returncode == 2 and shard_lock in r.stderr,
+          f"symlink at the shard's lock: exit {r.returncode} ({r.stderr})")
+    unchanged(target, "symlink at the shard's lock file")
+    os.remove(shard_lock)
+    marker = os.path.join(root, "lock", ".rodend")
+    os.remove(marker)
+    os.symlink(target, marker)
+    r = run(["run", s, "--results-root", root, "-q"])
+    check(r.returncode == 2 and marker in r.stderr,
+          f"symlink at the marker: exit {r.returncode} ({r.stderr})")
+    unchanged(target, "symlink at the marker .rodend")
 
 
 def start_paused(args):
