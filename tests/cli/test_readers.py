@@ -6,7 +6,7 @@ no crash (a signal, an exit code other than 0-2, an exception of another kind), 
 
 - random single-bit flips anywhere in a case file (its checksum header included): `rodend
   merge` (exit 1, "corrupt case file"), `rodend compare` (exit 2), `rodend.open_results(...)
-  .histories` (rodend.CorruptFile);
+  .histories` (rodend.CorruptFile), the plots' reader (the case listed as unreadable);
 - random single-bit flips anywhere in summary.h5: `rodend compare` (exit 2), `rodend report`
   (exit 2, no report.html), `rodend.open_results` (rodend.CorruptFile), the plots' reader
   (plots/rodend_results.py: NotAStudy); `rodend merge` rebuilds the summary from the case
@@ -53,7 +53,14 @@ for line in sys.stdin:
         out["result"], out["message"] = type(e).__name__, str(e)
     except Exception as e:
         out["result"], out["message"] = "other " + type(e).__name__, str(e)
-    if req["plots"]:
+    if req["plots"] == "cases":
+        try:
+            study = rodend_results.Study(req["folder"])
+            study.cases()
+            out["plots"], out["plots_message"] = "listed", " ".join(study.missing)
+        except Exception as e:
+            out["plots"], out["plots_message"] = "other " + type(e).__name__, str(e)
+    elif req["plots"]:
         try:
             rodend_results.read_summary(req["folder"])
             out["plots"] = "pass"
@@ -161,7 +168,9 @@ def case_flips(s, ref, work_root, work, worker, tally, rng):
         tally.cli(f"merge, {where}", r, 1, name)
         check("corrupt case file" in r.stderr, f"merge, {where}: {r.stderr!r}")
         tally.cli(f"compare, {where}", run(["compare", ref, work]), 2, name)
-        tally.py(f"open_results, {where}", worker.ask(work, True), "CorruptFile", name)
+        got = worker.ask(work, True, plots="cases")
+        tally.py(f"open_results, {where}", got, "CorruptFile", name)
+        tally.py(f"plots' reader, {where}", got, "listed", name, key="plots")
         shutil.copyfile(os.path.join(ref, "cases", name), path)
 
 
