@@ -433,25 +433,33 @@ class AtomicFile {
         throw std::runtime_error("cannot write " + what_ + " " + path_.string() +
                                  ": cannot create directory " + dir.string() + ": " + ec.message());
     }
+    // the directory, opened once: the temporary file is created, renamed and removed in it
+    // (*at calls), whatever happens to the path to it meanwhile
+    dir_fd_ = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dir_fd_ < 0)
+      throw std::runtime_error("cannot write " + what_ + " " + path_.string() +
+                               ": cannot open directory " + dir.string() + ": " +
+                               std::strerror(errno));
     // created fresh (O_EXCL: never an existing file, never through a link) under a name
     // nobody can guess; read-write: the summary's HDF5 driver reads back what it wrote
     for (int attempt = 0; fd_ < 0; ++attempt) {
       temp_ = temp_path_for(path_);
-      fd_ = ::open(temp_.c_str(), O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+      fd_ = ::openat(dir_fd_, temp_.filename().c_str(),
+                     O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
       const int err = errno;
-      if (fd_ < 0 && (err != EEXIST || attempt == 16))
+      if (fd_ < 0 && (err != EEXIST || attempt == 16)) {
+        ::close(dir_fd_);
         throw std::runtime_error("cannot write " + what_ + " " + path_.string() +
                                  ": cannot create " + temp_.string() + ": " + std::strerror(err));
+      }
     }
   }
   AtomicFile(const AtomicFile&) = delete;
   AtomicFile& operator=(const AtomicFile&) = delete;
   ~AtomicFile() {
     if (fd_ >= 0) ::close(fd_);
-    if (!committed_) {
-      std::error_code ignored;
-      fs::remove(temp_, ignored);
-    }
+    if (!committed_) ::unlinkat(dir_fd_, temp_.filename().c_str(), 0);
+    ::close(dir_fd_);
   }
 
   void write(ByteSpan bytes) {
@@ -469,26 +477,21 @@ class AtomicFile {
     fd_ = -1;
     if (err != 0) fail("write error on " + temp_.string(), err);
   }
-  /// Renames the finished file over the final path (and, durable, flushes the directory, so
-  /// that the rename is there after an OS crash).
+  /// Renames the finished file over the final path, in the same directory (a link under the
+  /// final name is replaced, not followed), and, durable, flushes the directory, so that the
+  /// rename is there after an OS crash.
   void commit(bool durable) {
-    if (::rename(temp_.c_str(), path_.c_str()) != 0) fail("cannot rename " + temp_.string(), errno);
+    if (::renameat(dir_fd_, temp_.filename().c_str(), dir_fd_, path_.filename().c_str()) != 0)
+      fail("cannot rename " + temp_.string(), errno);
     committed_ = true;
-    if (!durable) return;
-    const fs::path dir = path_.parent_path();
-    const int dfd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (dfd >= 0) {
-      (void)::fsync(dfd);  // best effort: not every file system syncs a directory
-      ::close(dfd);
-    }
+    if (durable) (void)::fsync(dir_fd_);  // best effort: not every file system syncs a directory
   }
 
  private:
   [[noreturn]] void fail(const std::string& step, int err) {
     if (fd_ >= 0) ::close(fd_);
     fd_ = -1;
-    std::error_code ignored;
-    fs::remove(temp_, ignored);
+    if (!committed_) ::unlinkat(dir_fd_, temp_.filename().c_str(), 0);
     committed_ = true;  // nothing left to remove
     throw std::runtime_error("cannot write " + what_ + " " + path_.string() + ": " + step + ": " +
                              std::strerror(err));
@@ -496,6 +499,7 @@ class AtomicFile {
 
   fs::path path_, temp_;
   std::string what_;
+  int dir_fd_ = -1;
   int fd_ = -1;
   bool committed_ = false;
 };
