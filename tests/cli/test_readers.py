@@ -9,8 +9,9 @@ no crash (a signal, an exit code other than 0-2, an exception of another kind), 
   .histories` (rodend.CorruptFile), the plots' reader (the case listed as unreadable);
 - random single-bit flips anywhere in summary.h5: `rodend compare` (exit 2), `rodend report`
   (exit 2, no report.html), `rodend.open_results` (rodend.CorruptFile), the plots' reader
-  (plots/rodend_results.py: NotAStudy); `rodend merge` rebuilds the summary from the case
-  files instead, to the reference's summary.csv byte for byte;
+  (plots/rodend_results.py: NotAStudy); `rodend merge` and `rodend run` (a resume with every
+  case complete), every other flip each, write the summary again from the case files instead,
+  the reference's summary.csv byte for byte;
 - an intact case file copied over another case's file: `rodend merge` refuses it (exit 1, no
   summary written), and so does `open_results(...).histories`;
 - a deleted case file: `open_results(...).histories` raises FileNotFoundError naming it (not
@@ -190,10 +191,13 @@ def summary_flips(s, ref, work_root, work, worker, tally, rng):
         got = worker.ask(work, False, plots=True)
         tally.py(f"open_results, {where}", got, "CorruptFile", "summary.h5")
         tally.py(f"plots' read_summary, {where}", got, "NotAStudy", "summary.h5", key="plots")
-        r = run(["merge", s, "--results-root", work_root])
-        check(r.returncode == 0, f"merge, {where}: exit {r.returncode}: {r.stderr!r}")
+        # merge, or a resume (every case complete), writes the summary again from the cases
+        cmd = ["merge", s, "--results-root", work_root] if k % 2 == 0 else \
+            ["run", s, "--results-root", work_root, "-q"]
+        r = run(cmd)
+        check(r.returncode == 0, f"{cmd[0]}, {where}: exit {r.returncode}: {r.stderr!r}")
         check(open(os.path.join(work, "summary.csv"), "rb").read() == ref_csv,
-              f"merge, {where}: summary.csv differs from the reference's")
+              f"{cmd[0]}, {where}: summary.csv differs from the reference's")
 
 
 def main():
