@@ -18,7 +18,7 @@ no crash (a signal, an exit code other than 0-2, an exception of another kind), 
   NaN histories for a case whose status is ok).
 
 The Python readers run in a worker process, restarted after a crash, so that a crash is counted
-rather than ending the test.
+rather than ending the test; the readers of one damaged folder run side by side.
 
     /usr/bin/python3 tests/cli/test_readers.py [CASE_FLIPS [SUMMARY_FLIPS [SEED]]]
     (defaults 200, 100, 1)"""
@@ -29,12 +29,14 @@ import shutil
 import subprocess
 import sys
 import tempfile
+from concurrent.futures import ThreadPoolExecutor
 
 from common import check, finish, run, write_study
 
 CASE_FLIPS = int(sys.argv[1]) if len(sys.argv) > 1 else 200
 SUMMARY_FLIPS = int(sys.argv[2]) if len(sys.argv) > 2 else 100
 SEED = int(sys.argv[3]) if len(sys.argv) > 3 else 1
+POOL = ThreadPoolExecutor(2)
 PLOTS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "plots")
 
 WORKER = r"""
@@ -165,11 +167,14 @@ def case_flips(s, ref, work_root, work, worker, tally, rng):
         path = os.path.join(work, "cases", name)
         off, bit = flip(path, rng)
         where = f"case file {name} bit {bit} of byte {off}"
-        r = run(["merge", s, "--results-root", work_root])
+        # the readers side by side (none of them writes when it finds the damage)
+        merged = POOL.submit(run, ["merge", s, "--results-root", work_root])
+        compared = POOL.submit(run, ["compare", ref, work])
+        got = worker.ask(work, True, plots="cases")
+        r = merged.result()
         tally.cli(f"merge, {where}", r, 1, name)
         check("corrupt case file" in r.stderr, f"merge, {where}: {r.stderr!r}")
-        tally.cli(f"compare, {where}", run(["compare", ref, work]), 2, name)
-        got = worker.ask(work, True, plots="cases")
+        tally.cli(f"compare, {where}", compared.result(), 2, name)
         tally.py(f"open_results, {where}", got, "CorruptFile", name)
         tally.py(f"plots' reader, {where}", got, "listed", name, key="plots")
         shutil.copyfile(os.path.join(ref, "cases", name), path)
@@ -182,13 +187,15 @@ def summary_flips(s, ref, work_root, work, worker, tally, rng):
         shutil.copyfile(os.path.join(ref, "summary.h5"), path)
         off, bit = flip(path, rng)
         where = f"summary.h5 bit {bit} of byte {off}"
-        tally.cli(f"compare, {where}", run(["compare", ref, work]), 2, "summary.h5")
-        tally.cli(f"report, {where}", run(["report", work]), 2, "summary.h5")
+        compared = POOL.submit(run, ["compare", ref, work])
+        reported = POOL.submit(run, ["report", work])
+        got = worker.ask(work, False, plots=True)
+        tally.cli(f"compare, {where}", compared.result(), 2, "summary.h5")
+        tally.cli(f"report, {where}", reported.result(), 2, "summary.h5")
         report = os.path.join(work, "report.html")
         check(not os.path.exists(report), f"report, {where}: written")
         if os.path.exists(report):
             os.remove(report)
-        got = worker.ask(work, False, plots=True)
         tally.py(f"open_results, {where}", got, "CorruptFile", "summary.h5")
         tally.py(f"plots' read_summary, {where}", got, "NotAStudy", "summary.h5", key="plots")
         # merge, or a resume (every case complete), writes the summary again from the cases
@@ -221,6 +228,7 @@ def main():
         case_flips(s, ref, work_root, work, worker, tally, rng)
         summary_flips(s, ref, work_root, work, worker, tally, rng)
     worker.close()
+    POOL.shutdown()
     c = tally.counts
     print(f"{CASE_FLIPS} case-file flips, {SUMMARY_FLIPS} summary.h5 flips: {c['ok']} reports "
           f"naming the file, {c['crash']} crashes, {c['silent']} silent passes, {c['unnamed']} "
