@@ -13,7 +13,7 @@ no crash (a signal, an exit code other than 0-2, an exception of another kind), 
   case complete), every other flip each, write the summary again from the case files instead,
   the reference's summary.csv byte for byte;
 - an intact case file copied over another case's file: `rodend merge` refuses it (exit 1, no
-  summary written), and so does `open_results(...).histories`;
+  summary written), `rodend compare` (exit 2) and `open_results(...).histories` too;
 - a deleted case file: `open_results(...).histories` raises FileNotFoundError naming it (not
   NaN histories for a case whose status is ok).
 
@@ -152,6 +152,7 @@ def wrong_case_and_missing(s, ref, work_root, work, worker, tally):
     check("holds case" in r.stderr, f"merge, another case's file: {r.stderr!r}")
     check(open(os.path.join(work, "summary.h5"), "rb").read() == summary,
           "merge, another case's file: the summary was rewritten")
+    tally.cli("compare, another case's file", run(["compare", ref, work]), 2, ids[1] + ".h5")
     tally.py("open_results, another case's file", worker.ask(work, True), "CorruptFile",
              ids[1] + ".h5")
     os.remove(b)
