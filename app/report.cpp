@@ -140,14 +140,8 @@ fs::path write_report(const fs::path& dir, const fs::path& out_arg) {
     << escape(study.is_discarded() ? std::string("(unreadable)") : study.dump(2)) << "</pre>\n";
   h << "</body></html>\n";
 
-  const fs::path tmp = out.string() + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) throw std::runtime_error("cannot write " + out.string());
-    f << h.str();
-    if (!f.flush()) throw std::runtime_error("cannot write " + out.string());
-  }
-  fs::rename(tmp, out);
+  // a fresh file under an unpredictable name, then renamed: never written through a link
+  write_text_file_atomically(out, "report", h.str(), /*durable=*/false);
   return out;
 }
 

@@ -25,6 +25,50 @@ _LEADING = ("case_id", "case_index")
 _AFTER_GRID = "status"
 
 
+_USER_BLOCK = 512
+_MAGIC = b"RODEND-CHECKSUM 1\n"
+_HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
+
+
+class CorruptFile(ValueError):
+    """A results file (case file or summary.h5) whose bytes are damaged; the message names it."""
+
+
+def verify_checksum(path, kind="case file"):
+    """Checks the checksum header of a case file or summary.h5 (docs/results.md, "Crash
+    safety") before any HDF5 reader sees the file: the 512-byte user block exactly as rodend
+    writes it, the size it states, the CRC-32 of the rest. True when it holds, False for a
+    file without a user block (written before checksums); raises CorruptFile naming the file."""
+    import re
+    import zlib
+    bad = f"corrupt {kind} {os.fspath(path)}: "
+    with open(path, "rb") as fh:
+        head = fh.read(_USER_BLOCK)
+        if head[:8] == _HDF5_SIGNATURE:
+            return False
+        if not head.startswith(_MAGIC):
+            raise CorruptFile(bad + ("empty file" if not head else
+                                     'no checksum header ("RODEND-CHECKSUM") and not an HDF5 file'))
+        m = re.match(rb"crc32 ([0-9a-f]{8})\nbytes ([0-9]+)\n", head[len(_MAGIC):])
+        if len(head) < _USER_BLOCK or not m:
+            raise CorruptFile(bad + "damaged checksum header")
+        stored, size = int(m.group(1), 16), int(m.group(2))
+        expected = (_MAGIC + b"crc32 %08x\nbytes %d\n" % (stored, size)).ljust(_USER_BLOCK, b"\0")
+        if head != expected:
+            raise CorruptFile(bad + "damaged checksum header")
+        actual = os.fstat(fh.fileno()).st_size
+        if actual != size:
+            raise CorruptFile(bad + f"{actual} bytes, its checksum header says {size} "
+                              "(truncated or extended)")
+        crc = 0
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            crc = zlib.crc32(block, crc)
+    if crc != stored:
+        raise CorruptFile(bad + f"content does not match its checksum (CRC-32 {crc:08x}, "
+                          f"stored {stored:08x})")
+    return True
+
+
 class NotAStudy(Exception):
     """The folder is not a rodend study's results folder (one-line message)."""
 
@@ -66,6 +110,7 @@ def read_summary(results_dir):
     if not os.path.isfile(path):
         raise NotAStudy(f"{results_dir}: not a rodend study results folder (no summary.h5)")
     try:
+        verify_checksum(path, "summary file")  # a damaged file never reaches HDF5
         with h5py.File(path, "r") as f:
             if "summary" not in f:
                 raise NotAStudy(f"{path}: no /summary group: not a rodend summary file")
@@ -164,8 +209,13 @@ class Case:
         self.index = int(study.summary["case_index"][row]) if "case_index" in study.summary else row
         self.status = text(study.summary["status"][row]) if "status" in study.summary else "ok"
         self._signals, self._units = {}, {}
+        verify_checksum(path, "case file")  # a damaged file never reaches HDF5
         with h5py.File(path, "r") as f:
             a = f.attrs
+            held = text(a.get("case_id", self.id))
+            if held != self.id:
+                raise CorruptFile(f"{path}: holds case {held}, not {self.id} (a case file "
+                                  "copied or moved under another case's name)")
             self.scene = text(a.get("scene", study.scene))
             self.status = text(a.get("status", self.status))
             self.message = text(a.get("message", ""))

@@ -47,7 +47,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from rodend_results import guess_features  # noqa: E402
+from rodend_results import guess_features, verify_checksum  # noqa: E402
 
 METRICS = ["first_contact_time", "first_impact_speed", "first_impact_peak_force",
            "max_contact_force", "wear_integral", "max_eccentricity", "final_surface_angle",
@@ -62,7 +62,9 @@ def run(rodend, study, root, threads):
 
 
 def summary(study_dir):
-    with h5py.File(os.path.join(study_dir, "summary.h5"), "r") as f:
+    path = os.path.join(study_dir, "summary.h5")
+    verify_checksum(path, "summary file")  # a damaged file never reaches HDF5
+    with h5py.File(path, "r") as f:
         g = f["summary"]
         out = {}
         for k in json.loads(g.attrs["columns"]):
@@ -80,14 +82,18 @@ def rows(study_dir):
 
 
 def history(study_dir, case_id, name):
-    with h5py.File(os.path.join(study_dir, "cases", case_id + ".h5"), "r") as f:
+    path = os.path.join(study_dir, "cases", case_id + ".h5")
+    verify_checksum(path)  # a damaged file never reaches HDF5
+    with h5py.File(path, "r") as f:
         return f["signals/time"][()], f["signals/" + name][()]
 
 
 def case_features(study_dir, case_id):
     """The features of a case's scene (root attribute features_json; guessed from the recorded
     signals for files written before it)."""
-    with h5py.File(os.path.join(study_dir, "cases", case_id + ".h5"), "r") as f:
+    path = os.path.join(study_dir, "cases", case_id + ".h5")
+    verify_checksum(path)  # a damaged file never reaches HDF5
+    with h5py.File(path, "r") as f:
         if "features_json" in f.attrs:
             v = f.attrs["features_json"]
             return set(json.loads(v.decode() if isinstance(v, bytes) else v))

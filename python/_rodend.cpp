@@ -56,6 +56,38 @@ py::dict record_dict(const CaseRecord& r) {
   return d;
 }
 
+/// The checks of run_case's `write` path, before anything runs: no NUL byte (the C library would
+/// cut the name there), and nothing under that name but a case file rodend wrote (its checksum
+/// holds): never a device, a directory, a link or a file of someone else's. The file itself is
+/// written as every results file (a fresh temporary file, then a rename).
+void check_write_path(const std::string& write, const std::string& origin) {
+  if (write.find('\0') != std::string::npos)
+    throw InputError("write", "the path contains a NUL byte; expected a file name", origin);
+  const std::filesystem::path path(write);
+  std::error_code ec;
+  const auto st = std::filesystem::symlink_status(path, ec);
+  if (st.type() == std::filesystem::file_type::not_found) return;
+  if (ec) throw InputError("write", write + ": " + ec.message(), origin);
+  if (st.type() != std::filesystem::file_type::regular)
+    throw InputError("write",
+                     write +
+                         " exists and is not a regular file (a device, a directory or a "
+                         "link); expected a new file or a case file rodend wrote",
+                     origin);
+  bool ours = false;
+  try {
+    ours = verify_case_file(path);
+  } catch (const std::exception&) {
+    ours = false;
+  }
+  if (!ours)
+    throw InputError("write",
+                     write +
+                         " exists and is not a case file rodend wrote; rodend never "
+                         "overwrites files it did not create: expected a new file name",
+                     origin);
+}
+
 /// Runs the one case of a study document; histories as numpy arrays. Writes its case file to
 /// `write` when given (the same file `rodend run` writes).
 py::dict py_run_case(const std::string& doc_text, const std::string& origin,
@@ -73,6 +105,7 @@ py::dict py_run_case(const std::string& doc_text, const std::string& origin,
                          " (use run_study for a grid)",
                      origin);
   const CaseSpec& spec = study.cases.front();
+  if (!write.empty()) check_write_path(write, origin);
   History h;
   CaseRecord rec;
   {

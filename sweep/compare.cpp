@@ -270,6 +270,8 @@ int compare_studies(const fs::path& a, const fs::path& b, const CompareSettings&
                std::string("case file missing in ") + (fs::exists(fa) ? "B" : "the reference"));
       continue;
     }
+    // each file intact and its case's own (not another case's file copied over it)
+    for (const fs::path& f : {fa, fb}) read_case_record_strict(f);
     const auto sig_a = list_signals(fa), sig_b = list_signals(fb);
     const std::set<std::string> set_a(sig_a.begin(), sig_a.end()),
         set_b(sig_b.begin(), sig_b.end());

@@ -18,14 +18,18 @@
 //   cases, is written by HDF5 through the sink driver (below), which latches a failure instead
 //   of reporting it to HDF5.
 // - Crash safety: a file is written under a hidden temporary name in its final directory
-//   (.<name>.tmp.<host>.<pid>.<counter>), closed, then renamed to its final name (atomic on
-//   POSIX). A failed write removes the temporary file and throws; a partially written file never
-//   appears under the final name. Case files are not fsync'd: one torn by an OS crash fails its
-//   checksum (below) and resume reruns it; summary.h5, summary.csv and their directory are.
-// - Integrity: a case file starts with a 512-byte HDF5 user block holding its checksum header,
-//   "RODEND-CHECKSUM 1\ncrc32 <8 hex>\nbytes <file size>\n" padded with NUL bytes: the CRC-32
-//   (zlib.crc32) of every byte after the user block and the file's size. verify_case_file checks
-//   it (resume, merge); HDF5 readers skip the user block.
+//   (.<name>.tmp.<host>.<pid>.<random>, created with O_EXCL|O_NOFOLLOW: never an existing
+//   file, never through a link, a name nobody can plant beforehand), closed, then renamed to
+//   its final name (atomic on POSIX; a link under the final name is replaced, not followed). A
+//   failed write removes the temporary file and throws; a partially written file never appears
+//   under the final name. Case files are not fsync'd: one torn by an OS crash fails its checksum
+//   (below) and resume reruns it; summary.h5, summary.csv and their directory are.
+// - Integrity: a case file and summary.h5 start with a 512-byte HDF5 user block holding the
+//   checksum header, "RODEND-CHECKSUM 1\ncrc32 <8 hex>\nbytes <file size>\n" padded with NUL
+//   bytes: the CRC-32 (zlib.crc32) of every byte after the user block and the file's size.
+//   verify_case_file and verify_summary_file check it (every byte of the block too) before any
+//   reader here opens the file with HDF5 (resume, merge, compare, report); HDF5 readers skip
+//   the user block.
 //
 // Case file layout (stable interface, schema_version 2; 1 is still read, see below):
 //   user block   512 bytes: the checksum header (Integrity, above)
@@ -44,14 +48,13 @@
 //                without a variable), so netCDF tools read the file as it is
 //   /metrics     one scalar double attribute per metric (catalogue name), NaN when not
 //                applicable; units_json = {"name": "unit"}
-// Summary: summary.h5 (group /summary, one 1-D dataset per column with units (not for text)
-// and long_name, case_index the dimension scale of the others, attribute columns = JSON array
-// of the names in order; root attribute summary_csv_crc32 (int64): the CRC-32 of the
-// summary.csv written with it) and summary.csv (one header line, one line per case, numbers as the
-// shortest decimal that reads back as the same double).
-// Schema 1 (before issue 22) named the attributes unit and description and had no dimension
-// scales; readers accept both.
-// All string attributes and string datasets are variable-length UTF-8.
+// Summary: summary.h5 (the checksum user block, group /summary, one 1-D dataset per column with
+// units (not for text) and long_name, case_index the dimension scale of the others, attribute
+// columns = JSON array of the names in order; root attribute summary_csv_crc32 (int64): the CRC-32
+// of the summary.csv written with it) and summary.csv (one header line, one line per case, numbers
+// as the shortest decimal that reads back as the same double). Schema 1 (before issue 22) named the
+// attributes unit and description and had no dimension scales; readers accept both. All string
+// attributes and string datasets are variable-length UTF-8.
 #include "sweep/results.hpp"
 #include "sweep/results_dir.hpp"
 
@@ -59,6 +62,7 @@
 #include <hdf5.h>
 #include <hdf5_hl.h>
 #include <libdeflate.h>
+#include <sys/random.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -365,14 +369,20 @@ std::string prov_text(const Json& prov, const char* key) {
 // ---------------------------------------------------------------------------------------------
 // Atomic file replacement
 
-/// `.<name>.tmp.<host>.<pid>.<counter>` beside `path`; unique within the process and across
-/// processes and hosts; a later run removes it when its writer is gone (sweep/results_dir.hpp).
+/// `.<name>.tmp.<host>.<pid>.<random>` beside `path`: the host and pid tell a later run whether
+/// its writer is gone (sweep/results_dir.hpp); the random part (64 bits from getrandom(2), in
+/// decimal) makes the name unpredictable, so that nobody can plant a link under it beforehand.
 fs::path temp_path_for(const fs::path& path) {
-  static std::atomic<unsigned long long> counter{0};
   static const std::string host = host_name();
+  std::uint64_t r = 0;
+  if (::getrandom(&r, sizeof r, 0) != static_cast<ssize_t>(sizeof r)) {
+    // no entropy source (very old kernels): the clock and a counter (O_EXCL still holds)
+    static std::atomic<std::uint64_t> counter{0};
+    r = static_cast<std::uint64_t>(clock_ns(CLOCK_REALTIME)) * 1000003u + counter.fetch_add(1);
+  }
   const std::string name = "." + path.filename().string() + ".tmp." + host + "." +
                            std::to_string(static_cast<long long>(::getpid())) + "." +
-                           std::to_string(counter.fetch_add(1));
+                           std::to_string(r);
   return path.parent_path() / name;
 }
 
@@ -423,19 +433,33 @@ class AtomicFile {
         throw std::runtime_error("cannot write " + what_ + " " + path_.string() +
                                  ": cannot create directory " + dir.string() + ": " + ec.message());
     }
-    temp_ = temp_path_for(path_);
-    // read-write: the summary's HDF5 driver reads back what it wrote (the sink driver)
-    fd_ = ::open(temp_.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-    if (fd_ < 0) fail("cannot create " + temp_.string(), errno);
+    // the directory, opened once: the temporary file is created, renamed and removed in it
+    // (*at calls), whatever happens to the path to it meanwhile
+    dir_fd_ = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dir_fd_ < 0)
+      throw std::runtime_error("cannot write " + what_ + " " + path_.string() +
+                               ": cannot open directory " + dir.string() + ": " +
+                               std::strerror(errno));
+    // created fresh (O_EXCL: never an existing file, never through a link) under a name
+    // nobody can guess; read-write: the summary's HDF5 driver reads back what it wrote
+    for (int attempt = 0; fd_ < 0; ++attempt) {
+      temp_ = temp_path_for(path_);
+      fd_ = ::openat(dir_fd_, temp_.filename().c_str(),
+                     O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+      const int err = errno;
+      if (fd_ < 0 && (err != EEXIST || attempt == 16)) {
+        ::close(dir_fd_);
+        throw std::runtime_error("cannot write " + what_ + " " + path_.string() +
+                                 ": cannot create " + temp_.string() + ": " + std::strerror(err));
+      }
+    }
   }
   AtomicFile(const AtomicFile&) = delete;
   AtomicFile& operator=(const AtomicFile&) = delete;
   ~AtomicFile() {
     if (fd_ >= 0) ::close(fd_);
-    if (!committed_) {
-      std::error_code ignored;
-      fs::remove(temp_, ignored);
-    }
+    if (!committed_) ::unlinkat(dir_fd_, temp_.filename().c_str(), 0);
+    ::close(dir_fd_);
   }
 
   void write(ByteSpan bytes) {
@@ -453,26 +477,21 @@ class AtomicFile {
     fd_ = -1;
     if (err != 0) fail("write error on " + temp_.string(), err);
   }
-  /// Renames the finished file over the final path (and, durable, flushes the directory, so
-  /// that the rename is there after an OS crash).
+  /// Renames the finished file over the final path, in the same directory (a link under the
+  /// final name is replaced, not followed), and, durable, flushes the directory, so that the
+  /// rename is there after an OS crash.
   void commit(bool durable) {
-    if (::rename(temp_.c_str(), path_.c_str()) != 0) fail("cannot rename " + temp_.string(), errno);
+    if (::renameat(dir_fd_, temp_.filename().c_str(), dir_fd_, path_.filename().c_str()) != 0)
+      fail("cannot rename " + temp_.string(), errno);
     committed_ = true;
-    if (!durable) return;
-    const fs::path dir = path_.parent_path();
-    const int dfd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (dfd >= 0) {
-      (void)::fsync(dfd);  // best effort: not every file system syncs a directory
-      ::close(dfd);
-    }
+    if (durable) (void)::fsync(dir_fd_);  // best effort: not every file system syncs a directory
   }
 
  private:
   [[noreturn]] void fail(const std::string& step, int err) {
     if (fd_ >= 0) ::close(fd_);
     fd_ = -1;
-    std::error_code ignored;
-    fs::remove(temp_, ignored);
+    if (!committed_) ::unlinkat(dir_fd_, temp_.filename().c_str(), 0);
     committed_ = true;  // nothing left to remove
     throw std::runtime_error("cannot write " + what_ + " " + path_.string() + ": " + step + ": " +
                              std::strerror(err));
@@ -480,6 +499,7 @@ class AtomicFile {
 
   fs::path path_, temp_;
   std::string what_;
+  int dir_fd_ = -1;
   int fd_ = -1;
   bool committed_ = false;
 };
@@ -493,6 +513,17 @@ void write_file_atomically(const fs::path& path, const std::string& what,
   file.finish(durable);
   file.commit(durable);
 }
+
+}  // namespace
+
+void write_text_file_atomically(const fs::path& path, const std::string& what,
+                                const std::string& text, bool durable) {
+  write_file_atomically(
+      path, what, {ByteSpan(reinterpret_cast<const unsigned char*>(text.data()), text.size())},
+      durable);
+}
+
+namespace {
 
 // ---------------------------------------------------------------------------------------------
 // In-memory HDF5 files
@@ -554,16 +585,18 @@ ByteSpan build_image(const Context& cx, hsize_t user_block, std::size_t estimate
 /// out): the checksum header "RODEND-CHECKSUM 1", then "crc32 <8 hex digits>" (CRC-32, as
 /// zlib.crc32, of every byte after the user block, the image) and "bytes <file size>", one per
 /// line, padded with NUL bytes to kUserBlock bytes.
+std::array<unsigned char, kUserBlock> checksum_header(std::uint32_t crc, std::size_t file_size) {
+  std::array<unsigned char, kUserBlock> header{};
+  std::snprintf(reinterpret_cast<char*>(header.data()), header.size(), "%scrc32 %08x\nbytes %zu\n",
+                std::string(kChecksumMagic).c_str(), static_cast<unsigned>(crc), file_size);
+  return header;
+}
 std::array<unsigned char, kUserBlock> checksum_header(ByteSpan image) {
   if (image.size() < sizeof kHdf5Signature ||
       std::memcmp(image.data(), kHdf5Signature, sizeof kHdf5Signature) != 0)
     throw std::logic_error("the HDF5 image of a case file does not start with its superblock");
-  const std::uint32_t crc = libdeflate_crc32(0, image.data(), image.size());
-  std::array<unsigned char, kUserBlock> header{};
-  std::snprintf(reinterpret_cast<char*>(header.data()), header.size(), "%scrc32 %08x\nbytes %zu\n",
-                std::string(kChecksumMagic).c_str(), static_cast<unsigned>(crc),
-                static_cast<std::size_t>(kUserBlock) + image.size());
-  return header;
+  return checksum_header(libdeflate_crc32(0, image.data(), image.size()),
+                         static_cast<std::size_t>(kUserBlock) + image.size());
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1495,13 +1528,32 @@ WriteFailureInjection::~WriteFailureInjection() {
   g_write_budget.store(-1);
 }
 
-bool verify_case_file(const fs::path& path) {
-  const auto corrupt = [&](const std::string& why) -> CorruptCaseFile {
-    return CorruptCaseFile("corrupt case file " + path.string() + ": " + why);
-  };
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+namespace {
+
+/// Reads `n` bytes at `offset` of `fd` into `buf`; throws naming `path` (CorruptFile `corrupt`
+/// when the file ends before them).
+void read_exactly(int fd, unsigned char* buf, std::size_t offset, std::size_t n,
+                  const fs::path& path, const std::string& corrupt) {
+  std::size_t got = 0;
+  while (got < n) {
+    const ssize_t r = ::pread(fd, buf + got, n - got, static_cast<off_t>(offset + got));
+    if (r < 0 && errno == EINTR) continue;
+    if (r < 0)
+      throw std::runtime_error("cannot read " + path.string() + ": " + std::strerror(errno));
+    if (r == 0) throw CorruptFile(corrupt + "shorter than it was a moment ago");
+    got += static_cast<std::size_t>(r);
+  }
+}
+
+/// The checksum of a case file or summary.h5 (`kind`: "case file", "summary file"): its user
+/// block must be exactly the header checksum_header writes (every byte of the 512, padding
+/// included), its size the one stated, the CRC-32 of the rest the one stated. False for a
+/// file without a user block (an HDF5 file written before checksums). Throws CorruptFile.
+bool verify_checksum(const fs::path& path, const std::string& kind) {
+  const std::string corrupt = "corrupt " + kind + " " + path.string() + ": ";
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0)
-    throw std::runtime_error("cannot read results file " + path.string() + ": " +
+    throw std::runtime_error("cannot read " + kind + " " + path.string() + ": " +
                              std::strerror(errno));
   struct FdCloser {
     int fd;
@@ -1509,44 +1561,37 @@ bool verify_case_file(const fs::path& path) {
   } closer{fd};
   struct stat st {};
   if (::fstat(fd, &st) != 0)
-    throw std::runtime_error("cannot read results file " + path.string() + ": " +
+    throw std::runtime_error("cannot read " + kind + " " + path.string() + ": " +
                              std::strerror(errno));
+  if (!S_ISREG(st.st_mode))
+    throw std::runtime_error("cannot read " + kind + " " + path.string() + ": not a regular file");
   const auto size = static_cast<std::size_t>(st.st_size);
   std::vector<unsigned char> buf(std::size_t{1} << 20);
-  const auto read_at = [&](std::size_t offset, std::size_t n) {
-    std::size_t got = 0;
-    while (got < n) {
-      const ssize_t r = ::pread(fd, buf.data() + got, n - got, static_cast<off_t>(offset + got));
-      if (r < 0 && errno == EINTR) continue;
-      if (r < 0)
-        throw std::runtime_error("cannot read results file " + path.string() + ": " +
-                                 std::strerror(errno));
-      if (r == 0) throw corrupt("shorter than it was a moment ago");
-      got += static_cast<std::size_t>(r);
-    }
-  };
   const std::size_t head = std::min<std::size_t>(size, kUserBlock);
-  read_at(0, head);
+  read_exactly(fd, buf.data(), 0, head, path, corrupt);
   if (head >= sizeof kHdf5Signature &&
       std::memcmp(buf.data(), kHdf5Signature, sizeof kHdf5Signature) == 0)
     return false;  // no user block: written before checksums (HDF5 checks what it can)
   if (head < kChecksumMagic.size() ||
       std::memcmp(buf.data(), kChecksumMagic.data(), kChecksumMagic.size()) != 0)
-    throw corrupt(size == 0 ? "empty file"
-                            : "no checksum header (\"RODEND-CHECKSUM\") and not an HDF5 file");
+    throw CorruptFile(corrupt + (size == 0 ? "empty file"
+                                           : "no checksum header (\"RODEND-CHECKSUM\") and not an "
+                                             "HDF5 file"));
   const std::string header(reinterpret_cast<const char*>(buf.data()), head);
   unsigned stored = 0;
   unsigned long long bytes = 0;
-  if (std::sscanf(header.c_str() + kChecksumMagic.size(), "crc32 %8x\nbytes %llu", &stored,
-                  &bytes) != 2)
-    throw corrupt("damaged checksum header");
+  if (head < kUserBlock ||
+      std::sscanf(header.c_str() + kChecksumMagic.size(), "crc32 %8x\nbytes %llu", &stored,
+                  &bytes) != 2 ||
+      std::memcmp(buf.data(), checksum_header(stored, bytes).data(), kUserBlock) != 0)
+    throw CorruptFile(corrupt + "damaged checksum header");
   if (bytes != size)
-    throw corrupt(std::to_string(size) + " bytes, its checksum header says " +
-                  std::to_string(bytes) + " (truncated or extended)");
+    throw CorruptFile(corrupt + std::to_string(size) + " bytes, its checksum header says " +
+                      std::to_string(bytes) + " (truncated or extended)");
   std::uint32_t crc = 0;
   for (std::size_t offset = kUserBlock; offset < size;) {
     const std::size_t n = std::min(buf.size(), size - offset);
-    read_at(offset, n);
+    read_exactly(fd, buf.data(), offset, n, path, corrupt);
     crc = libdeflate_crc32(crc, buf.data(), n);
     offset += n;
   }
@@ -1555,9 +1600,23 @@ bool verify_case_file(const fs::path& path) {
     std::snprintf(text, sizeof text,
                   "content does not match its checksum (CRC-32 %08x, stored %08x)",
                   static_cast<unsigned>(crc), stored);
-    throw corrupt(text);
+    throw CorruptFile(corrupt + text);
   }
   return true;
+}
+
+}  // namespace
+
+bool verify_case_file(const fs::path& path) {
+  try {
+    return verify_checksum(path, "case file");
+  } catch (const CorruptFile& e) {
+    throw CorruptCaseFile(e.what());
+  }
+}
+
+bool verify_summary_file(const fs::path& path) {
+  return verify_checksum(path, "summary file");
 }
 
 std::optional<CaseRecord> read_case_record(const fs::path& path) {
@@ -1583,7 +1642,13 @@ std::optional<CaseRecord> read_case_record_strict(const fs::path& path) {
   const bool verified = verify_case_file(path);  // outside the lock: reads the whole file
   Hdf5Lock lock;                                 // held for the whole open-read-close
   try {
-    return read_case_locked(path);
+    CaseRecord rec = read_case_locked(path);
+    // an intact file of another case copied under this name: not this case's result
+    if (rec.id != path.stem().string())
+      throw std::runtime_error("cannot read results file " + path.string() + ": it holds case " +
+                               rec.id + ", not " + path.stem().string() +
+                               " (a case file copied or moved under another case's name)");
+    return rec;
   } catch (const UnreadableVersion&) {
     throw;
   } catch (const std::exception& e) {
@@ -1602,6 +1667,11 @@ bool summary_csv_matches(const fs::path& dir) {
   if (!fs::is_regular_file(h5, ec)) return true;
   long long stored = -1;
   {
+    try {
+      verify_summary_file(h5);
+    } catch (const std::exception&) {
+      return true;  // damaged: left for read_summary (and repair_summary_csv) to report
+    }
     Hdf5Lock lock;
     const Context cx(h5, "cannot read summary");
     try {
@@ -1627,6 +1697,33 @@ bool summary_csv_matches(const fs::path& dir) {
   return static_cast<long long>(crc) == stored;
 }
 
+namespace {
+
+/// Writes the checksum header (checksum_header) into the user block of the summary.h5 HDF5 has
+/// just written to `h5`'s temporary file: the CRC-32 of every byte after the block.
+void seal_summary(AtomicFile& h5) {
+  struct stat st {};
+  if (::fstat(h5.fd(), &st) != 0) h5.fail_write(errno);
+  const auto size = static_cast<std::size_t>(st.st_size);
+  if (size < kUserBlock + sizeof kHdf5Signature)
+    throw std::logic_error("summary.h5 is shorter than its user block");
+  std::vector<unsigned char> buf(std::size_t{1} << 20);
+  std::uint32_t crc = 0;
+  for (std::size_t offset = kUserBlock; offset < size;) {
+    const std::size_t n = std::min(buf.size(), size - offset);
+    const ssize_t r = ::pread(h5.fd(), buf.data(), n, static_cast<off_t>(offset));
+    if (r < 0 && errno == EINTR) continue;
+    if (r <= 0) h5.fail_write(r < 0 ? errno : EIO);
+    crc = libdeflate_crc32(crc, buf.data(), static_cast<std::size_t>(r));
+    offset += static_cast<std::size_t>(r);
+  }
+  const auto header = checksum_header(crc, size);
+  if (const int err = write_all(h5.fd(), header.data(), header.size(), 0); err != 0)
+    h5.fail_write(err);
+}
+
+}  // namespace
+
 void write_summary(const fs::path& dir, const Study& study, const RecordSpool& rows,
                    const Json& prov) {
   const std::size_t row_count = rows.size();
@@ -1646,7 +1743,10 @@ void write_summary(const fs::path& dir, const Study& study, const RecordSpool& r
     Hdf5Lock lock;  // held for the whole create-write-close
     const Context cx(h5_path, "cannot write summary file");
     const Handle fapl = sink_access(cx, sink);
-    Handle file = cx.own(H5Fcreate(h5_path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()),
+    // the user block: the checksum header, written once HDF5 is done (seal_summary)
+    const Handle fcpl = cx.own(H5Pcreate(H5P_FILE_CREATE), H5Pclose, "cannot create the file");
+    cx.ok(H5Pset_userblock(fcpl.get(), kUserBlock), "cannot create the file");
+    Handle file = cx.own(H5Fcreate(h5_path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()),
                          H5Fclose, "cannot create the file");
     Handle root = cx.own(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose, "no root");
     const hid_t g = root.get();
@@ -1714,6 +1814,7 @@ void write_summary(const fs::path& dir, const Study& study, const RecordSpool& r
     throw;
   }
   if (sink.error != 0) h5.fail_write(sink.error);
+  seal_summary(h5);
   csv.finish(/*durable=*/true);
   h5.finish(/*durable=*/true);
   h5.commit(/*durable=*/true);
@@ -1882,7 +1983,7 @@ struct RecordSpool::Impl {
 RecordSpool::RecordSpool(const fs::path& dir, std::size_t slots) : impl_(std::make_unique<Impl>()) {
   impl_->summary = dir / "summary.h5";
   const fs::path path = temp_path_for(dir / "summary-rows");
-  impl_->fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  impl_->fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
   if (impl_->fd < 0)
     throw std::runtime_error("cannot write summary file " + impl_->summary.string() +
                              ": cannot create its rows' spool " + path.string() + ": " +
@@ -1976,6 +2077,7 @@ SummaryTable read_summary(const fs::path& dir) {
   const fs::path path = dir / "summary.h5";
   if (!fs::exists(path))
     throw std::runtime_error(dir.string() + " is not a rodend study: no summary.h5");
+  verify_summary_file(path);  // never hands a damaged file to HDF5
   Hdf5Lock lock;
   const Context cx(path, "cannot read summary");
   Handle file =
@@ -2020,6 +2122,7 @@ bool repair_summary_csv(const fs::path& dir) {
     throw std::runtime_error(dir.string() + " is not a rodend study: no summary.h5");
   // summary.csv again from summary.h5, a block of rows at a time (as write_summary wrote it),
   // kept only if its CRC-32 is the one summary.h5 was written with
+  verify_summary_file(h5);
   AtomicFile csv(dir / "summary.csv", "summary file");
   std::uint32_t crc = 0;
   long long stored = -1;
@@ -2068,7 +2171,41 @@ bool repair_summary_csv(const fs::path& dir) {
   return true;
 }
 
+namespace {
+
+/// verify_case_file, once per version of a file in this process: compare opens a case file
+/// once per signal, and checks it the first time only. A file changed since (another inode,
+/// size, modification or status-change time) is checked again.
+void verify_case_file_once(const fs::path& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) {
+    verify_case_file(path);  // reports why it cannot be read
+    return;
+  }
+  using Key = std::array<long long, 7>;
+  const Key key{static_cast<long long>(st.st_dev),
+                static_cast<long long>(st.st_ino),
+                static_cast<long long>(st.st_size),
+                st.st_mtim.tv_sec,
+                st.st_mtim.tv_nsec,
+                st.st_ctim.tv_sec,
+                st.st_ctim.tv_nsec};
+  static std::mutex mutex;
+  static std::set<Key> verified;
+  {
+    const std::lock_guard lock(mutex);
+    if (verified.count(key)) return;
+  }
+  verify_case_file(path);
+  const std::lock_guard lock(mutex);
+  if (verified.size() >= 4096) verified.clear();  // memory that does not grow with the cases
+  verified.insert(key);
+}
+
+}  // namespace
+
 std::vector<std::string> list_signals(const fs::path& case_file) {
+  verify_case_file_once(case_file);  // never hands a damaged file to HDF5
   Hdf5Lock lock;
   const Context cx(case_file, "cannot read case file");
   Handle file = cx.own(H5Fopen(case_file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose,
@@ -2085,6 +2222,7 @@ std::vector<std::string> list_signals(const fs::path& case_file) {
 }
 
 SignalData read_signal(const fs::path& case_file, const std::string& name) {
+  verify_case_file_once(case_file);  // never hands a damaged file to HDF5
   Hdf5Lock lock;
   const Context cx(case_file, "cannot read case file");
   Handle file = cx.own(H5Fopen(case_file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose,

@@ -113,18 +113,35 @@ Json provenance(const Study& study);
 void write_case_file(const std::filesystem::path& path, const CaseSpec& spec,
                      const CaseRecord& record, const History& history, const Json& provenance);
 
-/// A case file whose bytes are damaged: its content does not match the checksum in its header,
+/// A results file whose bytes are damaged (CorruptFile: a case file or summary.h5;
+/// CorruptCaseFile: a case file): its content does not match the checksum in its header,
 /// it is shorter or longer than written, or it is not a case file at all (no checksum header
 /// and not HDF5; an HDF5 file of an older rodend, without a checksum, that HDF5 cannot read).
-class CorruptCaseFile : public std::runtime_error {
+class CorruptFile : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+};
+class CorruptCaseFile : public CorruptFile {
+ public:
+  using CorruptFile::CorruptFile;
 };
 
 /// Checks the checksum of a case file (docs/signals.md, "Checksum"): true when it holds, false
 /// for a file written before checksums (no user block: nothing to check). Throws
 /// CorruptCaseFile naming the file and the damage, std::runtime_error when it cannot be read.
 bool verify_case_file(const std::filesystem::path& case_file);
+
+/// Checks the checksum of summary.h5 (the same header as a case file's): true when it holds,
+/// false for a summary written before checksums. Throws CorruptFile naming the file and the
+/// damage, std::runtime_error when it cannot be read.
+bool verify_summary_file(const std::filesystem::path& summary_h5);
+
+/// Writes `text` to `path` atomically: a fresh file (O_EXCL, O_NOFOLLOW) under an unpredictable
+/// temporary name in the same directory, then renamed over `path` (flushed to the disk when
+/// `durable`). A link under `path` is replaced, never followed. Throws std::runtime_error
+/// naming `what` and `path`; `path` is then left as it was.
+void write_text_file_atomically(const std::filesystem::path& path, const std::string& what,
+                                const std::string& text, bool durable);
 
 /// Reads the record of a complete case file; nullopt if the file is missing, unreadable or
 /// corrupt.

@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <array>
@@ -61,6 +62,64 @@ int remove_stale_temporaries(const fs::path& dir) {
     if (fs::remove(it->path(), ignored)) ++removed;
   }
   return removed;
+}
+
+/// Creates the marker file of a results directory rodend created (never through a link: a
+/// planted one is refused).
+void write_marker(const fs::path& marker, const std::string& study_file) {
+  static const char text[] =
+      "This directory holds rodend results; rodend created it and may write here.\n";
+  std::error_code ignored;
+  if (fs::is_regular_file(fs::symlink_status(marker, ignored))) return;  // there already
+  const int fd = ::open(marker.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    const int err = errno;
+    std::error_code ec;
+    if (err == EEXIST && fs::is_regular_file(fs::symlink_status(marker, ec))) return;
+    throw InputError("output",
+                     err == EEXIST ? marker.string() +
+                                         " exists and is not a regular file (a link?); "
+                                         "rodend writes its marker there: remove it"
+                                   : "the results directory " + marker.parent_path().string() +
+                                         " is not writable (cannot create " + marker.string() +
+                                         ": " + std::strerror(err) + ")",
+                     study_file);
+  }
+  const bool ok = ::write(fd, text, sizeof text - 1) == static_cast<ssize_t>(sizeof text - 1);
+  if (::close(fd) != 0 || !ok)
+    throw InputError("output",
+                     "the results directory " + marker.parent_path().string() + " is not writable",
+                     study_file);
+}
+
+/// Opens (creating it if needed) the lock file `lock_path`: never through a symbolic link, and
+/// only a regular file with no other name (a hard link planted there would have its other
+/// name's content replaced by the holder's name). Refused otherwise (InputError, exit 2).
+int open_lock_file(const fs::path& lock_path, const std::string& study_file) {
+  const int fd =
+      ::open(lock_path.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    const int err = errno;
+    throw InputError("output",
+                     err == ELOOP ? "the lock file " + lock_path.string() +
+                                        " is a symbolic link; rodend never writes through a "
+                                        "link: remove it (rodend creates the lock file itself)"
+                                  : "the results directory " + lock_path.parent_path().string() +
+                                        " is not writable (cannot create its lock file " +
+                                        lock_path.string() + ": " + std::strerror(err) + ")",
+                     study_file);
+  }
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || st.st_nlink != 1) {
+    ::close(fd);
+    throw InputError("output",
+                     "the lock file " + lock_path.string() +
+                         " is not a regular file of its own (a device, or a hard link to another "
+                         "file); rodend never writes into it: remove it (rodend creates the "
+                         "lock file itself)",
+                     study_file);
+  }
+  return fd;
 }
 
 }  // namespace
@@ -135,24 +194,12 @@ std::unique_ptr<ResultsLock> ResultsLock::claim(const fs::path& dir, const std::
     throw InputError("output",
                      "cannot create the results directory " + dir.string() + ": " + ec.message(),
                      study_file);
-  if (!fs::exists(marker)) {
-    std::ofstream out(marker);
-    out << "This directory holds rodend results; rodend created it and may write here.\n";
-    if (!out.flush())
-      throw InputError("output", "the results directory " + dir.string() + " is not writable",
-                       study_file);
-  }
+  write_marker(marker, study_file);
 
   // the lock: flock on a file of its own, held until the run ends (closing the descriptor, or
   // the process's death, releases it)
   const fs::path lock_path = dir / lock_name;
-  const int fd = ::open(lock_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (fd < 0)
-    throw InputError("output",
-                     "the results directory " + dir.string() +
-                         " is not writable (cannot create its lock file " + lock_name + ": " +
-                         std::strerror(errno) + ")",
-                     study_file);
+  const int fd = open_lock_file(lock_path, study_file);
   if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
     const int err = errno;
     if (err != EWOULDBLOCK) {

@@ -37,26 +37,10 @@ std::string format_duration(double s) {
   return buf;
 }
 
-/// Writes `text` to `path` via a temporary file and a rename.
+/// Writes `text` to `path` atomically, as every results file (write_text_file_atomically: a
+/// fresh file under an unpredictable temporary name, never through a link, then a rename).
 void write_text_atomically(const fs::path& path, const std::string& text) {
-  // built with += : GCC 12 warns falsely (-Wrestrict) on "." + std::string temporaries
-  std::string name = ".";
-  name += path.filename().string();
-  name += ".tmp.";
-  // host and pid: shards on different nodes may write the same study.json at once; the form
-  // .<name>.tmp.<host>.<pid>.<n> of every rodend temporary (sweep/results_dir.hpp)
-  name += host_name();
-  name += ".";
-  name += std::to_string(::getpid());
-  name += ".0";
-  const fs::path tmp = path.parent_path() / name;
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot write " + tmp.string());
-    out << text;
-    if (!out.flush()) throw std::runtime_error("cannot write " + tmp.string());
-  }
-  fs::rename(tmp, path);
+  write_text_file_atomically(path, "study file", text, /*durable=*/false);
 }
 
 /// SIGINT / SIGTERM during a run: the first stops the run from taking new cases (the cases in

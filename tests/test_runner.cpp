@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -170,6 +171,8 @@ TEST_CASE("a full disk (injected write failure) stops the run with one message",
   REQUIRE(run_study(ref, opt) == 0);
   const auto case_size =
       static_cast<long long>(fs::file_size(ref.output_dir / "cases" / (ref.cases[0].id + ".h5")));
+  // study.json goes first, through the same writer (and the same injected budget)
+  const auto study_json = static_cast<long long>(fs::file_size(ref.output_dir / "study.json"));
   long long all_cases = 0;
   for (const CaseSpec& c : ref.cases)
     all_cases += static_cast<long long>(fs::file_size(ref.output_dir / "cases" / (c.id + ".h5")));
@@ -178,7 +181,7 @@ TEST_CASE("a full disk (injected write failure) stops the run with one message",
   const fs::path cases = study.output_dir / "cases";
   SECTION("while writing a case file") {
     {
-      const WriteFailureInjection full(case_size + 100);  // room for case 0, not for case 1
+      const WriteFailureInjection full(study_json + case_size + 100);  // case 0, not case 1
       try {
         run_study(study, opt);
         FAIL("the run did not report the full disk");
@@ -202,7 +205,7 @@ TEST_CASE("a full disk (injected write failure) stops the run with one message",
   }
   SECTION("while writing the summary") {
     {
-      const WriteFailureInjection full(all_cases + 100);  // every case file, not summary.h5
+      const WriteFailureInjection full(study_json + all_cases + 100);  // not summary.h5
       CHECK_THROWS_WITH(run_study(study, opt), Catch::Contains("cannot write summary file") &&
                                                    Catch::Contains("No space left on device"));
     }
@@ -257,4 +260,91 @@ TEST_CASE("a case file with one byte changed fails its checksum", "[runner][faul
   CHECK_THROWS_AS(verify_case_file(file), CorruptCaseFile);
   CHECK_THROWS_AS(read_case_record_strict(file), CorruptCaseFile);
   CHECK_FALSE(read_case_record(file).has_value());
+}
+
+// issue 37: a bit flipped anywhere, the checksum header's padding included, is caught
+TEST_CASE("a case file with one bit flipped in its checksum header fails its checksum",
+          "[runner][faults]") {
+  TempDir tmp;
+  const Study study = three_drops(tmp.path(), "dopri5");
+  RunOptions opt;
+  opt.progress = false;
+  REQUIRE(run_study(study, opt) == 0);
+  const fs::path file = study.output_dir / "cases" / (study.cases[0].id + ".h5");
+  std::string bytes = file_text(file);
+  const std::size_t at = GENERATE(0, 20, 30, 60, 100, 300, 511);  // the header, its padding
+  const int bit = GENERATE(0, 5);
+  bytes[at] = static_cast<char>(bytes[at] ^ (1 << bit));
+  std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes;
+  CHECK_THROWS_AS(verify_case_file(file), CorruptCaseFile);
+  CHECK_THROWS_WITH(read_signal(file, "time"),
+                    Catch::Contains("corrupt case file") && Catch::Contains(file.string()));
+  CHECK_THROWS_WITH(list_signals(file), Catch::Contains("corrupt case file"));
+}
+
+TEST_CASE("summary.h5 carries a checksum that every reader checks", "[runner][faults]") {
+  TempDir tmp;
+  const Study study = three_drops(tmp.path(), "dopri5");
+  RunOptions opt;
+  opt.progress = false;
+  REQUIRE(run_study(study, opt) == 0);
+  const fs::path file = study.output_dir / "summary.h5";
+  REQUIRE(verify_summary_file(file));
+  REQUIRE(read_summary(study.output_dir).rows == 3);
+  std::string bytes = file_text(file);
+  const std::size_t at = GENERATE(0, 40, 300, 600, 2000, 5000);
+  REQUIRE(at < bytes.size());
+  const std::size_t last = bytes.size() - 1;
+  for (const std::size_t where : {at, last}) {
+    std::string damaged = bytes;
+    damaged[where] = static_cast<char>(damaged[where] ^ 0x10);
+    std::ofstream(file, std::ios::binary | std::ios::trunc) << damaged;
+    CHECK_THROWS_AS(verify_summary_file(file), CorruptFile);
+    CHECK_THROWS_WITH(read_summary(study.output_dir),
+                      Catch::Contains("corrupt summary file " + file.string()));
+    // the pair check leaves a damaged summary.h5 to the readers; merge rebuilds it
+    CHECK(summary_csv_matches(study.output_dir));
+  }
+  std::ostringstream report;
+  CHECK(merge_study(study, report) == 0);
+  CHECK(verify_summary_file(file));
+}
+
+TEST_CASE("merge refuses an intact case file under another case's name", "[runner][faults]") {
+  TempDir tmp;
+  const Study study = three_drops(tmp.path(), "dopri5");
+  RunOptions opt;
+  opt.progress = false;
+  REQUIRE(run_study(study, opt) == 0);
+  const fs::path cases = study.output_dir / "cases";
+  const fs::path other = cases / (study.cases[1].id + ".h5");
+  fs::copy_file(cases / (study.cases[0].id + ".h5"), other, fs::copy_options::overwrite_existing);
+  const std::string summary = file_text(study.output_dir / "summary.h5");
+  std::ostringstream report;
+  CHECK(merge_study(study, report) == 1);
+  CHECK_THAT(report.str(),
+             Catch::Contains(other.string()) && Catch::Contains("holds case " + study.cases[0].id));
+  CHECK(file_text(study.output_dir / "summary.h5") == summary);  // no summary written
+  CHECK_THROWS_WITH(read_case_record_strict(other), Catch::Contains("holds case"));
+}
+
+TEST_CASE("a link planted at the lock file is refused, never written through", "[runner][faults]") {
+  TempDir tmp;
+  const Study study = three_drops(tmp.path(), "dopri5");
+  RunOptions opt;
+  opt.progress = false;
+  REQUIRE(run_study(study, opt) == 0);
+  const fs::path precious = tmp.path() / "precious.txt";
+  std::ofstream(precious) << "precious\n";
+  const fs::path lock = study.output_dir / ".rodend.lock";
+  fs::remove(lock);
+  const bool hard = GENERATE(false, true);
+  if (hard)
+    fs::create_hard_link(precious, lock);
+  else
+    fs::create_symlink(precious, lock);
+  CHECK_THROWS_WITH(run_study(study, opt), Catch::Contains(lock.string()));
+  std::ostringstream report;
+  CHECK_THROWS_WITH(merge_study(study, report), Catch::Contains(lock.string()));
+  CHECK(file_text(precious) == "precious\n");
 }

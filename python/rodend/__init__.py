@@ -29,7 +29,8 @@ import os
 import sys
 
 __all__ = ["InputError", "run_case", "run_study", "load_study", "open_results", "Case",
-           "Results", "schema", "scenes", "parameters", "signal_catalogue", "analyze"]
+           "Results", "CorruptFile", "schema", "scenes", "parameters", "signal_catalogue",
+           "analyze"]
 
 
 def _load_extension():
@@ -164,15 +165,17 @@ def _overrides(s):
 def open_results(folder, signals=None):
     """The results of a study folder (results/<study>, as `rodend run` wrote it): a Results with
     .summary (pandas.DataFrame) and .histories (xarray.Dataset over the grid axes and time,
-    read on first use; `signals` limits which)."""
+    read on first use; `signals` limits which). Every file is checked before HDF5 reads it:
+    a damaged summary.h5 or case file, or a case file under another case's name, raises
+    rodend.CorruptFile (a ValueError) naming it; a missing case file, FileNotFoundError."""
     from . import results
     return results.Results(folder, signals=signals)
 
 
 def __getattr__(name):
-    if name == "Results":
-        from .results import Results
-        return Results
+    if name in ("Results", "CorruptFile"):
+        from . import results
+        return getattr(results, name)
     if name == "analyze":
         # the analysis of a designed study (issue 30; rodend/analysis/run.py), imported on first
         # use: it needs openturns and matplotlib, which nothing else of the module does

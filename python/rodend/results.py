@@ -10,6 +10,50 @@ import h5py
 import numpy as np
 
 
+_USER_BLOCK = 512
+_MAGIC = b"RODEND-CHECKSUM 1\n"
+_HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
+
+
+class CorruptFile(ValueError):
+    """A results file (case file or summary.h5) whose bytes are damaged; the message names it."""
+
+
+def verify_checksum(path, kind="case file"):
+    """Checks the checksum header of a case file or summary.h5 (docs/results.md, "Crash
+    safety") before any HDF5 reader sees the file: the 512-byte user block exactly as rodend
+    writes it, the size it states, the CRC-32 of the rest. True when it holds, False for a
+    file without a user block (written before checksums); raises CorruptFile naming the file."""
+    import re
+    import zlib
+    bad = f"corrupt {kind} {os.fspath(path)}: "
+    with open(path, "rb") as fh:
+        head = fh.read(_USER_BLOCK)
+        if head[:8] == _HDF5_SIGNATURE:
+            return False
+        if not head.startswith(_MAGIC):
+            raise CorruptFile(bad + ("empty file" if not head else
+                                     'no checksum header ("RODEND-CHECKSUM") and not an HDF5 file'))
+        m = re.match(rb"crc32 ([0-9a-f]{8})\nbytes ([0-9]+)\n", head[len(_MAGIC):])
+        if len(head) < _USER_BLOCK or not m:
+            raise CorruptFile(bad + "damaged checksum header")
+        stored, size = int(m.group(1), 16), int(m.group(2))
+        expected = (_MAGIC + b"crc32 %08x\nbytes %d\n" % (stored, size)).ljust(_USER_BLOCK, b"\0")
+        if head != expected:
+            raise CorruptFile(bad + "damaged checksum header")
+        actual = os.fstat(fh.fileno()).st_size
+        if actual != size:
+            raise CorruptFile(bad + f"{actual} bytes, its checksum header says {size} "
+                              "(truncated or extended)")
+        crc = 0
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            crc = zlib.crc32(block, crc)
+    if crc != stored:
+        raise CorruptFile(bad + f"content does not match its checksum (CRC-32 {crc:08x}, "
+                          f"stored {stored:08x})")
+    return True
+
+
 def _text(v):
     if isinstance(v, (bytes, np.bytes_)):
         return v.decode("utf-8", "replace")
@@ -56,6 +100,7 @@ class Results:
         self._signals = signals
         self._histories = None
         study_json = os.path.join(self.folder, "study.json")
+        verify_checksum(path, "summary file")  # a damaged file never reaches HDF5
         with h5py.File(path, "r") as f:
             g = f["summary"]
             names = json.loads(_text(g.attrs["columns"]))
@@ -119,16 +164,24 @@ class Results:
         for cid in s["case_id"]:
             path = self.case_file(cid)
             data = {}
-            if os.path.isfile(path):
-                with h5py.File(path, "r") as f:
-                    g = f["signals"]
-                    wanted = list(g) if self._signals is None else \
-                        ["time"] + [n for n in self._signals if n != "time"]
-                    for n in wanted:
-                        if n in g:
-                            data[n] = g[n][()]
-                            units.setdefault(n, _units(g[n]))
-                            long_names.setdefault(n, _long_name(g[n]))
+            if not os.path.isfile(path):
+                # reported, never shown as NaN histories of a case the summary lists
+                raise FileNotFoundError(f"{path}: the case file of case {cid} (a row of "
+                                        f"{self.folder}/summary.h5) is missing")
+            verify_checksum(path, "case file")  # a damaged file never reaches HDF5
+            with h5py.File(path, "r") as f:
+                held = _text(f.attrs.get("case_id", ""))
+                if held != cid:
+                    raise CorruptFile(f"{path}: holds case {held}, not {cid} (a case file "
+                                      "copied or moved under another case's name)")
+                g = f["signals"]
+                wanted = list(g) if self._signals is None else \
+                    ["time"] + [n for n in self._signals if n != "time"]
+                for n in wanted:
+                    if n in g:
+                        data[n] = g[n][()]
+                        units.setdefault(n, _units(g[n]))
+                        long_names.setdefault(n, _long_name(g[n]))
             per_case.append(data)
 
         times = [c["time"] for c in per_case if "time" in c]

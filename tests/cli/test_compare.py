@@ -8,7 +8,7 @@ import tempfile
 
 import h5py
 
-from common import check, finish, run, write_study
+from common import check, finish, reseal, run, write_study
 
 with tempfile.TemporaryDirectory() as tmp:
     study = write_study(os.path.join(tmp, "c.json"), {
@@ -36,6 +36,7 @@ with tempfile.TemporaryDirectory() as tmp:
         v[1] *= 1.02
         col[...] = v
         case = f["summary/case_id"][1].decode()
+    reseal(os.path.join(b, "summary.h5"))  # a changed result, not a damaged file
     tol = os.path.join(tmp, "tol.json")
     json.dump({"metrics": {"max_contact_force": {"rel": 0.01, "abs": 0.0}}}, open(tol, "w"))
     r = run(["compare", a, b, "--tolerances", tol])
@@ -64,6 +65,7 @@ with tempfile.TemporaryDirectory() as tmp:
         v = d[()]
         v[5, 1] += 1e-6
         d[...] = v
+    reseal(os.path.join(h, "cases", cases[0]))
     r = run(["compare", a, h])
     check(r.returncode == 1 and "ball_position[1]" in r.stdout, f"history change: {r.returncode}\n{r.stdout}")
     r = run(["compare", a, h, "--summary-only"])

@@ -13,7 +13,7 @@ import tempfile
 
 import h5py
 
-from common import check, finish, run, write_study
+from common import check, finish, reseal, run, write_study
 
 PLOTS = os.path.abspath(sys.argv[1])
 SCRIPT = os.path.join(PLOTS, "plot_study.py")
@@ -194,6 +194,7 @@ with tempfile.TemporaryDirectory() as tmp:
                 del f.attrs["features_json"]
                 if features is not None:
                     f.attrs["features_json"] = features
+            reseal(path)  # a file of another rodend version, not a damaged one
         expect_figures(f"gravity-drop, {what}", plot([copy]), os.path.join(copy, "plots"), drawn)
 
     # only two signals recorded: no crash, only the figure that fits
