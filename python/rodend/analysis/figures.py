@@ -20,7 +20,9 @@ def _save(fig, folder, name):
 
 
 def _short(key):
-    return key.split(".")[-1] if key.startswith("parameters.") else key
+    """A factor's label: its key without "parameters." (slider_spring.stiffness and
+    crank_spring.stiffness must stay two labels)."""
+    return key[len("parameters."):] if key.startswith("parameters.") else key
 
 
 def indices(folder, name, title, keys, sets):
