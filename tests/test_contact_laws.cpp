@@ -276,7 +276,7 @@ TEST_CASE("thesis friction law: slope continuous at v_st and v_dyn, falling betw
   // step carries the base values mu_st - mu_v v_st to mu_dyn - mu_v v_dyn, so its slope at
   // mid-blend is mu_v - 1.5 (their difference) / (v_dyn - v_st), -7.5 s/m without the viscous
   // term: the negative damping that makes a loaded contact break away (a Jacobian eigenvalue
-  // of +2.3e5 1/s at 3 mm/s and 937 N in rod-end-actuator)
+  // of +1.8e5 1/s at 3 mm/s and 933 N in rod-end-actuator, rodend-eigen --breakaway)
   const double mid = 0.5 * (f.static_speed + f.dynamic_speed), dv = 1e-8;
   const double falling = (law->coefficient(mid + dv) - law->coefficient(mid - dv)) / (2 * dv);
   const double drop = 1.5 *
