@@ -241,6 +241,78 @@ TEST_CASE("thesis friction law: 0 at rest, mu_st at v_st, mu_dyn at v_dyn, conti
   CHECK(law->coefficient(3e-3) > f.dynamic_coefficient);
 }
 
+TEST_CASE("thesis friction law: slope continuous at v_st and v_dyn, falling between them",
+          "[friction]") {
+  // issue 34: the pieces of eq. 3.9-3.10 join with the same value and the same slope (each
+  // cubic step is flat at both its ends), so neither join is a kink; what makes loaded cases
+  // slow is the falling blend between the joins (docs/performance.md, "The thesis friction
+  // law under a sustained hinge moment")
+  const double mu_v = GENERATE(0.0, 0.5);  // without and with the viscous term [s/m]
+  FrictionParams f;
+  f.law = "thesis";
+  f.static_coefficient = 0.12;
+  f.dynamic_coefficient = 0.1;
+  f.static_speed = 1e-3;
+  f.dynamic_speed = 5e-3;
+  f.viscous_coefficient = mu_v;
+  const auto law = make_friction_law(f);
+  REQUIRE(law);
+  CAPTURE(mu_v);
+  // one-sided difference quotients over h: each differs from the one-sided derivative by at
+  // most |mu''| h / 2, |mu''| <= 6 (rise / width^2) = 3.6e5 s^2/m^2 on the static step, so
+  // 1.8e-4 s/m at h = 1e-9 m/s, plus round-off 2 eps mu / h ~ 6e-8 s/m. A kink would show as
+  // the one-sided slopes differing by the blends' own slopes, 180 or 7.5 s/m.
+  const double h = 1e-9;
+  const double bound =
+      0.5 * 6.0 * 2 * f.static_coefficient / std::pow(2 * f.static_speed, 2) * h + 1e-6;
+  for (const double join : {f.static_speed, f.dynamic_speed}) {
+    CAPTURE(join);
+    const double left = (law->coefficient(join) - law->coefficient(join - h)) / h;
+    const double right = (law->coefficient(join + h) - law->coefficient(join)) / h;
+    CHECK(std::abs(left - mu_v) <= bound);  // flat ends of both cubic steps, plus mu_v
+    CHECK(std::abs(right - mu_v) <= bound);
+  }
+  // between the joins mu falls from mu_st to mu_dyn (the Stribeck drop of eq. 3.9): the cubic
+  // step carries the base values mu_st - mu_v v_st to mu_dyn - mu_v v_dyn, so its slope at
+  // mid-blend is mu_v - 1.5 (their difference) / (v_dyn - v_st), -7.5 s/m without the viscous
+  // term: the negative damping that makes a loaded contact break away (a Jacobian eigenvalue
+  // of +1.8e5 1/s at 3 mm/s and 933 N in rod-end-actuator, rodend-eigen --breakaway)
+  const double mid = 0.5 * (f.static_speed + f.dynamic_speed), dv = 1e-8;
+  const double falling = (law->coefficient(mid + dv) - law->coefficient(mid - dv)) / (2 * dv);
+  const double drop = 1.5 *
+                      ((f.static_coefficient - mu_v * f.static_speed) -
+                       (f.dynamic_coefficient - mu_v * f.dynamic_speed)) /
+                      (f.dynamic_speed - f.static_speed);
+  CHECK(falling == Approx(mu_v - drop).epsilon(1e-6));
+}
+
+TEST_CASE("thesis friction law: the sliding force above v_dyn", "[friction]") {
+  // what the law gives in sliding, pinned in closed form: F_t = -(mu_dyn + mu_v (v - v_dyn))
+  // F_n v_t/|v_t| at every slip speed above v_dyn (eq. 3.9; any change to the blends below
+  // v_dyn must leave this as it is)
+  const double mu_v = GENERATE(0.0, 0.5);
+  const double v = GENERATE(5.0001e-3, 6e-3, 1e-2, 0.1, 1.0);
+  FrictionParams fp;
+  fp.law = "thesis";
+  fp.static_coefficient = 0.12;
+  fp.dynamic_coefficient = 0.1;
+  fp.static_speed = 1e-3;
+  fp.dynamic_speed = 5e-3;
+  fp.viscous_coefficient = mu_v;
+  ClearanceContactModel m = steel_model(0.0);
+  m.friction = make_friction_law(fp);
+  CAPTURE(mu_v, v);
+  // ball pressed 1 um into the wall along +x, sliding along y and z
+  const Vec3 vt = v * Vec3(0.0, 0.6, 0.8);
+  const ContactEval e = evaluate_contact(m, ball_at(m, 1e-6, 0.0, vt),
+                                         BodyKinematics::fixed(Vec3::Zero()), {true, 1e-3});
+  REQUIRE(e.normal_force > 0.0);
+  const double mu = fp.dynamic_coefficient + mu_v * (v - fp.dynamic_speed);
+  const Vec3 expected = -mu * e.normal_force * Vec3(0.0, 0.6, 0.8);
+  CHECK((e.friction_on_ball - expected).norm() <= 1e-13 * expected.norm());
+  CHECK(e.friction_power == Approx(mu * e.normal_force * v).epsilon(1e-13));
+}
+
 TEST_CASE("friction opposes the slip with mu F_n", "[friction]") {
   FrictionParams fp;
   fp.law = "thesis";
