@@ -57,15 +57,27 @@ def make(folder, method, d, cases, seed=7):
     ys, status = metrics(x, np.random.default_rng(seed))
     fx.write_folder(folder, design, x, ys, status=status,
                     units={"y1": "N", "y2": "J", "y3": "rad"})
-    return folder
+    return folder, x
 
 
-def timed(folder, bootstrap):
+def write_histories(folder, x, samples):
+    """A case file per case: time (samples over 1 s), a scalar signal s = x1 sin(2 pi t) + x2 t
+    [m] and a vector v = (s, 2 s, x3) [N]."""
+    t = np.linspace(0.0, 1.0, samples)
+    for i, row in enumerate(x):
+        s = row[0] * np.sin(2 * np.pi * t) + row[1] * t
+        fx.write_case(folder, f"c{i:06d}", t,
+                      {"s": s, "v": np.column_stack([s, 2 * s, np.full_like(t, row[2])])},
+                      {"s": "m", "v": "N"})
+
+
+def timed(folder, bootstrap, histories=False):
     env = dict(os.environ, MPLBACKEND="Agg")
+    extra = ["--history", "s", "--history", "v"] if histories else []
     t0 = time.perf_counter()
     r = subprocess.run([sys.executable, "-m", "rodend.analyze", folder, "--bootstrap",
                         str(bootstrap), "--threshold", "y1=10", "--threshold", "y2=5",
-                        "--threshold", "y3=5"], capture_output=True, text=True, env=env)
+                        "--threshold", "y3=5"] + extra, capture_output=True, text=True, env=env)
     wall = time.perf_counter() - t0
     if r.returncode:
         sys.exit(f"analysis failed: {r.stderr}")
@@ -121,6 +133,9 @@ def main():
     p.add_argument("--bootstrap", type=int, default=200)
     p.add_argument("--widths", action="store_true")
     p.add_argument("--keep", help="write the folders here and keep them")
+    p.add_argument("--histories", type=int, default=0, metavar="SAMPLES",
+                   help="also write a case file per case of the saltelli folder (a scalar and "
+                        "a vector signal of SAMPLES samples) and time the bands with them")
     a = p.parse_args()
     if a.widths:
         widths(a.bootstrap)
@@ -128,11 +143,17 @@ def main():
     root = a.keep or tempfile.mkdtemp(prefix="rodend-bench-analyze-")
     try:
         for method, d in (("saltelli", 6), ("monte-carlo", 8)):
-            folder = make(os.path.join(root, f"{method}-{d}"), method, d, a.cases)
+            folder, x = make(os.path.join(root, f"{method}-{d}"), method, d, a.cases)
             wall, peak, out = timed(folder, a.bootstrap)
             print(f"{method}, {d} factors, {a.cases} cases, 3 metrics, bootstrap {a.bootstrap}: "
                   f"{wall:.1f} s wall, peak RSS {peak:.0f} MB (largest child so far), "
-                  f"load average {os.getloadavg()[0]:.2f}")
+                  f"load average {os.getloadavg()[0]:.2f}", flush=True)
+            if a.histories and method == "saltelli":
+                write_histories(folder, x, a.histories)
+                wall, peak, out = timed(folder, a.bootstrap, histories=True)
+                print(f"  the same with bands of 2 signals (scalar, vector of 3) of "
+                      f"{a.histories} samples from {len(x)} case files: {wall:.1f} s wall, peak "
+                      f"RSS {peak:.0f} MB (largest child so far)", flush=True)
     finally:
         if not a.keep:
             shutil.rmtree(root, ignore_errors=True)

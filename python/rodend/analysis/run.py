@@ -141,14 +141,11 @@ def _group(folder, design, coords, rows, metrics, units, thresholds, opts, suffi
 
 def _histories(folder, coords, rows, signals, opts, suffix):
     ok = rows["case_id"].to_numpy()[inputs.ok_mask(rows)]
-    out = {}
-    for sig in signals:
-        b = _bands.band(folder, list(ok), sig)
-        out[sig] = b
-        if opts["plots"]:
-            where = ", ".join(f"{figures._short(k)} = {v:g}" for k, v in coords.items())
-            figures.band(folder, f"{sig}-bands{suffix}", sig + (f", {where}" if where else ""),
-                         b)
+    out = _bands.bands(folder, list(ok), list(dict.fromkeys(signals)))
+    if opts["plots"]:
+        where = ", ".join(f"{figures._short(k)} = {v:g}" for k, v in coords.items())
+        for sig, b in out.items():
+            figures.band(folder, f"{sig}-bands{suffix}", sig + (f", {where}" if where else ""), b)
     return out
 
 
