@@ -10,8 +10,8 @@ Timing: two folders of --cases cases, written first (not timed): a saltelli desi
 uniform factors (N = cases / 8) and a monte-carlo design over 8; three metrics each (an
 Ishigami-like function plus linear terms, a product with an interaction, and a metric with
 2 % failed cases) and one threshold each. `python3 -m rodend.analyze FOLDER` runs in a child
-process; its wall time and peak resident memory (getrusage of the child) are printed, figures
-included.
+process; its wall time, CPU time (user + system: less sensitive to a busy machine) and peak
+resident memory (getrusage of the child) are printed, figures included.
 
 --widths: the Ishigami function (3 factors) through saltelli designs of N = 100 .. 4000 (5 N
 cases): the mean width of the 95 % intervals of S1 and ST and how often they hold the published
@@ -81,8 +81,13 @@ def timed(folder, bootstrap, histories=False):
     wall = time.perf_counter() - t0
     if r.returncode:
         sys.exit(f"analysis failed: {r.stderr}")
-    peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
-    return wall, peak, r.stdout
+    use = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = use.ru_utime + use.ru_stime - timed.cpu
+    timed.cpu += cpu
+    return f"{wall:.1f} s wall, {cpu:.1f} s CPU", use.ru_maxrss / 1024, r.stdout
+
+
+timed.cpu = 0.0
 
 
 def _ishigami_design(method, n, seed):
@@ -142,18 +147,22 @@ def main():
         return
     root = a.keep or tempfile.mkdtemp(prefix="rodend-bench-analyze-")
     try:
+        folders = {}
         for method, d in (("saltelli", 6), ("monte-carlo", 8)):
-            folder, x = make(os.path.join(root, f"{method}-{d}"), method, d, a.cases)
+            folder, x = folders[method] = make(os.path.join(root, f"{method}-{d}"), method, d,
+                                               a.cases)
             wall, peak, out = timed(folder, a.bootstrap)
             print(f"{method}, {d} factors, {a.cases} cases, 3 metrics, bootstrap {a.bootstrap}: "
-                  f"{wall:.1f} s wall, peak RSS {peak:.0f} MB (largest child so far), "
+                  f"{wall}, peak RSS {peak:.0f} MB (largest child so far), "
                   f"load average {os.getloadavg()[0]:.2f}", flush=True)
-            if a.histories and method == "saltelli":
-                write_histories(folder, x, a.histories)
-                wall, peak, out = timed(folder, a.bootstrap, histories=True)
-                print(f"  the same with bands of 2 signals (scalar, vector of 3) of "
-                      f"{a.histories} samples from {len(x)} case files: {wall:.1f} s wall, peak "
-                      f"RSS {peak:.0f} MB (largest child so far)", flush=True)
+        if a.histories:
+            folder, x = folders["saltelli"]
+            write_histories(folder, x, a.histories)
+            wall, peak, out = timed(folder, a.bootstrap, histories=True)
+            print(f"saltelli again, with the bands of 2 signals (a scalar, a vector of 3) of "
+                  f"{a.histories} samples from {len(x)} case files: {wall}, peak RSS "
+                  f"{peak:.0f} MB (largest child so far), load average "
+                  f"{os.getloadavg()[0]:.2f}", flush=True)
     finally:
         if not a.keep:
             shutil.rmtree(root, ignore_errors=True)

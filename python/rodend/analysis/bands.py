@@ -4,10 +4,11 @@ Each case file's /signals/time and the signal are read with h5py. When every cas
 samples are a prefix of the longest case's (a study's fixed sample interval) the bands are taken
 sample by sample; otherwise each case is interpolated linearly onto the longest case's time
 samples. Past a case's end it is NaN, and the bands at a time are over the cases that reached
-it. A vector signal (n, 3) gets bands per component. Memory: the first pass over the case files
-keeps the values while they fit in MEMORY bytes (512 MB) and the bands come from them; beyond,
-the cases are read again a block of time samples at a time, MEMORY bytes at most (a thesis
-cycle of 24,001 samples over 10,000 cases is 1.9 GB a component in one piece).
+it. A vector signal (n, 3) gets bands per component. Memory: one pass over the case files
+fills a (cases × time) array per signal when all of them fit in MEMORY bytes (512 MB) and the
+cases share the first case's time samples; otherwise the cases are read again a block of time
+samples at a time, MEMORY bytes at most (a thesis cycle of 24,001 samples over 10,000 cases is
+1.9 GB a component in one piece).
 """
 import os
 
@@ -29,11 +30,12 @@ def _path(folder, cid, signal):
 
 def _survey(folder, case_ids, signals):
     """(longest time, per case: its length and whether its time is a prefix of the longest,
-    {signal: units}, {signal: component shape}, {signal: [values]} or None past MEMORY), in one
-    pass over the files that keeps only the longest time so far."""
-    lengths, same, longest, units, shape, held = [], [], None, {}, {}, 0
-    values = {sig: [] for sig in signals}
-    for cid in case_ids:
+    {signal: units}, {signal: component shape}, {signal: stack (cases, time[, w])} or None), in
+    one pass over the files that keeps only the longest time so far. The stacks are filled as
+    the files are read while every case's time is a prefix of the first case's and they fit in
+    MEMORY; otherwise None (the values are read again in blocks)."""
+    lengths, same, longest, units, shape, stacks = [], [], None, {}, {}, {}
+    for i, cid in enumerate(case_ids):
         path = _path(folder, cid, signals[0])
         with h5py.File(path, "r") as f:
             g = f["signals"]
@@ -42,12 +44,19 @@ def _survey(folder, case_ids, signals):
                 if sig not in g:
                     raise ValueError(f"history {sig!r}: not recorded in {path}; recorded: "
                                      f"{', '.join(sorted(n for n in g if n != 'time'))}")
-                d = g[sig]
-                units.setdefault(sig, text(d.attrs.get("units", "")))
-                shape.setdefault(sig, d.shape[1:])
-                held += 8 * d.size
-                if held <= MEMORY:
-                    values[sig].append(d[()])
+                units.setdefault(sig, text(g[sig].attrs.get("units", "")))
+                shape.setdefault(sig, g[sig].shape[1:])
+            if i == 0:
+                size = 8 * len(t) * len(case_ids) * sum(
+                    int(np.prod(shape[sig], dtype=np.int64)) for sig in signals)
+                stacks = {sig: np.full((len(case_ids), len(t)) + shape[sig], np.nan)
+                          for sig in signals} if size <= MEMORY else None
+            if stacks is not None and len(t) <= stacks[signals[0]].shape[1] and \
+                    np.array_equal(t, longest[:len(t)] if longest is not None else t):
+                for sig in signals:
+                    stacks[sig][i, :len(t)] = g[sig][()]
+            else:
+                stacks = None
         if longest is not None and len(t) > len(longest):
             if not np.array_equal(longest, t[:len(longest)]):
                 same = [False] * len(same)   # interpolated: exact on an equal grid anyway
@@ -56,8 +65,7 @@ def _survey(folder, case_ids, signals):
             longest = t
         lengths.append(len(t))
         same.append(np.array_equal(t, longest[:len(t)]))
-    return longest, np.array(lengths), np.array(same), units, shape, \
-        (values if held <= MEMORY else None)
+    return longest, np.array(lengths), np.array(same), units, shape, stacks
 
 
 def _block(folder, case_ids, signal, longest, lengths, same, a, b, shape):
@@ -80,7 +88,8 @@ def _block(folder, case_ids, signal, longest, lengths, same, a, b, shape):
 
 
 def _quantiles(stack):
-    """The LEVELS quantiles along axis 0, NaN (a case past its end) left out."""
+    """The LEVELS quantiles along axis 0, NaN (a case past its end) left out. (Called on blocks
+    of 64 time samples: numpy's quantile copies its input.)"""
     if not np.isnan(stack).any():
         return np.quantile(stack, LEVELS, axis=0)
     return np.nanquantile(stack, LEVELS, axis=0)
@@ -90,17 +99,16 @@ def bands(folder, case_ids, signals):
     """{signal: {time, levels, quantiles (len(LEVELS), nt[, w]), cases, units, resampled}}."""
     if len(case_ids) == 0:
         raise ValueError(f"histories {', '.join(signals)}: no ok case to draw bands from")
-    longest, lengths, same, units, shape, values = _survey(folder, case_ids, list(signals))
+    longest, lengths, same, units, shape, stacks = _survey(folder, case_ids, list(signals))
     out = {}
     for sig in signals:
         b = out[sig] = {"time": longest, "levels": list(LEVELS), "cases": len(case_ids),
                         "units": units[sig], "resampled": not bool(same.all())}
-        if values is not None and same.all():
-            stack = np.full((len(case_ids), len(longest)) + shape[sig], np.nan)
-            for i, v in enumerate(values[sig]):
-                stack[i, :len(v)] = v
-            values[sig] = None               # held once: the files' copies go
-            b["quantiles"] = _quantiles(stack)
+        if stacks is not None:
+            stack = stacks.pop(sig)
+            b["quantiles"] = np.concatenate([_quantiles(stack[:, a:a + 64]) for a in
+                                             range(0, len(longest), 64)], axis=1)
+            del stack
             continue
         width = int(np.prod(shape[sig], dtype=np.int64)) if shape[sig] else 1
         step = max(1, MEMORY // (8 * width * len(case_ids)))
