@@ -250,6 +250,27 @@ def test_exceedance(tmp):
     check(os.path.isfile(os.path.join(folder, "plots", "analysis-y-cdf-g1.png")), "cdf g1")
 
 
+def test_scene_axis(tmp):
+    """A scene axis has no column but scene: its grid points are still analysed apart."""
+    fs = [fx.uniform("parameters.u", 0, 1)]
+    x = fx.mc_points(fs, 500, 2)
+    d = {"method": "monte-carlo", "size": 500, "seed": 2, "points": 500, "factors": fs}
+    xx = np.vstack([x, x, x, x])
+    scene = np.repeat(["gravity-drop", "rod-end-actuator"], 1000)
+    grid = {"parameters.contact.clearance": np.tile(np.repeat([1e-4, 2e-4], 500), 2)}
+    y = xx[:, 0] * grid["parameters.contact.clearance"] * np.where(scene == "gravity-drop", 1, -1)
+    folder = fx.write_folder(os.path.join(tmp, "scenes"), d, xx, {"y": y}, grid=grid,
+                             scene=scene)
+    doc = rodend.analyze(folder, quiet=True)
+    got = [(g["grid"]["scene"], g["grid"]["parameters.contact.clearance"],
+            g["metrics"]["y"]["distribution"]["mean"]) for g in doc["groups"]]
+    want = [(s, c, sign * c / 2) for s, sign in (("gravity-drop", 1), ("rod-end-actuator", -1))
+            for c in (1e-4, 2e-4)]
+    check(len(got) == 4 and all(g[:2] == w[:2] and abs(g[2] - w[2]) < 0.1 * w[1]
+                                for g, w in zip(got, want)), f"scene axis groups {got}")
+    check(os.path.isfile(os.path.join(folder, "plots", "analysis-y-cdf-g3.png")), "figure g3")
+
+
 def test_bands(tmp):
     xs = np.append(np.linspace(0, 1, 101), 100.0)
     fs = [fx.uniform("parameters.k", 0, 100)]
@@ -333,6 +354,7 @@ def main():
         test_saltelli_failures(tmp)
         test_morris(tmp)
         test_exceedance(tmp)
+        test_scene_axis(tmp)
         test_bands(tmp)
         test_bad_input(tmp)
     finally:

@@ -93,7 +93,7 @@ def _analyze_metric(design, rows, m, units, opts, thresholds):
 
 def _figures(folder, design, coords, suffix, m, r):
     keys, units = [f["key"] for f in design["factors"]], r["units"]
-    where = ", ".join(f"{figures._short(k)} = {v:g}" for k, v in coords.items())
+    where = figures.where(coords)
     title = m + (f", {where}" if where else "")
     paths = []
     s, c = r.get("sobol", {}), r.get("chaos", {})
@@ -143,7 +143,7 @@ def _histories(folder, coords, rows, signals, opts, suffix):
     ok = rows["case_id"].to_numpy()[inputs.ok_mask(rows)]
     out = _bands.bands(folder, list(ok), list(dict.fromkeys(signals)))
     if opts["plots"]:
-        where = ", ".join(f"{figures._short(k)} = {v:g}" for k, v in coords.items())
+        where = figures.where(coords)
         for sig, b in out.items():
             figures.band(folder, f"{sig}-bands{suffix}", sig + (f", {where}" if where else ""), b)
     return out
