@@ -10,7 +10,8 @@ the layout of docs/results.md; the design points are drawn here with OpenTURNS a
   fit of a smooth function; the variance it leaves out, (1 - Q²) var Y < 0.001 var Y, bounds
   what it can move between factors, and the rest is the sampling error of its coefficients:
   `bench/analyze.py --widths` measured a largest index error of 0.0001 at 1000 monte-carlo
-  points (seeds 1..5), 0.0017 at 500 and 0.036 at 200 (Q² 0.946); 0.01 keeps a margin
+  points (seeds 1..5, least squares), 0.0018 at 500 and 0.0055 at 100 (LARS); with least
+  squares alone, 0.036 at 200 (Q² 0.946); 0.01 keeps a margin
   without hiding a wrong index (the nearest wrong answer, S1 and ST of x3 swapped, is 0.24
   away).
 - every distribution of design.json (uniform, normal, truncated-normal, lognormal by the
