@@ -122,8 +122,7 @@ def fit(design, x, y, method="auto"):
     if method != "auto":
         return _fit(design, x, y, method)
     best = _fit(design, x, y, "least-squares")
-    _, enum = _basis(design, joint(design))
-    if len(y) * min(MAX_TERMS, enum.getBasisSizeFromTotalDegree(LARS_DEGREE)) <= LARS_WORK:
+    if len(y) * _lars_candidates(_basis(design, joint(design))[1]) <= LARS_WORK:
         other = _fit(design, x, y, "lars")
         tried = {"least-squares": best.get("q2_loo"), "lars": other.get("q2_loo")}
         if "q2_loo" not in best or other.get("q2_loo", -math.inf) > best["q2_loo"]:
@@ -132,12 +131,23 @@ def fit(design, x, y, method="auto"):
     return best
 
 
+def _lars_candidates(enum):
+    """The terms of q-norm degree LARS_DEGREE, at most MAX_TERMS, counted degree by degree (the
+    enumeration of a high degree in many dimensions takes seconds)."""
+    size = 0
+    for p in range(1, LARS_DEGREE + 1):
+        size = enum.getBasisSizeFromTotalDegree(p)
+        if size >= MAX_TERMS:
+            return MAX_TERMS
+    return size
+
+
 def _fit(design, x, y, method):
     dist = joint(design)
     xs, ys = ot.Sample(x), ot.Sample(y.reshape(-1, 1))
     if method == "lars":
         basis, enum = _basis(design, dist)
-        size = min(MAX_TERMS, enum.getBasisSizeFromTotalDegree(LARS_DEGREE))
+        size = _lars_candidates(enum)
         proj = ot.LeastSquaresStrategy(ot.LeastSquaresMetaModelSelectionFactory(
             ot.LARS(), ot.CorrectedLeaveOneOut()))
     else:
