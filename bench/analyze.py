@@ -10,8 +10,8 @@ Timing: two folders of --cases cases, written first (not timed): a saltelli desi
 uniform factors (N = cases / 8) and a monte-carlo design over 8; three metrics each (an
 Ishigami-like function plus linear terms, a product with an interaction, and a metric with
 2 % failed cases) and one threshold each. `python3 -m rodend.analyze FOLDER` runs in a child
-process; its wall time and peak resident memory (getrusage of the child) are printed, figures
-included.
+process; its wall time, CPU time (user + system: less sensitive to a busy machine) and peak
+resident memory (getrusage of the child) are printed, figures included.
 
 --widths: the Ishigami function (3 factors) through saltelli designs of N = 100 .. 4000 (5 N
 cases): the mean width of the 95 % intervals of S1 and ST and how often they hold the published
@@ -57,20 +57,37 @@ def make(folder, method, d, cases, seed=7):
     ys, status = metrics(x, np.random.default_rng(seed))
     fx.write_folder(folder, design, x, ys, status=status,
                     units={"y1": "N", "y2": "J", "y3": "rad"})
-    return folder
+    return folder, x
 
 
-def timed(folder, bootstrap):
+def write_histories(folder, x, samples):
+    """A case file per case: time (samples over 1 s), a scalar signal s = x1 sin(2 pi t) + x2 t
+    [m] and a vector v = (s, 2 s, x3) [N]."""
+    t = np.linspace(0.0, 1.0, samples)
+    for i, row in enumerate(x):
+        s = row[0] * np.sin(2 * np.pi * t) + row[1] * t
+        fx.write_case(folder, f"c{i:06d}", t,
+                      {"s": s, "v": np.column_stack([s, 2 * s, np.full_like(t, row[2])])},
+                      {"s": "m", "v": "N"})
+
+
+def timed(folder, bootstrap, histories=False):
     env = dict(os.environ, MPLBACKEND="Agg")
+    extra = ["--history", "s", "--history", "v"] if histories else []
     t0 = time.perf_counter()
     r = subprocess.run([sys.executable, "-m", "rodend.analyze", folder, "--bootstrap",
                         str(bootstrap), "--threshold", "y1=10", "--threshold", "y2=5",
-                        "--threshold", "y3=5"], capture_output=True, text=True, env=env)
+                        "--threshold", "y3=5"] + extra, capture_output=True, text=True, env=env)
     wall = time.perf_counter() - t0
     if r.returncode:
         sys.exit(f"analysis failed: {r.stderr}")
-    peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
-    return wall, peak, r.stdout
+    use = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = use.ru_utime + use.ru_stime - timed.cpu
+    timed.cpu += cpu
+    return f"{wall:.1f} s wall, {cpu:.1f} s CPU", use.ru_maxrss / 1024, r.stdout
+
+
+timed.cpu = 0.0
 
 
 def _ishigami_design(method, n, seed):
@@ -121,18 +138,31 @@ def main():
     p.add_argument("--bootstrap", type=int, default=200)
     p.add_argument("--widths", action="store_true")
     p.add_argument("--keep", help="write the folders here and keep them")
+    p.add_argument("--histories", type=int, default=0, metavar="SAMPLES",
+                   help="also write a case file per case of the saltelli folder (a scalar and "
+                        "a vector signal of SAMPLES samples) and time the bands with them")
     a = p.parse_args()
     if a.widths:
         widths(a.bootstrap)
         return
     root = a.keep or tempfile.mkdtemp(prefix="rodend-bench-analyze-")
     try:
+        folders = {}
         for method, d in (("saltelli", 6), ("monte-carlo", 8)):
-            folder = make(os.path.join(root, f"{method}-{d}"), method, d, a.cases)
+            folder, x = folders[method] = make(os.path.join(root, f"{method}-{d}"), method, d,
+                                               a.cases)
             wall, peak, out = timed(folder, a.bootstrap)
             print(f"{method}, {d} factors, {a.cases} cases, 3 metrics, bootstrap {a.bootstrap}: "
-                  f"{wall:.1f} s wall, peak RSS {peak:.0f} MB (largest child so far), "
-                  f"load average {os.getloadavg()[0]:.2f}")
+                  f"{wall}, peak RSS {peak:.0f} MB (largest child so far), "
+                  f"load average {os.getloadavg()[0]:.2f}", flush=True)
+        if a.histories:
+            folder, x = folders["saltelli"]
+            write_histories(folder, x, a.histories)
+            wall, peak, out = timed(folder, a.bootstrap, histories=True)
+            print(f"saltelli again, with the bands of 2 signals (a scalar, a vector of 3) of "
+                  f"{a.histories} samples from {len(x)} case files: {wall}, peak RSS "
+                  f"{peak:.0f} MB (largest child so far), load average "
+                  f"{os.getloadavg()[0]:.2f}", flush=True)
     finally:
         if not a.keep:
             shutil.rmtree(root, ignore_errors=True)

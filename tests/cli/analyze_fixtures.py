@@ -56,10 +56,11 @@ def ishigami(x, a=7.0, b=0.1):
     return np.sin(x[:, 0]) + a * np.sin(x[:, 1]) ** 2 + b * x[:, 2] ** 4 * np.sin(x[:, 0])
 
 
-def write_folder(folder, design, x, metrics, status=None, grid=None, units=None):
+def write_folder(folder, design, x, metrics, status=None, grid=None, units=None, scene=None):
     """A results folder: design.json, summary.h5, summary.csv. x: (rows, d) factor values in
     case order; metrics {name: (rows,)}; status: (rows,) text (default ok); grid: {key:
-    (rows,)} grid coordinates (rows = grid points × design points, sample fastest)."""
+    (rows,)} grid coordinates (rows = grid points × design points, sample fastest); scene:
+    (rows,) scene names (a scene axis: the scene column alone, as rodend writes it)."""
     os.makedirs(os.path.join(folder, "cases"), exist_ok=True)
     rows, points = len(x), design["points"]
     with open(os.path.join(folder, "design.json"), "w") as fh:
@@ -67,7 +68,7 @@ def write_folder(folder, design, x, metrics, status=None, grid=None, units=None)
     with open(os.path.join(folder, "study.json"), "w") as fh:
         json.dump({"name": os.path.basename(folder), "scene": "synthetic"}, fh)
     cols = {"case_id": np.array([f"c{i:06d}" for i in range(rows)], dtype=object),
-            "case_index": np.arange(rows), "scene": np.array(["synthetic"] * rows, dtype=object)}
+            "case_index": np.arange(rows), "scene": np.array(scene if scene is not None else ["synthetic"] * rows, dtype=object)}
     cols.update(grid or {})
     cols["design.sample"] = np.arange(rows) % points
     for j, f in enumerate(design["factors"]):

@@ -4,9 +4,11 @@ Each case file's /signals/time and the signal are read with h5py. When every cas
 samples are a prefix of the longest case's (a study's fixed sample interval) the bands are taken
 sample by sample; otherwise each case is interpolated linearly onto the longest case's time
 samples. Past a case's end it is NaN, and the bands at a time are over the cases that reached
-it. A vector signal (n, 3) gets bands per component. Memory: the cases are read a block of
-time samples at a time, at most MEMORY bytes of values held at once (a thesis cycle of 24,001
-samples over 10,000 cases is 1.9 GB a component in one piece), each file opened once a block.
+it. A vector signal (n, 3) gets bands per component. Memory: one pass over the case files
+fills a (cases × time) array per signal when all of them fit in MEMORY bytes (512 MB) and the
+cases share the first case's time samples; otherwise the cases are read again a block of time
+samples at a time, MEMORY bytes at most (a thesis cycle of 24,001 samples over 10,000 cases is
+1.9 GB a component in one piece).
 """
 import os
 
@@ -16,7 +18,7 @@ import numpy as np
 from .results_io import text
 
 LEVELS = (0.05, 0.5, 0.95)
-MEMORY = 256 * 2 ** 20
+MEMORY = 512 * 2 ** 20
 
 
 def _path(folder, cid, signal):
@@ -26,20 +28,35 @@ def _path(folder, cid, signal):
     return path
 
 
-def _survey(folder, case_ids, signal):
+def _survey(folder, case_ids, signals):
     """(longest time, per case: its length and whether its time is a prefix of the longest,
-    units, component shape), in one pass that keeps only the longest time so far."""
-    lengths, same, longest, units, shape = [], [], None, None, None
-    for cid in case_ids:
-        path = _path(folder, cid, signal)
+    {signal: units}, {signal: component shape}, {signal: stack (cases, time[, w])} or None), in
+    one pass over the files that keeps only the longest time so far. The stacks are filled as
+    the files are read while every case's time is a prefix of the first case's and they fit in
+    MEMORY; otherwise None (the values are read again in blocks)."""
+    lengths, same, longest, units, shape, stacks = [], [], None, {}, {}, {}
+    for i, cid in enumerate(case_ids):
+        path = _path(folder, cid, signals[0])
         with h5py.File(path, "r") as f:
             g = f["signals"]
-            if signal not in g:
-                raise ValueError(f"history {signal!r}: not recorded in {path}; recorded: "
-                                 f"{', '.join(sorted(n for n in g if n != 'time'))}")
             t = g["time"][()]
-            units = units or text(g[signal].attrs.get("units", ""))
-            shape = shape or g[signal].shape[1:]
+            for sig in signals:
+                if sig not in g:
+                    raise ValueError(f"history {sig!r}: not recorded in {path}; recorded: "
+                                     f"{', '.join(sorted(n for n in g if n != 'time'))}")
+                units.setdefault(sig, text(g[sig].attrs.get("units", "")))
+                shape.setdefault(sig, g[sig].shape[1:])
+            if i == 0:
+                size = 8 * len(t) * len(case_ids) * sum(
+                    int(np.prod(shape[sig], dtype=np.int64)) for sig in signals)
+                stacks = {sig: np.full((len(case_ids), len(t)) + shape[sig], np.nan)
+                          for sig in signals} if size <= MEMORY else None
+            if stacks is not None and len(t) <= stacks[signals[0]].shape[1] and \
+                    np.array_equal(t, longest[:len(t)] if longest is not None else t):
+                for sig in signals:
+                    stacks[sig][i, :len(t)] = g[sig][()]
+            else:
+                stacks = None
         if longest is not None and len(t) > len(longest):
             if not np.array_equal(longest, t[:len(longest)]):
                 same = [False] * len(same)   # interpolated: exact on an equal grid anyway
@@ -48,7 +65,7 @@ def _survey(folder, case_ids, signal):
             longest = t
         lengths.append(len(t))
         same.append(np.array_equal(t, longest[:len(t)]))
-    return longest, np.array(lengths), np.array(same), units, shape
+    return longest, np.array(lengths), np.array(same), units, shape, stacks
 
 
 def _block(folder, case_ids, signal, longest, lengths, same, a, b, shape):
@@ -70,17 +87,35 @@ def _block(folder, case_ids, signal, longest, lengths, same, a, b, shape):
     return out
 
 
-def band(folder, case_ids, signal):
-    """{time, levels, quantiles (len(LEVELS), nt[, w]), cases, units, resampled}."""
+def _quantiles(stack):
+    """The LEVELS quantiles along axis 0, NaN (a case past its end) left out. (Called on blocks
+    of 64 time samples: numpy's quantile copies its input.)"""
+    if not np.isnan(stack).any():
+        return np.quantile(stack, LEVELS, axis=0)
+    return np.nanquantile(stack, LEVELS, axis=0)
+
+
+def bands(folder, case_ids, signals):
+    """{signal: {time, levels, quantiles (len(LEVELS), nt[, w]), cases, units, resampled}}."""
     if len(case_ids) == 0:
-        raise ValueError(f"history {signal}: no ok case to draw bands from")
-    longest, lengths, same, units, shape = _survey(folder, case_ids, signal)
-    width = int(np.prod(shape, dtype=np.int64)) if shape else 1
-    step = max(1, MEMORY // (8 * width * len(case_ids)))
-    q = np.empty((len(LEVELS), len(longest)) + shape)
-    for a in range(0, len(longest), step):
-        b = min(len(longest), a + step)
-        block = _block(folder, case_ids, signal, longest, lengths, same, a, b, shape)
-        q[:, a:b] = np.nanquantile(block, LEVELS, axis=0)
-    return {"time": longest, "levels": list(LEVELS), "quantiles": q, "cases": len(case_ids),
-            "units": units, "resampled": not bool(same.all())}
+        raise ValueError(f"histories {', '.join(signals)}: no ok case to draw bands from")
+    longest, lengths, same, units, shape, stacks = _survey(folder, case_ids, list(signals))
+    out = {}
+    for sig in signals:
+        b = out[sig] = {"time": longest, "levels": list(LEVELS), "cases": len(case_ids),
+                        "units": units[sig], "resampled": not bool(same.all())}
+        if stacks is not None:
+            stack = stacks.pop(sig)
+            b["quantiles"] = np.concatenate([_quantiles(stack[:, a:a + 64]) for a in
+                                             range(0, len(longest), 64)], axis=1)
+            del stack
+            continue
+        width = int(np.prod(shape[sig], dtype=np.int64)) if shape[sig] else 1
+        step = max(1, MEMORY // (8 * width * len(case_ids)))
+        q = np.empty((len(LEVELS), len(longest)) + shape[sig])
+        for a in range(0, len(longest), step):
+            e = min(len(longest), a + step)
+            q[:, a:e] = _quantiles(_block(folder, case_ids, sig, longest, lengths, same, a, e,
+                                          shape[sig]))
+        b["quantiles"] = q
+    return out

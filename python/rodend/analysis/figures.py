@@ -1,4 +1,5 @@
 """The analysis figures, PNG into FOLDER/plots/analysis-*.png (matplotlib, Agg)."""
+import numbers
 import os
 
 import numpy as np
@@ -17,6 +18,12 @@ def _save(fig, folder, name):
     fig.savefig(path, dpi=110, bbox_inches="tight")
     _plt().close(fig)
     return path
+
+
+def where(coords):
+    """"clearance = 0.0001, scene = rod-end-actuator": a grid point for a title."""
+    return ", ".join(f"{_short(k)} = {v:g}" if isinstance(v, numbers.Real) else
+                     f"{_short(k)} = {v}" for k, v in coords.items())
 
 
 def _short(key):

@@ -59,13 +59,15 @@ def metric_columns(summary, design):
 
 
 def grid_keys(summary):
-    """The grid-key columns: between scene and design.sample."""
+    """The grid-key columns: between scene and design.sample, and scene itself when it takes
+    more than one value (a scene axis has no column of its own: docs/studies.md)."""
     cols = list(summary.columns)
     if "design.sample" not in cols:
         raise ValueError("the summary has no column design.sample: not the results of a study "
                          "with a sampled design")
     start = cols.index("scene") + 1 if "scene" in cols else 0
-    return cols[start:cols.index("design.sample")]
+    scene = ["scene"] if "scene" in cols and summary["scene"].nunique() > 1 else []
+    return scene + cols[start:cols.index("design.sample")]
 
 
 def choose_metrics(summary, design, metrics):

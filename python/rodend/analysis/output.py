@@ -93,7 +93,7 @@ def table(doc):
                                  f"{s['sigma'][i]:10.4g}  {s['effects'][i]}")
             c = r.get("chaos", {})
             if "first_order" in c:
-                lines.append(f"  chaos ({c['terms']} terms, degree {c['degree']}, "
+                lines.append(f"  chaos ({c['method']}, {c['terms']} terms, degree {c['degree']}, "
                              f"Q2 LOO = {c['q2_loo']:.4f})")
                 for i, k in enumerate(keys):
                     lines.append(f"  {k:<{width}}  {c['first_order'][i]:8.4f}  "

@@ -52,7 +52,7 @@ def _iid_rows(design):
 
 
 def analyze_arrays(design, x, y, keep, confidence=0.95, bootstrap=200, thresholds=(),
-                   chaos="least-squares", seed=0):
+                   chaos="auto", seed=0):
     """The analysis of one metric at one grid point from arrays: x (points, d) the factor
     values in design.sample order, y (points,) the metric, keep (points,) the usable cases.
     Returns the dict analysis.json holds for it (plus loo_prediction and iid values for the
@@ -93,7 +93,7 @@ def _analyze_metric(design, rows, m, units, opts, thresholds):
 
 def _figures(folder, design, coords, suffix, m, r):
     keys, units = [f["key"] for f in design["factors"]], r["units"]
-    where = ", ".join(f"{figures._short(k)} = {v:g}" for k, v in coords.items())
+    where = figures.where(coords)
     title = m + (f", {where}" if where else "")
     paths = []
     s, c = r.get("sobol", {}), r.get("chaos", {})
@@ -141,25 +141,23 @@ def _group(folder, design, coords, rows, metrics, units, thresholds, opts, suffi
 
 def _histories(folder, coords, rows, signals, opts, suffix):
     ok = rows["case_id"].to_numpy()[inputs.ok_mask(rows)]
-    out = {}
-    for sig in signals:
-        b = _bands.band(folder, list(ok), sig)
-        out[sig] = b
-        if opts["plots"]:
-            where = ", ".join(f"{figures._short(k)} = {v:g}" for k, v in coords.items())
-            figures.band(folder, f"{sig}-bands{suffix}", sig + (f", {where}" if where else ""),
-                         b)
+    out = _bands.bands(folder, list(ok), list(dict.fromkeys(signals)))
+    if opts["plots"]:
+        where = figures.where(coords)
+        for sig, b in out.items():
+            figures.band(folder, f"{sig}-bands{suffix}", sig + (f", {where}" if where else ""), b)
     return out
 
 
 def analyze(folder, metrics=None, thresholds=None, histories=None, bootstrap=200,
-            confidence=0.95, chaos="least-squares", plots=True, quiet=False):
+            confidence=0.95, chaos="auto", plots=True, quiet=False):
     """Analyses the results folder of a designed study; returns the analysis.json document.
 
     metrics: names of metric columns (default: every one with a finite value); thresholds:
     {metric: value or [values]} or ["metric=value", ...]; histories: signal names for quantile
     bands; bootstrap: resamples of the bootstrap intervals; confidence: their level; chaos:
-    "least-squares" (degree by exact LOO) or "lars" (OpenTURNS's sparse LARS, slow at 1e4);
+    "least-squares" (degree by exact LOO), "lars" (OpenTURNS's sparse LARS, slow at 1e4) or
+    "auto" (both when LARS is cheap, the larger Q² kept);
     plots: write FOLDER/plots/analysis-*.png; quiet: print nothing.
     Raises ValueError for a bad input (naming what was expected)."""
     folder = os.fspath(folder)
@@ -168,8 +166,8 @@ def analyze(folder, metrics=None, thresholds=None, histories=None, bootstrap=200
         raise ValueError(f"confidence {confidence}: expected a level in (0, 1), e.g. 0.95")
     if int(bootstrap) < 0:
         raise ValueError(f"bootstrap {bootstrap}: expected a number of resamples >= 0")
-    if chaos not in ("least-squares", "lars"):
-        raise ValueError(f"chaos {chaos!r}: expected least-squares or lars")
+    if chaos not in ("auto", "least-squares", "lars"):
+        raise ValueError(f"chaos {chaos!r}: expected auto, least-squares or lars")
     summary, units = _read_summary(folder)
     metrics = inputs.choose_metrics(summary, design, metrics)
     thresholds = inputs.parse_thresholds(thresholds, metrics)
@@ -207,7 +205,9 @@ def _parser():
     p.add_argument("--history", action="append", help="a signal for quantile bands (repeatable)")
     p.add_argument("--bootstrap", type=int, default=200, help="bootstrap resamples (200)")
     p.add_argument("--confidence", type=float, default=0.95, help="interval level (0.95)")
-    p.add_argument("--chaos", default="least-squares", choices=("least-squares", "lars"))
+    p.add_argument("--chaos", default="auto", choices=("auto", "least-squares", "lars"),
+                   help="how the chaos's terms are chosen (auto: least squares, and sparse LARS "
+                        "too when cheap, the better Q² kept)")
     p.add_argument("--no-plots", action="store_true", help="write no figures")
     return p
 
