@@ -2,9 +2,12 @@
 //
 // Exit codes: 0 success (every case ok); 1 a case failed (or, for compare, a difference);
 // 2 bad input (the message names the file, the key path and what was expected).
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
+#include <new>
 #include <sstream>
 
 #include "app/analyze.hpp"
@@ -93,7 +96,7 @@ int list_metrics(bool markdown, bool json) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int rodend_main(int argc, char** argv) {
   CLI::App app{
       "rodend: batch simulator for degraded rod-ends (spherical clearance joints) in "
       "flight-control actuation.\n\n"
@@ -294,4 +297,17 @@ int main(int argc, char** argv) {
     return 2;
   }
   return 0;
+}
+
+// Out of memory anywhere, the command line's own set-up included: one message that allocates
+// nothing, exit 2 (README "Command line"; tests/cli/test_alloc_failures.py).
+int main(int argc, char** argv) {
+  try {
+    return rodend_main(argc, argv);
+  } catch (const std::bad_alloc&) {
+    static const char msg[] = "rodend: error: out of memory\n";
+    const ssize_t w = ::write(STDERR_FILENO, msg, sizeof msg - 1);
+    (void)w;
+    return 2;
+  }
 }

@@ -1,0 +1,123 @@
+/* Allocation-failure injection for the fault suite (issue 37 item 8; tests/cli/test_alloc_failures.py),
+ * in the spirit of SQLite's malloc tests: preloaded (LD_PRELOAD) into a rodend process, it makes
+ * the K-th call of malloc, calloc, realloc, aligned_alloc or posix_memalign (counted over every
+ * thread) return NULL (errno ENOMEM), and with RODEND_FAIL_ALLOC_PERSIST=1 every call after it
+ * too. Without RODEND_FAIL_ALLOC it only counts, and prints the count to stderr at exit when
+ * RODEND_FAIL_ALLOC_COUNT=1 (how many allocations a run makes, to choose the K's).
+ *
+ * Only the allocations that rodend's code makes are counted and failed: those called from the
+ * executable itself, from libstdc++ (operator new on rodend's behalf), SUNDIALS and libdeflate.
+ * HDF5 and libgomp are left alone: they do not survive a failed allocation whatever their caller
+ * does (HDF5 1.10 dereferences one in H5SL_insert while initialising; libgomp prints "out of
+ * memory" and exits 1), and neither do the GnuTLS constructors that run before main.
+ *
+ * The real allocators are glibc's own entry points (__libc_malloc, ...), so no dlsym (which
+ * allocates) is needed. Test code only: never linked into rodend. */
+#define _GNU_SOURCE
+#include <dlfcn.h>
+#include <errno.h>
+#include <link.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <stdint.h>
+#include <string.h>
+#include <unistd.h>
+
+extern void* __libc_malloc(size_t);
+extern void* __libc_calloc(size_t, size_t);
+extern void* __libc_realloc(void*, size_t);
+extern void* __libc_memalign(size_t, size_t);
+
+static long fail_at = -2; /* -2: not read yet; -1: never */
+/* the executable segments of the objects whose allocations are counted */
+#define MAX_RANGES 64
+static uintptr_t range_lo[MAX_RANGES], range_hi[MAX_RANGES];
+static int ranges = 0;
+
+static int counted_object(const char* name) {
+  return name[0] == '\0' || strstr(name, "libstdc++") || strstr(name, "libsundials") ||
+         strstr(name, "libdeflate");
+}
+
+static int collect(struct dl_phdr_info* info, size_t size, void* data) {
+  (void)size;
+  (void)data;
+  if (!counted_object(info->dlpi_name)) return 0;
+  for (int i = 0; i < info->dlpi_phnum && ranges < MAX_RANGES; ++i) {
+    const ElfW(Phdr)* ph = &info->dlpi_phdr[i];
+    if (ph->p_type != PT_LOAD || !(ph->p_flags & PF_X)) continue;
+    range_lo[ranges] = info->dlpi_addr + ph->p_vaddr;
+    range_hi[ranges] = range_lo[ranges] + ph->p_memsz;
+    ++ranges;
+  }
+  return 0;
+}
+
+static int from_counted(const void* caller) {
+  const uintptr_t a = (uintptr_t)caller;
+  for (int i = 0; i < ranges; ++i)
+    if (a >= range_lo[i] && a < range_hi[i]) return 1;
+  return 0;
+}
+static int persist = 0;
+static long calls = 0;
+
+static void report_count(void) {
+  char buf[64];
+  int n = snprintf(buf, sizeof buf, "failalloc: %ld allocations\n", calls);
+  if (n > 0) (void)!write(2, buf, (size_t)n);
+}
+
+/* counting starts in main: a failure in a static constructor before it is out of every
+ * program's reach */
+static int in_main = 0;
+typedef int (*main_fn)(int, char**, char**);
+static main_fn real_main;
+static int marked_main(int argc, char** argv, char** envp) {
+  __atomic_store_n(&in_main, 1, __ATOMIC_RELEASE);
+  return real_main(argc, argv, envp);
+}
+int __libc_start_main(main_fn main, int argc, char** argv, void (*init)(void), void (*fini)(void),
+                      void (*rtld_fini)(void), void* stack_end) {
+  typedef int (*start_fn)(main_fn, int, char**, void (*)(void), void (*)(void), void (*)(void),
+                          void*);
+  start_fn real = (start_fn)dlsym(RTLD_NEXT, "__libc_start_main");
+  real_main = main;
+  return real(marked_main, argc, argv, init, fini, rtld_fini, stack_end);
+}
+
+static int fail_now(const void* caller) {
+  if (__atomic_load_n(&fail_at, __ATOMIC_ACQUIRE) == -2) {
+    dl_iterate_phdr(collect, NULL);
+    const char* at = getenv("RODEND_FAIL_ALLOC");
+    const char* p = getenv("RODEND_FAIL_ALLOC_PERSIST");
+    const char* count = getenv("RODEND_FAIL_ALLOC_COUNT");
+    persist = p && strcmp(p, "1") == 0;
+    __atomic_store_n(&fail_at, at ? atol(at) : -1, __ATOMIC_RELEASE);
+    /* after fail_at is set: atexit may allocate, which comes back here */
+    if (count && strcmp(count, "1") == 0) atexit(report_count);
+  }
+  if (!__atomic_load_n(&in_main, __ATOMIC_ACQUIRE) || !from_counted(caller)) return 0;
+  const long n = __atomic_add_fetch(&calls, 1, __ATOMIC_RELAXED);
+  if (fail_at < 0) return 0;
+  if (n == fail_at || (persist && n > fail_at)) {
+    errno = ENOMEM;
+    return 1;
+  }
+  return 0;
+}
+
+#define CALLER __builtin_return_address(0)
+void* malloc(size_t size) { return fail_now(CALLER) ? NULL : __libc_malloc(size); }
+void* calloc(size_t n, size_t size) { return fail_now(CALLER) ? NULL : __libc_calloc(n, size); }
+void* realloc(void* p, size_t size) { return fail_now(CALLER) ? NULL : __libc_realloc(p, size); }
+void* aligned_alloc(size_t align, size_t size) {
+  return fail_now(CALLER) ? NULL : __libc_memalign(align, size);
+}
+int posix_memalign(void** out, size_t align, size_t size) {
+  if (fail_now(CALLER)) return ENOMEM;
+  void* p = __libc_memalign(align, size);
+  if (!p) return ENOMEM;
+  *out = p;
+  return 0;
+}
