@@ -1130,6 +1130,9 @@ def fig_bode(study, cases, style):
     summ = study.summary
     if "surface_gain" not in summ or not np.isfinite(np.asarray(summ["surface_gain"], float)).any():
         raise Skip("no gain/phase metrics (a sine command's frequency response) in the summary")
+    freqs = np.asarray(summ["drive_frequency"], float)
+    if len(set(freqs[np.isfinite(freqs)])) < 2:
+        raise Skip("one drive frequency: no frequency axis for a Bode diagram")
     # one curve per grid point less the frequency: group the cases by their other coordinates
     groups = {}
     for c in cases:
