@@ -110,6 +110,30 @@ TEST_CASE("waveform catalogues: one list for the command and the hinge moment", 
   CHECK(in.load->frequency == 0.5);
 }
 
+TEST_CASE("waveform commands in the other scenes: kinematic and servo-actuator", "[inputs]") {
+  // rod-end-kinematic keeps its smooth strokes: a waveform starts with a velocity jump
+  ParameterSet k = ParameterSet::defaults_for("rod-end-kinematic");
+  try {
+    k.set("motion.shape", "sine");
+    FAIL("a sine prescribed motion was accepted");
+  } catch (const InputError& e) {
+    CHECK(e.key_path() == "motion.shape");
+  }
+  // servo-actuator's command: a chirp is no single-frequency input, a sine beyond the stroke
+  // names the amplitude
+  ParameterSet a = ParameterSet::defaults_for("servo-actuator");
+  a.set("command.shape", "log-chirp");
+  CHECK_FALSE(make_scene("servo-actuator", a)->periodic_inputs().command);
+  a.set("command.shape", "sine");
+  a.set("command.amplitude", 0.07);
+  try {
+    make_scene("servo-actuator", a);
+    FAIL("a command beyond the stroke was accepted");
+  } catch (const InputError& e) {
+    CHECK(e.key_path() == "command.amplitude");
+  }
+}
+
 namespace {
 
 /// The transfer functions piston/command and surface/surface-command of the linearised model of

@@ -21,26 +21,13 @@ class RodEndKinematicScene final : public RodEndScene<RodEndKinematicScene, 0> {
       throw InputError("motion.shape",
                        "a step has no velocity: the prescribed rod motion needs \"raised-cosine\" "
                        "or \"minimum-jerk\" (steps are for the actuator scenes' command)");
-    if (motion_.is_waveform() && motion_.wave.offset != 0.0)
-      throw InputError("motion.offset",
-                       "the prescribed rod motion starts from the rod's zero: a waveform about an "
-                       "offset would jump to it at t = 0 (offsets are for the actuator scenes)");
-    if (motion_.is_waveform())
-      mech_.check_closure(motion_, "motion.amplitude", "motion.amplitude");
-    else
-      mech_.check_closure(motion_, "motion.extension", "motion.retraction");
+    mech_.check_closure(motion_, "motion.extension", "motion.retraction");
     double x[kStates + 1];
     initial_state(x);
     initial_energy_ = mech_.mechanical_energy(mechanism_eval(0.0, x, ContactLatch{}));
   }
 
   std::string_view name() const override { return "rod-end-kinematic"; }
-  PeriodicInputs periodic_inputs() const override {
-    PeriodicInputs in;
-    if (motion_.is_waveform()) in.command = periodic_input(motion_.wave);
-    if (mech_.hinge().is_waveform()) in.load = periodic_input(mech_.hinge().wave);
-    return in;
-  }
   Features features() const override { return mech_.features().set(Feature::energy_audit); }
 
   Mech::Eval mechanism_eval(double t, const double* x, const ContactLatch& l) const {
