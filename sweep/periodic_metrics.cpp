@@ -102,23 +102,34 @@ double PeriodSamples::loop_area(int k, int x, int y) const {
 }
 
 std::pair<double, double> PeriodSamples::fit(int k, int x, int y, double lo, double hi) const {
+  // least squares in time over the piecewise-linear interpolant: each segment clipped to the
+  // part where channel x lies in [lo, hi], its moments (1, X, Y, X^2, XY: at most quadratic in
+  // time) integrated exactly by Simpson's rule
   const std::vector<double> r = period_rows(k);
   const std::size_t w = static_cast<std::size_t>(channels_) + 1, n = r.size() / w;
-  double s0 = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
-  int count = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double X = r[i * w + 1 + x], Y = r[i * w + 1 + y];
-    if (X < lo || X > hi) continue;
-    // the time this sample represents: half of each neighbouring interval
-    const double dt =
-        0.5 * ((i + 1 < n ? r[(i + 1) * w] : r[i * w]) - (i > 0 ? r[(i - 1) * w] : r[i * w]));
-    s0 += dt, sx += dt * X, sy += dt * Y, sxx += dt * X * X, sxy += dt * X * Y;
-    ++count;
+  double m[5] = {0, 0, 0, 0, 0};
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    const double t0 = r[i * w], t1 = r[(i + 1) * w];
+    const double X0 = r[i * w + 1 + x], X1 = r[(i + 1) * w + 1 + x];
+    const double Y0 = r[i * w + 1 + y], Y1 = r[(i + 1) * w + 1 + y];
+    double ua = 0.0, ub = 1.0;
+    if (X1 != X0) {
+      const double u_lo = (lo - X0) / (X1 - X0), u_hi = (hi - X0) / (X1 - X0);
+      ua = std::max(0.0, std::min(u_lo, u_hi)), ub = std::min(1.0, std::max(u_lo, u_hi));
+    } else if (X0 < lo || X0 > hi) {
+      continue;
+    }
+    if (!(ub > ua)) continue;
+    const double dt = (t1 - t0) * (ub - ua);
+    for (const auto& [u, weight] : {std::pair{ua, 1.0}, {0.5 * (ua + ub), 4.0}, {ub, 1.0}}) {
+      const double X = X0 + u * (X1 - X0), Y = Y0 + u * (Y1 - Y0), c = weight * dt / 6.0;
+      m[0] += c, m[1] += c * X, m[2] += c * Y, m[3] += c * X * X, m[4] += c * X * Y;
+    }
   }
-  const double det = s0 * sxx - sx * sx;
-  if (count < 3 || !(det > 0.0)) return {kNaN, kNaN};
-  const double b = (s0 * sxy - sx * sy) / det;
-  return {(sy - b * sx) / s0, b};
+  const double det = m[0] * m[3] - m[1] * m[1];
+  if (!(det > 1e-12 * m[0] * m[3])) return {kNaN, kNaN};
+  const double b = (m[0] * m[4] - m[1] * m[2]) / det;
+  return {(m[2] - b * m[1]) / m[0], b};
 }
 
 // command channels: 0 command, 1 surface angle command, 2 piston, 3 surface angle

@@ -30,8 +30,9 @@ class PeriodSamples {
   std::complex<double> fourier(int k, int c) const;
   /// Integral over period k of channel y d(channel x) (trapezoids): a loop's signed area.
   double loop_area(int k, int x, int y) const;
-  /// Least-squares line y = a + b x through the samples of period k whose channel x lies in
-  /// [lo, hi], each weighted by the time it represents. {a, b}; NaN when fewer than 3 samples.
+  /// Least-squares line y = a + b x over the times of period k at which channel x lies in
+  /// [lo, hi] (the piecewise-linear interpolant, integrated exactly). {a, b}; NaN when x does
+  /// not vary over them.
   std::pair<double, double> fit(int k, int x, int y, double lo, double hi) const;
 
  private:

@@ -134,6 +134,38 @@ TEST_CASE("waveform commands in the other scenes: kinematic and servo-actuator",
   }
 }
 
+TEST_CASE("period samples: the Fourier projection, the loop area and the branch fit", "[inputs]") {
+  // 50 periods of y0 = cos(w t + phi), y1 = 2 sin(w t) at irregular steps (a long run, so old
+  // samples are dropped on the way): the projection over a period is (T/2) exp(i phi), the loop
+  // of (y0, y1) with phi = 0 has the area of its ellipse, pi x 1 x 2
+  const double f = 3.0, T = 1.0 / f, w = 2 * kPi * f, phi = 0.7;
+  for (double ph : {phi, 0.0}) {
+    PeriodSamples s(PeriodicInput{f, 0.1, 50, 1.0}, 2, 3);
+    double t = 0.0;
+    for (int i = 0; t < 0.1 + 50 * T + 0.01; ++i) {
+      const double v[2] = {std::cos(w * (t - 0.1) + ph), 2 * std::sin(w * (t - 0.1))};
+      s.add(t, v);
+      t += 4e-4 * (1.0 + 0.5 * std::sin(1.3 * i));  // 0.2 to 0.6 ms
+    }
+    REQUIRE(s.completed() == 50);
+    for (int k : {47, 48, 49}) {
+      const std::complex<double> c = s.fourier(k, 0);
+      CHECK(std::abs(c - 0.5 * T * std::polar(1.0, ph)) < 1e-5 * T);
+    }
+    if (ph == 0.0) {
+      // the area by trapezoids in (y0, y1): within (w h)^2/12 ~ 1e-5 of the ellipse's
+      CHECK(std::abs(s.loop_area(49, 0, 1)) == Approx(2 * kPi).epsilon(1e-4));
+      // y1 against y0 where y0 in [0.2, 0.9]: two branches +-2 sqrt(1 - y0^2), the line
+      // through both has slope ~0 and intercept ~0
+      const auto [a, b] = s.fit(49, 0, 1, 0.2, 0.9);
+      // (exact for the interpolant, which differs from the curves by up to (w h)^2/8 ~ 2e-5
+      // of their amplitude 2)
+      CHECK(std::abs(a) < 1e-4);
+      CHECK(std::abs(b) < 1e-4);
+    }
+  }
+}
+
 namespace {
 
 /// The transfer functions piston/command and surface/surface-command of the linearised model of
