@@ -295,7 +295,7 @@ TEST_CASE("frequency response: clearance lowers the surface gain at small amplit
 
 TEST_CASE("free-play ground test: the loop's free-play is the geometric 2c/s", "[inputs][slow]") {
   // the actuator holds 0, the moment a 1 Hz triangle between +-400 N m (studies/free-play.json
-  // at twice its rate: still quasi-static, the linkage's mode is at 76 Hz), no friction: the
+  // at twice its rate: still quasi-static, the linkage's mode is at 71 Hz), no friction: the
   // geometric prediction has none (docs/inputs.md#the-geometric-free-play)
   IntegratorSettings bdf;
   bdf.method = "cvode_bdf";
