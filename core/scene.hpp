@@ -65,11 +65,25 @@ inline constexpr SignalId kStepSignals[] = {SignalId::time,
                                             SignalId::surface_angle_command,
                                             SignalId::actuator_command,
                                             SignalId::actuator_position,
+                                            SignalId::hinge_moment,
                                             SignalId::chamber_pressures,
                                             SignalId::kinetic_energy,
                                             SignalId::input_work,
                                             SignalId::dissipated_energy,
                                             SignalId::energy_residual};
+
+/// A single-frequency periodic input of a scene (a sine or triangle command or hinge moment):
+/// where its whole periods lie, for the frequency-response and free-play metrics.
+struct PeriodicInput {
+  double frequency = 0.0;   ///< [Hz]
+  double start_time = 0.0;  ///< start of the first period [s]
+  int cycles = 0;           ///< whole periods from start_time
+  double amplitude = 0.0;   ///< [the input's unit]
+};
+struct PeriodicInputs {
+  std::optional<PeriodicInput> command;  ///< the position command (actuator_command signal)
+  std::optional<PeriodicInput> load;     ///< the hinge moment (hinge_moment signal)
+};
 
 class Scene {
  public:
@@ -134,6 +148,9 @@ class Scene {
   virtual std::optional<JointPlay> joint_play(double /*t*/, const double* /*x*/) const {
     return std::nullopt;
   }
+
+  /// The scene's single-frequency periodic inputs, if any (none by default).
+  virtual PeriodicInputs periodic_inputs() const { return {}; }
 
   // --- outputs ------------------------------------------------------------------------------
   /// The catalogue signals this scene provides (time is always provided).

@@ -49,7 +49,8 @@ MetricsAccumulator::MetricsAccumulator(const Scene& scene, const MetricsSettings
       has_crank_rate_(provides(scene, SignalId::surface_rate)),
       // the rod-extension command: the actuator's, else the prescribed motion itself
       command_signal_(scene.features().has(Feature::actuator) ? SignalId::actuator_command
-                                                              : SignalId::actuator_position) {
+                                                              : SignalId::actuator_position),
+      periodic_(scene) {
   v_.fill(kNaN);
   if (has_contact_) {
     for (MetricId id : {MetricId::first_impact_peak_force, MetricId::max_contact_force,
@@ -209,6 +210,7 @@ void MetricsAccumulator::on_step(const SignalFrame& f) {
     at(v_, MetricId::dissipated_energy) = d;
     dissipated_prev_ = d;
   }
+  if (periodic_.active()) periodic_.on_step(f);
   t_prev_ = t;
   first_step_ = false;
 }
@@ -323,6 +325,19 @@ MetricValues MetricsAccumulator::finish(const RunStats& stats) const {
         at(v, MetricId::last_revolution_max_eccentricity) = last_.ecc_max;
       }
     }
+  }
+  if (periodic_.active()) {
+    const PeriodicMetrics p = periodic_.finish();
+    at(v, MetricId::drive_frequency) = p.drive_frequency;
+    at(v, MetricId::piston_gain) = p.piston_gain;
+    at(v, MetricId::piston_phase) = p.piston_phase;
+    at(v, MetricId::surface_gain) = p.surface_gain;
+    at(v, MetricId::surface_phase) = p.surface_phase;
+    at(v, MetricId::response_settling) = p.response_settling;
+    at(v, MetricId::free_play) = p.free_play;
+    at(v, MetricId::stiffness_positive) = p.stiffness_positive;
+    at(v, MetricId::stiffness_negative) = p.stiffness_negative;
+    at(v, MetricId::hysteresis) = p.hysteresis;
   }
   at(v, MetricId::max_penetration_fraction) = stats.max_penetration_fraction;
   at(v, MetricId::max_penetration_strain) = stats.max_penetration_strain;

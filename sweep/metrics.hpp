@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/integrator.hpp"
+#include "sweep/periodic_metrics.hpp"
 
 namespace rodend {
 
@@ -101,6 +102,7 @@ class MetricsAccumulator {
   long long revolution_ = 0;  // index of the revolution under way
   Revolution current_, last_, before_last_;
   std::vector<double> revolution_peaks_;  // [m/s^2] peak |slider acceleration| of each turn
+  PeriodicAccumulator periodic_;          // frequency response, free-play loop
 };
 
 }  // namespace rodend

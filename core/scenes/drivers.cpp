@@ -11,8 +11,16 @@ namespace rodend {
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
-constexpr std::array<std::string_view, 3> kShapeNames{"raised-cosine", "minimum-jerk", "step"};
-constexpr std::array<std::string_view, 3> kHingeNames{"none", "constant", "proportional"};
+#define RODEND_X(id, name) name,
+constexpr std::string_view kWaveNames[]{RODEND_WAVEFORMS(RODEND_X)};
+constexpr std::string_view kShapeNames[]{"raised-cosine", "minimum-jerk", "step",
+                                         RODEND_WAVEFORMS(RODEND_X)};
+constexpr std::string_view kHingeNames[]{"none", "constant", "proportional",
+                                         RODEND_WAVEFORMS(RODEND_X)};
+#undef RODEND_X
+constexpr auto kWaveformCount = std::size(kWaveNames);
+static_assert(std::size(kShapeNames) == 3 + kWaveformCount);
+static_assert(std::size(kHingeNames) == 3 + kWaveformCount);
 
 /// The position of the text at `path` in `names`; InputError naming them if it is not there.
 std::size_t catalogue_index(const ParameterSet& p, const std::string& path,
@@ -46,13 +54,109 @@ void stroke_shape(ActuatorMotion::Shape s, double u, double& S, double& dS, doub
   }
 }
 
+/// tri(phase): 0 -> 1 -> -1 -> 0 in straight lines over one period, and its slope.
+void triangle(double phase, double& w, double& dw) {
+  const double u = phase - std::floor(phase);
+  if (u < 0.25) {
+    w = 4.0 * u, dw = 4.0;
+  } else if (u < 0.75) {
+    w = 2.0 - 4.0 * u, dw = -4.0;
+  } else {
+    w = 4.0 * u - 4.0, dw = 4.0;
+  }
+}
+
+/// A whole number of cycles >= 1 at `key`.
+int read_cycles(const ParameterSet& p, const std::string& key) {
+  const double c = p.number(key);
+  if (!(c >= 1.0 && c == std::floor(c) && c <= 1e6))
+    throw InputError(key, "expected a whole number of cycles >= 1");
+  return static_cast<int>(c);
+}
+
 }  // namespace
 
+std::span<const std::string_view> waveform_names() {
+  return kWaveNames;
+}
+
+std::optional<PeriodicInput> periodic_input(const Waveform& w) {
+  if (!w.single_frequency()) return std::nullopt;
+  return PeriodicInput{w.frequency, w.start_time, w.cycles, w.amplitude};
+}
+
+double Waveform::end_time() const {
+  return start_time + (single_frequency() ? cycles / frequency : chirp_duration);
+}
+
+Waveform::Sample Waveform::at(double t) const {
+  const double tau = t - start_time;
+  if (tau < 0.0) return {offset, 0.0, 0.0};
+  // after the window: the end value (offset after whole periods; a chirp holds where it ended)
+  if (t > end_time()) return {single_frequency() ? offset : at(end_time()).value, 0.0, 0.0};
+  // phase [cycles], instantaneous frequency f = dphase/dt [Hz] and its rate df/dt [Hz/s]
+  double phase = frequency * tau, f = frequency, df = 0.0;
+  if (kind == Kind::triangle) {
+    double w, dw;
+    triangle(phase, w, dw);
+    return {offset + amplitude * w, amplitude * dw * frequency, 0.0};
+  }
+  if (kind == Kind::linear_chirp) {
+    df = (end_frequency - start_frequency) / chirp_duration;
+    f = start_frequency + df * tau;
+    phase = start_frequency * tau + 0.5 * df * tau * tau;
+  } else if (kind == Kind::log_chirp) {
+    const double lk = std::log(end_frequency / start_frequency);
+    const double g = std::exp(lk * tau / chirp_duration);  // k^(tau/D)
+    f = start_frequency * g;
+    df = f * lk / chirp_duration;
+    phase = lk > 0.0 ? start_frequency * chirp_duration * (g - 1.0) / lk : start_frequency * tau;
+  }
+  const double s = std::sin(kTwoPi * phase), c = std::cos(kTwoPi * phase);
+  return {offset + amplitude * s, amplitude * kTwoPi * f * c,
+          amplitude * (kTwoPi * df * c - kTwoPi * kTwoPi * f * f * s)};
+}
+
+Waveform read_waveform(const ParameterSet& p, const std::string& pre, Waveform::Kind kind) {
+  Waveform w;
+  w.kind = kind;
+  w.amplitude = read_positive(p, pre + ".amplitude", true);
+  w.offset = p.number(pre + ".offset");
+  if (!std::isfinite(w.offset)) throw InputError(pre + ".offset", "expected a finite value");
+  w.start_time = read_positive(p, pre + ".start_time", true);
+  if (w.single_frequency()) {
+    w.frequency = read_positive(p, pre + ".frequency");
+    w.cycles = read_cycles(p, pre + ".cycles");
+    return w;
+  }
+  w.start_frequency = read_positive(p, pre + ".start_frequency");
+  w.end_frequency = read_positive(p, pre + ".end_frequency");
+  w.chirp_duration = read_positive(p, pre + ".chirp_duration");
+  if (w.end_frequency < w.start_frequency)
+    throw InputError(pre + ".end_frequency",
+                     "the chirp's end frequency " + format_number(w.end_frequency) +
+                         " Hz precedes its start frequency " + format_number(w.start_frequency) +
+                         " Hz: a chirp sweeps upwards (start_frequency <= end_frequency)");
+  return w;
+}
+
 double ActuatorMotion::duration() const {
+  if (is_waveform()) return wave.end_time();
   return start_time + cycles * (extension_time + retraction_time + 2.0 * hold_time);
 }
 
+std::pair<double, double> ActuatorMotion::range() const {
+  if (is_waveform())
+    return {std::min(0.0, wave.offset - wave.amplitude),
+            std::max(0.0, wave.offset + wave.amplitude)};
+  return {std::min(0.0, -retraction), std::max(0.0, extension)};
+}
+
 ActuatorMotion::Sample ActuatorMotion::at(double t) const {
+  if (is_waveform()) {
+    const Waveform::Sample w = wave.at(t);
+    return {w.value, w.rate, w.acceleration};
+  }
   const double period = extension_time + retraction_time + 2.0 * hold_time;
   if (t <= start_time) return {0.0, 0.0, 0.0};
   if (t >= duration()) return {-retraction, 0.0, 0.0};
@@ -93,10 +197,12 @@ ActuatorMotion read_motion(const ParameterSet& p, const std::string& prefix) {
   m.retraction_time = read_positive(p, prefix + ".retraction_time");
   m.hold_time = read_positive(p, prefix + ".hold_time", true);
   m.start_time = read_positive(p, prefix + ".start_time", true);
-  const double c = p.number(prefix + ".cycles");
-  if (!(c >= 1.0 && c == std::floor(c) && c <= 1e6))
-    throw InputError(prefix + ".cycles", "expected a whole number of cycles >= 1");
-  m.cycles = static_cast<int>(c);
+  m.cycles = read_cycles(p, prefix + ".cycles");
+  if (m.is_waveform())
+    m.wave =
+        read_waveform(p, prefix,
+                      static_cast<Waveform::Kind>(static_cast<int>(m.shape) -
+                                                  static_cast<int>(ActuatorMotion::Shape::sine)));
   return m;
 }
 
@@ -110,6 +216,9 @@ double HingeMoment::at(double t, double theta) const {
       break;
     case Kind::proportional:
       m -= stiffness * theta;
+      break;
+    default:  // a waveform
+      m += wave.at(t).value;
       break;
   }
   return m;
@@ -127,6 +236,10 @@ HingeMoment read_hinge(const ParameterSet& p, const std::string& prefix) {
   h.stiffness = read_positive(p, prefix + ".stiffness", true);
   h.sine_amplitude = p.number(prefix + ".sine_amplitude");
   h.sine_frequency = read_positive(p, prefix + ".sine_frequency", true);
+  if (h.is_waveform())
+    h.wave = read_waveform(p, prefix,
+                           static_cast<Waveform::Kind>(static_cast<int>(h.kind) -
+                                                       static_cast<int>(HingeMoment::Kind::sine)));
   return h;
 }
 

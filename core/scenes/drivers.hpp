@@ -5,10 +5,70 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 
 #include "core/params.hpp"
+#include "core/scene.hpp"
 
 namespace rodend {
+
+/// The periodic and swept waveforms, offered both as position commands (motion.shape) and as
+/// hinge moments (hinge.kind): RODEND_X(enumerator, "name"). One line adds a waveform to both
+/// catalogues (its formula goes in Waveform::at, drivers.cpp).
+#define RODEND_WAVEFORMS(RODEND_X)       \
+  RODEND_X(sine, "sine")                 \
+  RODEND_X(linear_chirp, "linear-chirp") \
+  RODEND_X(log_chirp, "log-chirp")       \
+  RODEND_X(triangle, "triangle")
+
+/// A periodic or swept waveform w(t) on the window [start_time, end_time()], `offset` before
+/// it and its end value after it (offset after whole periods of sine and triangle; a chirp
+/// holds the value it ended at) (tau = t - start_time):
+///   sine:         offset + A sin(2 pi f tau), `cycles` whole periods
+///   triangle:     offset + A tri(f tau), tri rising 0 -> 1 -> -1 -> 0 in straight lines over a
+///                 period (the phase of the sine), `cycles` whole periods
+///   linear-chirp: offset + A sin(2 pi (f0 tau + (f1 - f0) tau^2 / (2 D))), over D
+///   log-chirp:    offset + A sin(2 pi f0 D (k^(tau/D) - 1) / ln k), k = f1/f0, over D
+/// (the chirps' instantaneous frequency runs from f0 to f1 linearly or geometrically in time).
+struct Waveform {
+  enum class Kind {
+#define RODEND_X(id, name) id,
+    RODEND_WAVEFORMS(RODEND_X)
+#undef RODEND_X
+  } kind = Kind::sine;
+  double amplitude = 0.0;        ///< A [unit of the signal]
+  double frequency = 1.0;        ///< f of sine and triangle [Hz]
+  double offset = 0.0;           ///< [unit of the signal]
+  double start_time = 0.0;       ///< [s]
+  int cycles = 1;                ///< whole periods of sine and triangle
+  double start_frequency = 1.0;  ///< f0 of the chirps [Hz]
+  double end_frequency = 1.0;    ///< f1 of the chirps [Hz]
+  double chirp_duration = 1.0;   ///< D [s]
+
+  /// Value and its first two time derivatives.
+  struct Sample {
+    double value, rate, acceleration;
+  };
+  Sample at(double t) const;
+  double end_time() const;
+  /// Whether the waveform has one frequency (sine, triangle): what the frequency-response and
+  /// free-play metrics read (Scene::periodic_inputs).
+  bool single_frequency() const {
+    return kind == Kind::sine || kind == Kind::triangle;
+  }
+};
+
+/// The waveform as a PeriodicInput (Scene::periodic_inputs) when it has one frequency.
+std::optional<PeriodicInput> periodic_input(const Waveform& w);
+
+/// The waveform names in the order of Waveform::Kind.
+std::span<const std::string_view> waveform_names();
+
+/// Reads the waveform keys under `prefix` (amplitude, frequency, offset, start_time, cycles,
+/// start_frequency, end_frequency, chirp_duration), checking only those `kind` uses: a frequency
+/// or a duration <= 0, a chirp whose end frequency precedes (is below) its start frequency, a
+/// cycle count that is not a whole number >= 1. Throws InputError naming the key.
+Waveform read_waveform(const ParameterSet& p, const std::string& prefix, Waveform::Kind kind);
 
 /// Smooth extension-retraction profile of the actuator (thesis fig. 5.1): the velocity is a
 /// smooth pulse with no jumps, and the position is its integral. Per cycle: extension from the
@@ -19,7 +79,15 @@ namespace rodend {
 struct ActuatorMotion {
   /// step: the position jumps at the start of each stroke (a command only: the actuator scenes
   /// accept it, the kinematic scene, which needs a velocity, rejects it)
-  enum class Shape { raised_cosine, minimum_jerk, step } shape = Shape::raised_cosine;
+  /// then the waveforms (RODEND_WAVEFORMS), which replace the stroke by `wave`
+  enum class Shape {
+    raised_cosine,
+    minimum_jerk,
+    step,
+#define RODEND_X(id, name) id,
+    RODEND_WAVEFORMS(RODEND_X)
+#undef RODEND_X
+  } shape = Shape::raised_cosine;
   double extension = 0.05;       ///< extended position [m]
   double retraction = 0.0;       ///< retracted position is -retraction [m]
   double extension_time = 1.0;   ///< [s]
@@ -27,6 +95,14 @@ struct ActuatorMotion {
   double hold_time = 0.2;        ///< hold after each stroke [s]
   double start_time = 0.0;       ///< [s]
   int cycles = 1;
+  Waveform wave;  ///< the waveform of a waveform shape (its start_time and cycles are the above)
+
+  /// Whether the shape is a waveform (sine, chirp, triangle) rather than a stroke.
+  bool is_waveform() const {
+    return shape > Shape::step;
+  }
+  /// The smallest and largest position the profile reaches [m] (0 included: the start).
+  std::pair<double, double> range() const;
 
   /// Position [m], velocity [m/s] and acceleration [m/s^2] at time t.
   struct Sample {
@@ -50,12 +126,25 @@ ActuatorMotion read_motion(const ParameterSet& p, const std::string& prefix);
 ///   proportional: -k theta, always opposing deflection;
 ///   plus an optional sinusoidal term A sin(2 pi f t).
 struct HingeMoment {
-  enum class Kind { none, constant, proportional } kind = Kind::none;
+  /// then the waveforms (RODEND_WAVEFORMS): M = the waveform `wave`
+  enum class Kind {
+    none,
+    constant,
+    proportional,
+#define RODEND_X(id, name) id,
+    RODEND_WAVEFORMS(RODEND_X)
+#undef RODEND_X
+  } kind = Kind::none;
   double constant_moment = 0.0;  ///< M0 [N m]
   double step_time = 0.0;        ///< [s]
   double stiffness = 0.0;        ///< k [N m/rad]
   double sine_amplitude = 0.0;   ///< A [N m]
   double sine_frequency = 0.0;   ///< f [Hz]
+  Waveform wave;                 ///< the moment of a waveform kind [N m]
+
+  bool is_waveform() const {
+    return kind > Kind::proportional;
+  }
 
   double at(double t, double theta) const;
 };

@@ -25,7 +25,7 @@ class RodEndActuatorScene final : public RodEndScene<RodEndActuatorScene, ServoA
       : RodEndScene(p, kActuatorSignals),
         act_(read_servo_actuator(p, "actuator")),
         command_(read_motion(p, "motion")) {
-    check_command_within_stroke(command_, act_.params(), "motion.extension", "motion.retraction");
+    check_command_within_stroke(command_, act_.params(), "motion");
     // the piston cannot take the mechanism beyond its stroke: check closure over the stroke
     ActuatorMotion full = command_;
     full.shape = ActuatorMotion::Shape::raised_cosine;
@@ -37,6 +37,12 @@ class RodEndActuatorScene final : public RodEndScene<RodEndActuatorScene, ServoA
   }
 
   std::string_view name() const override { return "rod-end-actuator"; }
+  PeriodicInputs periodic_inputs() const override {
+    PeriodicInputs in;
+    if (command_.is_waveform()) in.command = periodic_input(command_.wave);
+    if (mech_.hinge().is_waveform()) in.load = periodic_input(mech_.hinge().wave);
+    return in;
+  }
   Features features() const override {
     return mech_.features().set(Feature::actuator).set(Feature::energy_audit);
   }

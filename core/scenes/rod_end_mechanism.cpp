@@ -88,19 +88,22 @@ void RodEndMechanism::check_closure(const ActuatorMotion& motion, const std::str
   // whole profile and the scan stays bounded for any cycle count (up to the 1e6 allowed)
   // the rod extension is monotonic within each stroke and constant in the holds (drivers.cpp:
   // both stroke shapes rise monotonically), so it spans [-retraction, extension] over the whole
-  // profile: when both ends close, every instant does, and the scan below (which finds the
-  // first offending time) is needed only when one does not. This keeps the check cheap when a
-  // large grid is validated (issue 19, fast validation).
+  // profile (a waveform spans offset -+ amplitude: ActuatorMotion::range): when both ends close,
+  // every instant does, and the scan below (which finds the first offending time) is needed only
+  // when one does not. This keeps the check cheap when a large grid is validated (issue 19, fast
+  // validation).
   {
     const double margin = 1e-6 * geometry_.max_rod();
-    const double shortest = geometry_.rod_zero() + std::min(0.0, -motion.retraction);
-    const double longest = geometry_.rod_zero() + std::max(0.0, motion.extension);
+    const auto [lo, hi] = motion.range();
+    const double shortest = geometry_.rod_zero() + lo;
+    const double longest = geometry_.rod_zero() + hi;
     if (shortest > geometry_.min_rod() + margin && longest < geometry_.max_rod() - margin) return;
   }
   ActuatorMotion scanned = motion;
   scanned.cycles = std::min(motion.cycles, 2);
-  const double T = scanned.duration();
-  const int n = 20000 * scanned.cycles;
+  // a waveform is scanned over its whole window (its cycles are not repeats of a stroke)
+  const double T = scanned.is_waveform() ? motion.duration() : scanned.duration();
+  const int n = scanned.is_waveform() ? 200000 : 20000 * scanned.cycles;
   for (int i = 0; i <= n; ++i) {
     const double t = T * i / n;
     const double l = geometry_.rod_zero() + scanned.at(t).position;
@@ -307,6 +310,7 @@ double RodEndMechanism::rod_axial_force(const Eval& e) const {
 
 void RodEndMechanism::step_outputs(const Eval& e, double command, SignalFrame& f) const {
   f.set(SignalId::surface_angle, e.theta);
+  f.set(SignalId::hinge_moment, e.hinge_moment);
   f.set(SignalId::surface_angle_command,
         geometry_.ideal_crank_angle(geometry_.rod_zero() + command));  // thesis eq. 4.1
   f.set(SignalId::kinetic_energy, kinetic_energy(e));

@@ -85,6 +85,7 @@ class RodEndMechanism {
 
   /// What the mechanism brings to a rod-end scene: the mechanism, its contact and, with a wear
   /// model, wear.
+  const HingeMoment& hinge() const { return hinge_; }
   Features features() const {
     return Features{Feature::mechanism, Feature::contact}.set(Feature::wear, wear_.has_value());
   }

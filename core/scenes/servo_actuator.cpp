@@ -79,16 +79,17 @@ ServoActuatorParams read_servo_actuator(const ParameterSet& p, const std::string
 }
 
 void check_command_within_stroke(const ActuatorMotion& m, const ServoActuatorParams& a,
-                                 const std::string& extension_key,
-                                 const std::string& retraction_key) {
-  if (m.extension >= a.half_stroke)
-    throw InputError(extension_key, "the command " + format_number(m.extension) +
-                                        " m is outside the piston stroke +-" +
-                                        format_number(a.half_stroke) + " m");
-  if (m.retraction >= a.half_stroke)
-    throw InputError(retraction_key, "the command -" + format_number(m.retraction) +
-                                         " m is outside the piston stroke +-" +
-                                         format_number(a.half_stroke) + " m");
+                                 const std::string& prefix) {
+  const auto [lo, hi] = m.range();
+  const bool wave = m.is_waveform();
+  if (hi >= a.half_stroke)
+    throw InputError(prefix + (wave ? ".amplitude" : ".extension"),
+                     "the command " + format_number(hi) + " m is outside the piston stroke +-" +
+                         format_number(a.half_stroke) + " m");
+  if (-lo >= a.half_stroke)
+    throw InputError(prefix + (wave ? ".amplitude" : ".retraction"),
+                     "the command " + format_number(lo) + " m is outside the piston stroke +-" +
+                         format_number(a.half_stroke) + " m");
 }
 
 double ServoActuator::motor_force(double current) const {

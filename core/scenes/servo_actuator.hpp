@@ -73,10 +73,10 @@ struct ServoActuatorParams {
 ServoActuatorParams read_servo_actuator(const ParameterSet& p, const std::string& prefix);
 
 struct ActuatorMotion;
-/// Rejects a command that leaves the piston stroke, naming the key of the offending extreme.
+/// Rejects a command that leaves the piston stroke, naming the key under `prefix` of the
+/// offending extreme (extension, retraction, or a waveform's amplitude).
 void check_command_within_stroke(const ActuatorMotion& m, const ServoActuatorParams& a,
-                                 const std::string& extension_key,
-                                 const std::string& retraction_key);
+                                 const std::string& prefix);
 
 class ServoActuator {
  public:

@@ -30,10 +30,15 @@ class ServoActuatorScene final : public Scene {
         motion_(read_motion(p, "command")),
         load_mass_(read_positive(p, "load.equivalent_mass", true)),
         load_force_(p.number("load.external_force")) {
-    check_command_within_stroke(motion_, act_.params(), "command.extension", "command.retraction");
+    check_command_within_stroke(motion_, act_.params(), "command");
   }
 
   std::string_view name() const override { return "servo-actuator"; }
+  PeriodicInputs periodic_inputs() const override {
+    PeriodicInputs in;
+    if (motion_.is_waveform()) in.command = periodic_input(motion_.wave);
+    return in;
+  }
   Features features() const override { return Features{Feature::actuator, Feature::energy_audit}; }
   int state_size() const override { return kStates; }
   void initial_state(double* x) const override {
