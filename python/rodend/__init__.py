@@ -176,7 +176,7 @@ def load_study(study, *, results_root="results", set=None):
     source (the document with the overrides), cases [{case_id, case_index, coordinates}].
     `study` is a study file's path or the study itself as a dict."""
     root = _path_arg("results_root", results_root)
-    with _study_path(study, root) as path:
+    with _StudyFile(study, root) as path:
         return _ext.load_study(path, root, _overrides(set))
 
 
@@ -196,7 +196,7 @@ def run_study(study, *, threads=1, results_root="results", set=None, rerun_faile
             raise TypeError(f"{name}: expected True or False, got {type(flag).__name__} {flag!r}")
     root = _path_arg("results_root", results_root)
     overrides = _overrides(set)
-    with _study_path(study, root) as path:
+    with _StudyFile(study, root) as path:
         rc, folder = _ext.run_study(path, int(threads), root, overrides, bool(rerun_failed),
                                     bool(progress))
     return rc, folder
@@ -236,15 +236,17 @@ def _signal_names(signals):
     return names
 
 
-class _study_path:
+class _StudyFile:
     """The path of a study given as a path, or of a temporary file holding a study given as a
     dict (in a fresh folder of the results root; removed on exit)."""
 
     def __init__(self, study, root):
-        self.study, self.root, self.tmp = study, root, None
+        self.study, self.root, self.tmp, self.path = study, root, None, None
 
     def __enter__(self):
         if isinstance(self.study, dict):
+            if isinstance(self.study.get("scene"), str):
+                _check_scene(self.study["scene"])
             name = self.study.get("name", "study")
             _check_type("name", name, str, "a string")
             os.makedirs(self.root, exist_ok=True)
@@ -252,13 +254,17 @@ class _study_path:
             path = os.path.join(self.tmp, (name if name and "/" not in name else "study") + ".json")
             with open(path, "w", encoding="utf-8") as fh:
                 fh.write(_json(self.study))
+            self.path = path
             return path
         return _path_arg("study", self.study)
 
-    def __exit__(self, *exc):
+    def __exit__(self, kind, error, tb):
         if self.tmp:
             import shutil
             shutil.rmtree(self.tmp, ignore_errors=True)
+            if isinstance(error, InputError):
+                # the temporary file is gone: name the dict instead
+                raise InputError(str(error).replace(self.path, "<study dict>")) from None
 
 
 def _overrides(s):

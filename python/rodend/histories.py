@@ -22,11 +22,15 @@ def time_axis(res):
     time.end of the longest case; `shared` is False when the cases' sample intervals differ
     (then each case's times are a variable over dimension `sample`)."""
     s = res.summary
-    with res._files.open(res._reference_rows()[0]) as f:
+    ref = res._reference_rows()[0]
+    with res._files.open(ref) as f:
         t = f["signals/time"][()] if "time" in f["signals"] else np.zeros(0)
+    # the reference case's own samples first (t[1] is the sample interval exactly), the study
+    # document's time when it stopped early
     doc = res.study.get("time", {}) if isinstance(res.study.get("time"), dict) else {}
-    end0 = doc.get("end", t[-1] if len(t) else 0.0)
-    dt0 = doc.get("sample_interval", t[1] - t[0] if len(t) > 1 else (end0 or 1.0))
+    complete = "status" not in s or s["status"].iloc[ref] == "ok"
+    end0 = t[-1] if complete and len(t) else doc.get("end", t[-1] if len(t) else 0.0)
+    dt0 = t[1] - t[0] if len(t) > 1 else doc.get("sample_interval", end0 or 1.0)
     end, dt = _per_case(res, "time.end", end0), _per_case(res, "time.sample_interval", dt0)
     nt = int(np.max(np.floor(end / dt + 1e-9)) + 1) if len(s) else 0
     if len(np.unique(dt)) > 1:

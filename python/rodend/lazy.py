@@ -1,7 +1,7 @@
 """One signal of every case of a study as a lazily indexed array (xarray's own lazy backend,
 as xarray.open_dataset uses for a file): shape (grid dims..., time[, component]); indexing it
 reads only the case files it selects, one at a time, so memory is bounded by what is accessed.
-`Dataset.chunk()` turns it into a dask array where dask is installed."""
+No dask is needed (and none is used)."""
 import itertools
 
 import numpy as np
