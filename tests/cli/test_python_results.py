@@ -109,6 +109,22 @@ def coordinates(folder):
     check(naming.components("chamber_pressures", 2) == ("chamber", ["rear", "front"]), "chamber")
 
 
+def stopped_early(tmp):
+    """A case that stops early is NaN past its end, its samples those of its file."""
+    doc = dict(BASE, name="budget", grid=[{"key": "integrator.max_steps", "values": [100000, 8]}])
+    rc, folder = rodend.run_study(doc, results_root=os.path.join(tmp, "budget"))
+    res = rodend.open_results(folder)
+    s = res.summary
+    check(rc == 1 and list(s.status) == ["ok", "step_budget_exhausted"], f"{rc} {list(s.status)}")
+    h = res.histories
+    with h5py.File(res.case_file(s.case_id[1]), "r") as f:
+        part = f["signals/eccentricity"][()]
+    e = h["eccentricity"].sel({"integrator.max_steps": 8}).values
+    check(0 < len(part) < 11 and np.array_equal(e[:len(part)], part) and
+          np.isnan(e[len(part):]).all(), f"stopped case {e} vs {part}")
+    check(np.array_equal(h["time"].values, np.arange(11) * 1e-3), "time coordinate")
+
+
 def zip_and_design(tmp):
     doc = dict(BASE, name="zipdesign",
                grid=[{"zip": [{"key": "parameters.contact.clearance", "values": [2e-4, 4e-4]},
@@ -184,6 +200,7 @@ def main():
         item("zip and design (item 5)", zip_and_design, tmp)
         item("honest answers (item 6)", honest, tmp, study, folder)
         item("lazy (item 4)", lazy, tmp, copy)
+        item("lazy, a case that stopped early (item 4)", stopped_early, tmp)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     finish("python_results")
