@@ -36,8 +36,8 @@ from . import naming
 from .naming import UnknownName
 
 __all__ = ["InputError", "run_case", "run_study", "load_study", "open_results", "Case",
-           "Results", "CorruptFile", "UnknownName", "schema", "scenes", "parameters", "signal_catalogue",
-           "analyze"]
+           "Results", "CorruptFile", "UnknownName", "schema", "scenes", "parameters",
+           "signal_catalogue", "analyze"]
 
 
 def _load_extension():
