@@ -17,8 +17,6 @@ from .casefiles import CaseFiles, CorruptFile, _long_name, _text, _units, verify
 
 __all__ = ["Results", "CorruptFile", "verify_checksum"]
 
-_TIME_ATTRS = {"units": "s", "long_name": "time", "description": "simulation time"}
-
 
 def _axis_size(entry):
     """Number of values of one grid axis entry of a study document (values, linspace,
