@@ -9,7 +9,9 @@
     rc, folder = rodend.run_study("studies/default.json", threads=2)
     res = rodend.open_results(folder)
     res.summary                           # pandas.DataFrame, one row per case (summary.csv)
-    res.histories                         # xarray.Dataset: dims = the grid axes and time
+    res.summary_dataset                   # xarray.Dataset: dims = the grid axes
+    res.histories                         # xarray.Dataset, lazy: dims = the grid axes and time
+    res.case(0)                           # one case's histories, its grid values as coordinates
 
     rodend.analyze(folder)                # a designed study: Sobol, Morris, chaos, exceedance
 
@@ -25,12 +27,17 @@ directory of another name), or next to itself.
 import glob
 import importlib.util
 import json
+import numbers
 import os
 import sys
+import tempfile
+
+from . import naming
+from .naming import UnknownName
 
 __all__ = ["InputError", "run_case", "run_study", "load_study", "open_results", "Case",
-           "Results", "CorruptFile", "schema", "scenes", "parameters", "signal_catalogue",
-           "analyze"]
+           "Results", "CorruptFile", "UnknownName", "schema", "scenes", "parameters",
+           "signal_catalogue", "analyze"]
 
 
 def _load_extension():
@@ -74,8 +81,16 @@ def scenes():
 
 
 def parameters(scene):
-    """A scene's default parameters: {dotted path: {value, unit, source, note}}."""
+    """A scene's default parameters: {dotted path: {value, unit, source, note}}. An unknown
+    scene raises UnknownName naming the nearest scenes."""
+    _check_scene(scene)
     return _ext.parameters(scene)
+
+
+def _check_scene(scene):
+    if not isinstance(scene, str):
+        raise TypeError(f"scene: expected a scene name (str), got {type(scene).__name__}")
+    naming.check_names("scene", [scene], scenes(), "(see rodend.scenes())")
 
 
 def signal_catalogue():
@@ -95,22 +110,33 @@ class Case:
 
     def __init__(self, d):
         self.__dict__.update(d)
+        # an unknown name raises UnknownName (a KeyError) naming the nearest ones
+        for key, kind in (("signals", "signal"), ("units", "signal"), ("long_names", "signal"),
+                          ("metrics", "metric"), ("metric_units", "metric")):
+            if isinstance(d.get(key), dict):
+                setattr(self, key, naming.Names(d[key], kind))
 
     def to_xarray(self):
-        """The histories as an xarray.Dataset over time (and component<w> for vectors)."""
+        """The histories as an xarray.Dataset over time (vector components labelled: x, y, z
+        or the catalogue's names), CF attributes (short long_name, the sentence in
+        description)."""
         import xarray as xr
         t = self.signals.get("time")
-        data = {}
+        data, coords = {}, {}
         for name, v in self.signals.items():
             if name == "time":
                 continue
-            dims = ("time",) if v.ndim == 1 else ("time", f"component{v.shape[1]}")
-            data[name] = (dims, v, {"units": self.units[name], "long_name": self.long_names[name]})
-        coords = {}
+            dims = ("time",)
+            if v.ndim == 2:
+                cdim, labels = naming.components(name, v.shape[1])
+                dims += (cdim,)
+                coords[cdim] = (cdim, labels)
+            data[name] = (dims, v, naming.attrs(name, self.units[name], self.long_names[name]))
         if t is not None:
-            coords["time"] = ("time", t, {"units": "s", "long_name": self.long_names["time"]})
+            coords["time"] = ("time", t, naming.attrs("time", "s", self.long_names["time"]))
         return xr.Dataset(data, coords=coords,
-                          attrs={"case_id": self.case_id, "status": self.status})
+                          attrs={"Conventions": naming.CONVENTIONS, "case_id": self.case_id,
+                                 "status": self.status})
 
     def __repr__(self):
         return (f"<rodend.Case {self.case_id} {self.status}, {len(self.signals)} signals, "
@@ -124,52 +150,150 @@ def run_case(scene, parameters=None, *, time=None, integrator=None, signals=None
     file `rodend run` writes).
 
     scene: a scene name (rodend.scenes()); parameters: overrides of its defaults, by dotted key
-    path or nested dicts; time: {"end": s, "sample_interval": s} (default: end 0.1 s sampled
-    every 1e-4 s); integrator, signals, health, metrics: as the study keys of the same names.
-    Raises InputError (a ValueError) with the command line's message for a bad input.
+    path or nested dicts (numbers may be numpy scalars, lists numpy arrays); time: {"end": s,
+    "sample_interval": s} (default: end 0.1 s sampled every 1e-4 s); integrator, signals,
+    health, metrics: as the study keys of the same names. Raises InputError (a ValueError) with
+    the command line's message for a bad input, UnknownName for an unknown scene or signal,
+    TypeError for an argument of the wrong type.
     """
+    _check_scene(scene)
     doc = {"name": "run_case", "scene": scene,
            "time": time if time is not None else {"end": 0.1, "sample_interval": 1e-4}}
-    for key, value in (("parameters", parameters), ("integrator", integrator),
-                       ("signals", signals), ("health", health), ("metrics", metrics)):
+    for key, value in (("parameters", parameters), ("time", time), ("integrator", integrator),
+                       ("health", health), ("metrics", metrics)):
+        _check_type(key, value, dict, "a dict")
         if value is not None:
             doc[key] = value
-    text = json.dumps(doc, allow_nan=False)
-    return Case(_ext.run_case(text, "run_case()", "" if write is None else os.fspath(write)))
+    if signals is not None:
+        doc["signals"] = _signal_names(signals)
+    if write is not None:
+        _check_type("write", write, (str, os.PathLike), "a path")
+    return Case(_ext.run_case(_json(doc), "run_case()", "" if write is None else os.fspath(write)))
 
 
-def load_study(path, *, results_root="results", set=None):
+def load_study(study, *, results_root="results", set=None):
     """A study as `rodend run --dry-run` resolves it: name, scene, output_dir, axis_keys,
-    source (the document with the overrides), cases [{case_id, case_index, coordinates}]."""
-    return _ext.load_study(os.fspath(path), os.fspath(results_root), _overrides(set))
+    source (the document with the overrides), cases [{case_id, case_index, coordinates}].
+    `study` is a study file's path or the study itself as a dict."""
+    root = _path_arg("results_root", results_root)
+    with _StudyFile(study, root) as path:
+        return _ext.load_study(path, root, _overrides(set))
 
 
-def run_study(path, *, threads=1, results_root="results", set=None, rerun_failed=False,
+def run_study(study, *, threads=1, results_root="results", set=None, rerun_failed=False,
               progress=False):
     """Runs a study as `rodend run` does (resume included) and returns (exit code, results
-    folder): 0 when every case is ok, 1 when one failed. `set` is {key.path: value} or a list
-    of "key.path=value" strings, as `--set`. Raises InputError for a bad study."""
-    rc, folder = _ext.run_study(os.fspath(path), int(threads), os.fspath(results_root),
-                                _overrides(set), bool(rerun_failed), bool(progress))
+    folder): 0 when every case is ok, 1 when one failed. `study` is a study file's path or the
+    study itself as a dict (written to a temporary file in the results root for the run, then
+    removed; the results folder's study.json keeps it). `set` is {key.path: value} or a list
+    of "key.path=value" strings, as `--set`; values may be numpy scalars and arrays. Raises
+    InputError for a bad study, TypeError naming the argument of a wrong type."""
+    if isinstance(threads, bool) or not isinstance(threads, numbers.Integral):
+        raise TypeError(f"threads: expected an integer >= 1, got {type(threads).__name__} "
+                        f"{threads!r}")
+    for name, flag in (("rerun_failed", rerun_failed), ("progress", progress)):
+        if not isinstance(flag, bool) and type(flag).__name__ != "bool_":
+            raise TypeError(f"{name}: expected True or False, got {type(flag).__name__} {flag!r}")
+    root = _path_arg("results_root", results_root)
+    overrides = _overrides(set)
+    with _StudyFile(study, root) as path:
+        rc, folder = _ext.run_study(path, int(threads), root, overrides, bool(rerun_failed),
+                                    bool(progress))
     return rc, folder
+
+
+def _json_default(v):
+    """numpy scalars and arrays as the numbers and lists they hold (json.dumps' default)."""
+    if hasattr(v, "tolist") and type(v).__module__ == "numpy":
+        return v.tolist()
+    if isinstance(v, os.PathLike):
+        return os.fspath(v)
+    raise TypeError(f"Object of type {type(v).__name__} is not JSON serializable")
+
+
+def _json(value):
+    return json.dumps(value, allow_nan=False, default=_json_default)
+
+
+def _check_type(name, value, types, what):
+    if value is not None and not isinstance(value, types):
+        raise TypeError(f"{name}: expected {what}, got {type(value).__name__} {value!r}")
+
+
+def _path_arg(name, value):
+    _check_type(name, value, (str, os.PathLike), "a path (str or os.PathLike)")
+    return os.fspath(value)
+
+
+def _signal_names(signals):
+    if isinstance(signals, str):
+        return signals  # "all", checked by the loader
+    names = list(signals.tolist() if hasattr(signals, "tolist") else signals)
+    for n in names:
+        _check_type("signals", n, str, "signal names (str)")
+    naming.check_names("signal", names, [c[0] for c in signal_catalogue()],
+                       "(see rodend.signal_catalogue())")
+    return names
+
+
+class _StudyFile:
+    """The path of a study given as a path, or of a temporary file holding a study given as a
+    dict (in a fresh folder of the results root; removed on exit)."""
+
+    def __init__(self, study, root):
+        self.study, self.root, self.tmp, self.path = study, root, None, None
+
+    def __enter__(self):
+        if isinstance(self.study, dict):
+            if isinstance(self.study.get("scene"), str):
+                _check_scene(self.study["scene"])
+            name = self.study.get("name", "study")
+            _check_type("name", name, str, "a string")
+            os.makedirs(self.root, exist_ok=True)
+            self.tmp = tempfile.mkdtemp(prefix=".rodend-study-", dir=self.root)
+            path = os.path.join(self.tmp, (name if name and "/" not in name else "study") + ".json")
+            with open(path, "w", encoding="utf-8") as fh:
+                fh.write(_json(self.study))
+            self.path = path
+            return path
+        return _path_arg("study", self.study)
+
+    def __exit__(self, kind, error, tb):
+        if self.tmp:
+            import shutil
+            shutil.rmtree(self.tmp, ignore_errors=True)
+            if isinstance(error, InputError):
+                # the temporary file is gone: name the dict instead
+                raise InputError(str(error).replace(self.path, "<study dict>")) from None
 
 
 def _overrides(s):
     if s is None:
         return []
     if isinstance(s, dict):
-        return [f"{k}={json.dumps(v)}" for k, v in s.items()]
-    return [str(x) for x in s]
+        for k in s:
+            _check_type("set", k, str, "{key.path: value} with str keys")
+        return [f"{k}={_json(v)}" for k, v in s.items()]
+    if isinstance(s, str):
+        raise TypeError("set: expected {key.path: value} or a list of \"key.path=value\" "
+                        "strings, got one str (wrap it in a list)")
+    out = list(s)
+    for x in out:
+        _check_type("set", x, str, 'a list of "key.path=value" strings')
+    return out
 
 
 def open_results(folder, signals=None):
-    """The results of a study folder (results/<study>, as `rodend run` wrote it): a Results with
-    .summary (pandas.DataFrame) and .histories (xarray.Dataset over the grid axes and time,
-    read on first use; `signals` limits which). Every file is checked before HDF5 reads it:
-    a damaged summary.h5 or case file, or a case file under another case's name, raises
+    """The results of a study folder (results/<study>, as `rodend run` wrote it), opened
+    without reading any history: a Results with .summary (pandas.DataFrame),
+    .summary_dataset (xarray.Dataset over the grid axes), .histories (xarray.Dataset over the
+    grid axes and time, lazy: a case file is read when its values are accessed; `signals`
+    limits which, an unknown or unrecorded name raises UnknownName naming the nearest) and
+    .case(which) (one case's histories). Every file is checked before HDF5 reads it: a damaged
+    summary.h5 or case file, or a case file under another case's name, raises
     rodend.CorruptFile (a ValueError) naming it; a missing case file, FileNotFoundError."""
     from . import results
-    return results.Results(folder, signals=signals)
+    return results.Results(_path_arg("folder", folder), signals=signals)
 
 
 def __getattr__(name):

@@ -1,71 +1,21 @@
 """A study's results folder as pandas and xarray (rodend.open_results).
 
-Reads results of schema_version 1 (attribute `unit`) and 2 (`units`, dimension scales).
+Reads results of schema_version 1 (attribute `unit`) and 2 (`units`, dimension scales). Opening
+reads summary.h5 and study.json only; the case files are read when their histories are accessed
+(rodend/lazy.py), one at a time. The files on disk are the stable layout of docs/results.md;
+what is returned adds the study's grid as dimensions, labelled components and CF attributes
+(rodend/naming.py).
 """
 import json
-import math
 import os
 
 import h5py
 import numpy as np
 
+from . import naming
+from .casefiles import CaseFiles, CorruptFile, _long_name, _text, _units, verify_checksum
 
-_USER_BLOCK = 512
-_MAGIC = b"RODEND-CHECKSUM 1\n"
-_HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
-
-
-class CorruptFile(ValueError):
-    """A results file (case file or summary.h5) whose bytes are damaged; the message names it."""
-
-
-def verify_checksum(path, kind="case file"):
-    """Checks the checksum header of a case file or summary.h5 (docs/results.md, "Crash
-    safety") before any HDF5 reader sees the file: the 512-byte user block exactly as rodend
-    writes it, the size it states, the CRC-32 of the rest. True when it holds, False for a
-    file without a user block (written before checksums); raises CorruptFile naming the file."""
-    import re
-    import zlib
-    bad = f"corrupt {kind} {os.fspath(path)}: "
-    with open(path, "rb") as fh:
-        head = fh.read(_USER_BLOCK)
-        if head[:8] == _HDF5_SIGNATURE:
-            return False
-        if not head.startswith(_MAGIC):
-            raise CorruptFile(bad + ("empty file" if not head else
-                                     'no checksum header ("RODEND-CHECKSUM") and not an HDF5 file'))
-        m = re.match(rb"crc32 ([0-9a-f]{8})\nbytes ([0-9]+)\n", head[len(_MAGIC):])
-        if len(head) < _USER_BLOCK or not m:
-            raise CorruptFile(bad + "damaged checksum header")
-        stored, size = int(m.group(1), 16), int(m.group(2))
-        expected = (_MAGIC + b"crc32 %08x\nbytes %d\n" % (stored, size)).ljust(_USER_BLOCK, b"\0")
-        if head != expected:
-            raise CorruptFile(bad + "damaged checksum header")
-        actual = os.fstat(fh.fileno()).st_size
-        if actual != size:
-            raise CorruptFile(bad + f"{actual} bytes, its checksum header says {size} "
-                              "(truncated or extended)")
-        crc = 0
-        for block in iter(lambda: fh.read(1 << 20), b""):
-            crc = zlib.crc32(block, crc)
-    if crc != stored:
-        raise CorruptFile(bad + f"content does not match its checksum (CRC-32 {crc:08x}, "
-                          f"stored {stored:08x})")
-    return True
-
-
-def _text(v):
-    if isinstance(v, (bytes, np.bytes_)):
-        return v.decode("utf-8", "replace")
-    return str(v)
-
-
-def _units(ds):
-    return _text(ds.attrs.get("units", ds.attrs.get("unit", "")))
-
-
-def _long_name(ds):
-    return _text(ds.attrs.get("long_name", ds.attrs.get("description", "")))
+__all__ = ["Results", "CorruptFile", "verify_checksum"]
 
 
 def _axis_size(entry):
@@ -79,17 +29,36 @@ def _axis_size(entry):
     raise ValueError(f"grid axis without values: {entry}")
 
 
-class Results:
-    """One study's results folder.
+def _read_summary(path):
+    """(columns {name: array}, names in order, units, long names, root attributes)."""
+    with h5py.File(path, "r") as f:
+        g = f["summary"]
+        names = json.loads(_text(g.attrs["columns"]))
+        cols, units, long_names = {}, {}, {}
+        for n in names:
+            d = g[n][()]
+            if d.dtype.kind in "OS":
+                d = np.array([_text(x) for x in d], dtype=object)
+            cols[n] = d
+            units[n] = _units(g[n])
+            long_names[n] = _long_name(g[n])
+        root = {"provenance": json.loads(_text(f.attrs.get("provenance_json", "{}")) or "{}"),
+                "schema_version": int(f.attrs.get("schema_version", 1)),
+                "study_json": _text(f.attrs.get("study_json", "")) or None}
+    return cols, names, units, long_names, root
 
-    summary    pandas.DataFrame, one row per case in grid order, the columns of summary.csv;
-               .attrs["units"] and .attrs["long_names"] per column
-    histories  xarray.Dataset (read on first use): every recorded signal over the study's grid
-               axes (one dimension per axis, named by its key; a zip group is one dimension
-               named by its first key, its other keys are coordinates along it) and time (and
-               component<w> for vector signals); units and long_name as attributes. A case
-               that stopped early is NaN past its end.
-    study      the study document as run (study.json); provenance: the summary's provenance
+
+class Results:
+    """One study's results folder. Opening it reads summary.h5 and study.json, no case file.
+
+    summary          pandas.DataFrame, one row per case in grid order, the columns of
+                     summary.csv; .attrs["units"] and .attrs["long_names"] per column
+    summary_dataset  the same table as an xarray.Dataset over the study's dimensions()
+    histories        xarray.Dataset, lazy: every recorded signal over dimensions() and time
+                     (and the component dimension of a vector); a case file is read when its
+                     values are accessed. A case that stopped early is NaN past its end.
+    case(which)      one case's histories, its grid values as scalar coordinates
+    study            the study document as run (study.json); provenance: the summary's
     """
 
     def __init__(self, folder, signals=None):
@@ -97,33 +66,24 @@ class Results:
         path = os.path.join(self.folder, "summary.h5")
         if not os.path.isfile(path):
             raise FileNotFoundError(f"{self.folder}: not a rodend results folder (no summary.h5)")
-        self._signals = signals
-        self._histories = None
-        study_json = os.path.join(self.folder, "study.json")
         verify_checksum(path, "summary file")  # a damaged file never reaches HDF5
-        with h5py.File(path, "r") as f:
-            g = f["summary"]
-            names = json.loads(_text(g.attrs["columns"]))
-            cols, units, long_names = {}, {}, {}
-            for n in names:
-                d = g[n][()]
-                if d.dtype.kind in "OS":
-                    d = np.array([_text(x) for x in d], dtype=object)
-                cols[n] = d
-                units[n] = _units(g[n])
-                long_names[n] = _long_name(g[n])
-            self.provenance = json.loads(_text(f.attrs.get("provenance_json", "{}")) or "{}")
-            self.schema_version = int(f.attrs.get("schema_version", 1))
-            source = _text(f.attrs.get("study_json", "")) or None
+        cols, names, units, long_names, root = _read_summary(path)
+        self.provenance, self.schema_version = root["provenance"], root["schema_version"]
         import pandas as pd
         self.summary = pd.DataFrame(cols, columns=names)
         self.summary.attrs["units"] = units
         self.summary.attrs["long_names"] = long_names
+        study_json = os.path.join(self.folder, "study.json")
         if os.path.isfile(study_json):
             with open(study_json, encoding="utf-8") as fh:
                 self.study = json.load(fh)
         else:
-            self.study = json.loads(source) if source else {}
+            self.study = json.loads(root["study_json"]) if root["study_json"] else {}
+        ids = self.summary["case_id"] if "case_id" in self.summary else []
+        self._files = CaseFiles(self.folder, ids)
+        self._recorded_signals = None
+        self._histories = None
+        self._signals = None if signals is None else self._check_signals(signals)
 
     def __repr__(self):
         return f"<rodend.Results {self.folder}: {len(self.summary)} cases>"
@@ -140,97 +100,140 @@ class Results:
                 axes.append((entry["key"], [entry["key"]], _axis_size(entry)))
         return axes
 
+    def dimensions(self):
+        """[(dimension name, [coordinate keys], size)] the cases are laid out over: the grid
+        axes in order (a zip group is one dimension named by its first key, its other keys are
+        coordinates along it), then `design.sample` for a sampled design (the factors' keys are
+        coordinates along it); one dimension `case_index` when the cases are no such product."""
+        axes = self.grid_axes()
+        n = len(self.summary)
+        n_grid = int(np.prod([a[2] for a in axes], dtype=np.int64))
+        design = self.study.get("design")
+        if design and n_grid and n % n_grid == 0:
+            keys = ["design.sample"] + [f["key"] for f in design.get("factors", [])]
+            axes.append(("design.sample", keys, n // n_grid))
+        product = int(np.prod([a[2] for a in axes], dtype=np.int64))
+        if product != n or any(a[1][0] not in self.summary for a in axes):
+            return [("case_index", ["case_index"], n)]
+        return axes
+
     def case_file(self, case_id):
         return os.path.join(self.folder, "cases", f"{case_id}.h5")
 
+    def _attrs(self, key):
+        return naming.attrs(key, self.summary.attrs["units"].get(key, ""),
+                            self.summary.attrs["long_names"].get(key, ""))
+
+    def _dataset_attrs(self):
+        return {"Conventions": naming.CONVENTIONS,
+                "study": self.study.get("name", os.path.basename(self.folder)),
+                "results": self.folder}
+
+    def _axis_coords(self, axes):
+        """The coordinates along each dimension: the rows where every other axis is at its
+        first value."""
+        shape = tuple(size for _, _, size in axes)
+        coords = {}
+        for pos, (name, keys, size) in enumerate(axes):
+            rows = np.arange(size) * int(np.prod(shape[pos + 1:], dtype=np.int64))
+            for key in keys:
+                if key in self.summary:
+                    coords[key] = (name, self.summary[key].to_numpy()[rows], self._attrs(key))
+        return coords
+
+    @property
+    def summary_dataset(self):
+        """The summary as an xarray.Dataset: every column over the study's dimensions() (a
+        3 x 3 grid gives a 3 x 3 table), the axis keys as coordinates."""
+        import xarray as xr
+        axes = self.dimensions()
+        shape, dims = tuple(a[2] for a in axes), tuple(a[0] for a in axes)
+        coords = self._axis_coords(axes)
+        data = {col: (dims, self.summary[col].to_numpy().reshape(shape), self._attrs(col))
+                for col in self.summary.columns if col not in coords}
+        return xr.Dataset(data, coords=coords, attrs=self._dataset_attrs())
+
+    # ---------------------------------------------------------------------------------------
+    def _reference_rows(self):
+        """One row per scene of the study (its first ok case, else its first case); the first
+        is the ok case of the longest time.end: the cases whose files tell the signals."""
+        s = self.summary
+        ok = (s["status"] == "ok").to_numpy() if "status" in s else np.ones(len(s), bool)
+        order = np.arange(len(s))
+        if "time.end" in s:
+            order = np.argsort(-s["time.end"].to_numpy(float), kind="stable")
+        scenes = s["scene"].to_numpy() if "scene" in s else np.zeros(len(s))
+        rows = {}
+        for i in list(order[ok[order]]) + list(order):
+            rows.setdefault(scenes[i], int(i))
+        return list(rows.values())
+
+    def recorded_signals(self):
+        """{signal: (units, description, width or None)} as the case files record them (read
+        from one case file per scene)."""
+        if self._recorded_signals is None:
+            found = {}
+            for i in self._reference_rows():
+                with self._files.open(i) as f:
+                    for n, d in f["signals"].items():
+                        found.setdefault(n, (_units(d), _long_name(d),
+                                             d.shape[1] if d.ndim == 2 else None))
+            self._recorded_signals = found
+        return self._recorded_signals
+
+    def _check_signals(self, signals):
+        if isinstance(signals, str):
+            signals = [signals]
+        try:
+            signals = list(signals)
+        except TypeError:
+            raise TypeError(f"signals: expected a list of signal names, got "
+                            f"{type(signals).__name__}") from None
+        for n in signals:
+            if not isinstance(n, str):
+                raise TypeError(f"signals: expected signal names (str), got {n!r}")
+        naming.check_names("signal", signals, self.recorded_signals(),
+                           f"(not among the signals recorded in {self.folder})")
+        return signals
+
+    # ---------------------------------------------------------------------------------------
     @property
     def histories(self):
         if self._histories is None:
-            self._histories = self._read_histories()
+            from .histories import lazy_histories
+            self._histories = lazy_histories(self)
         return self._histories
 
-    def _read_histories(self):
-        import xarray as xr
+    def case(self, which, signals=None):
+        """One case's histories as an xarray.Dataset over time, read now: `which` is a case
+        id, a case index or {grid key: value}; `signals` limits which. The case's grid values
+        are scalar coordinates of its signals; vector components are labelled."""
+        from .histories import case_dataset
+        names = self._signals if signals is None else self._check_signals(signals)
+        return case_dataset(self, self._row(which), names)
+
+    def _row(self, which):
         s = self.summary
-        axes = self.grid_axes()
-        shape = tuple(size for _, _, size in axes)
-        if int(np.prod(shape, dtype=np.int64)) != len(s):
-            # not a plain product of the axes: one dimension over the cases
-            axes = [("case_index", ["case_index"], len(s))]
-            shape = (len(s),)
-        grid_dims = tuple(name for name, _, _ in axes)
-
-        per_case, units, long_names = [], {}, {}
-        for cid in s["case_id"]:
-            path = self.case_file(cid)
-            data = {}
-            if not os.path.isfile(path):
-                # reported, never shown as NaN histories of a case the summary lists
-                raise FileNotFoundError(f"{path}: the case file of case {cid} (a row of "
-                                        f"{self.folder}/summary.h5) is missing")
-            verify_checksum(path, "case file")  # a damaged file never reaches HDF5
-            with h5py.File(path, "r") as f:
-                held = _text(f.attrs.get("case_id", ""))
-                if held != cid:
-                    raise CorruptFile(f"{path}: holds case {held}, not {cid} (a case file "
-                                      "copied or moved under another case's name)")
-                g = f["signals"]
-                wanted = list(g) if self._signals is None else \
-                    ["time"] + [n for n in self._signals if n != "time"]
-                for n in wanted:
-                    if n in g:
-                        data[n] = g[n][()]
-                        units.setdefault(n, _units(g[n]))
-                        long_names.setdefault(n, _long_name(g[n]))
-            per_case.append(data)
-
-        times = [c["time"] for c in per_case if "time" in c]
-        longest = max(times, key=len) if times else np.zeros(0)
-        shared = all(np.array_equal(t, longest[:len(t)]) for t in times)
-        nt = len(longest)
-        time_dim = "time" if shared else "sample"
-
-        names = sorted({n for c in per_case for n in c if n != "time"})
-        variables = {}
-        for n in names:
-            width = next(c[n].shape[1] for c in per_case if n in c and c[n].ndim == 2) \
-                if any(n in c and c[n].ndim == 2 for c in per_case) else None
-            full = np.full(shape + (nt,) + ((width,) if width else ()), np.nan)
-            flat = full.reshape((-1,) + full.shape[len(shape):])
-            for i, c in enumerate(per_case):
-                if n in c:
-                    flat[i, :len(c[n])] = c[n]
-            dims = grid_dims + (time_dim,) + ((f"component{width}",) if width else ())
-            variables[n] = (dims, full, {"units": units[n], "long_name": long_names[n]})
-
-        coords = {}
-        for pos, (name, keys, size) in enumerate(axes):
-            # the values along this axis: the rows where every other axis is at its first value
-            stride = int(np.prod(shape[pos + 1:], dtype=np.int64))
-            rows = [k * stride for k in range(size)]
-            for key in keys:
-                if key not in s:
-                    continue
-                col = s[key].to_numpy()[rows]
-                coords[key] = (name, col, {"units": s.attrs["units"].get(key, ""),
-                                           "long_name": s.attrs["long_names"].get(key, key)})
-        if shared:
-            coords["time"] = ("time", longest, {"units": "s", "long_name": "simulation time"})
-        else:
-            t = np.full(shape + (nt,), np.nan)
-            flat = t.reshape(-1, nt)
-            for i, c in enumerate(per_case):
-                if "time" in c:
-                    flat[i, :len(c["time"])] = c["time"]
-            variables["time"] = (grid_dims + ("sample",), t,
-                                 {"units": "s", "long_name": "simulation time"})
-        for extra in ("status", "case_id"):
-            if extra in s:
-                coords[extra] = (grid_dims, s[extra].to_numpy().reshape(shape))
-        return xr.Dataset(variables, coords=coords,
-                          attrs={"study": self.study.get("name", os.path.basename(self.folder)),
-                                 "results": self.folder})
-
-
-def _isnan(v):
-    return isinstance(v, float) and math.isnan(v)
+        if isinstance(which, str):
+            hits = np.flatnonzero(s["case_id"].to_numpy() == which)
+            if not len(hits):
+                raise naming.unknown("case id", which, s["case_id"], f"in {self.folder}")
+            return int(hits[0])
+        if isinstance(which, (int, np.integer)) and not isinstance(which, bool):
+            hits = np.flatnonzero(s["case_index"].to_numpy() == which)
+            if not len(hits):
+                raise IndexError(f"case index {which}: {self.folder} has case indices "
+                                 f"{s['case_index'].min()} to {s['case_index'].max()}")
+            return int(hits[0])
+        if isinstance(which, dict):
+            naming.check_names("grid key", which, s.columns, f"(columns of {self.folder})")
+            match = np.ones(len(s), bool)
+            for k, v in which.items():
+                match &= (s[k] == v).to_numpy()
+            hits = np.flatnonzero(match)
+            if len(hits) != 1:
+                raise ValueError(f"{which}: matches {len(hits)} cases of {self.folder}, "
+                                 "expected one")
+            return int(hits[0])
+        raise TypeError(f"which: expected a case id (str), a case index (int) or "
+                        f"{{grid key: value}}, got {type(which).__name__}")

@@ -50,7 +50,7 @@ for line in sys.stdin:
     try:
         res = rodend.open_results(req["folder"])
         if req["histories"]:
-            res.histories
+            res.histories.load()  # lazy: the case files are read here
         out["result"] = "pass"
     except (rodend.CorruptFile, FileNotFoundError) as e:
         out["result"], out["message"] = type(e).__name__, str(e)

@@ -1,0 +1,90 @@
+"""Names and labels of what rodend returns from Python (issue 35 items 5 and 6): the CF
+`Conventions` attribute, short `long_name`s (the sentence kept in `description`), the labels of
+vector components, and the error raised for an unknown name, which names the nearest valid ones.
+Nothing here touches a file: the results layout on disk is unchanged."""
+import difflib
+
+# the CF version whose attribute names the results use (units, long_name; docs/results.md)
+CONVENTIONS = "CF-1.8"
+
+# vector components: (dimension, labels) by signal name; other vectors of width 3 are x, y, z
+# (dimension component3, as in the files). The labels are those the signal catalogue gives
+# (core/signals.def).
+_EULER = ("euler_321", ["phi", "theta", "psi"])
+_JOINTS = ("joint", ["ground-crank", "crank-rod", "rod-slider"])
+_CHAMBERS = ("chamber", ["rear", "front"])
+_COMPONENTS = {
+    "body_euler_321": _EULER, "ball_euler_321": _EULER, "socket_euler_321": _EULER,
+    "joint_normal_forces": _JOINTS, "joint_eccentricities": _JOINTS,
+    "chamber_pressures": _CHAMBERS, "chamber_flows": _CHAMBERS,
+}
+_XYZ = ["x", "y", "z"]
+
+
+def components(signal, width):
+    """(dimension name, component labels) of a vector signal of `width` components."""
+    if signal in _COMPONENTS and len(_COMPONENTS[signal][1]) == width:
+        return _COMPONENTS[signal]
+    if width <= 3:
+        return f"component{width}", _XYZ[:width]
+    return f"component{width}", [str(k) for k in range(width)]
+
+
+def short_name(key):
+    """A short long_name for an axis label: the last words of a key path, underscores as
+    spaces ("parameters.contact.clearance" -> "contact clearance", "max_penetration" ->
+    "max penetration")."""
+    parts = [p for p in str(key).split(".") if p]
+    if len(parts) > 1 and parts[0] in ("parameters", "integrator", "time", "health",
+                                       "metrics", "wear_evolution", "design"):
+        parts = parts[1:]
+    return " ".join(parts).replace("_", " ")
+
+
+def attrs(key, units, sentence):
+    """CF attributes of one variable: units, a short long_name and the sentence as
+    description (left out when it says nothing more than the short name)."""
+    out = {"units": units, "long_name": short_name(key)}
+    if sentence and sentence != out["long_name"]:
+        out["description"] = sentence
+    return out
+
+
+class UnknownName(KeyError, ValueError):
+    """An unknown signal, metric, scene or grid name; the message names the nearest valid
+    ones. A KeyError (dict-like lookups) and a ValueError (bad arguments)."""
+
+    def __str__(self):
+        return str(self.args[0]) if self.args else ""
+
+
+def unknown(kind, name, valid, where=""):
+    """The UnknownName for `name`, not one of `valid` (a `kind` such as "signal")."""
+    valid = sorted(str(v) for v in valid)
+    near = difflib.get_close_matches(str(name), valid, n=3, cutoff=0.6)
+    msg = f"unknown {kind} {name!r}" + (f" {where}" if where else "")
+    if near:
+        msg += "; nearest: " + ", ".join(near)
+    elif valid:
+        shown = ", ".join(valid[:12]) + (", ..." if len(valid) > 12 else "")
+        msg += f"; valid: {shown}"
+    return UnknownName(msg)
+
+
+def check_names(kind, names, valid, where=""):
+    """Raises UnknownName for the first of `names` not in `valid`."""
+    valid = set(valid)
+    for n in names:
+        if n not in valid:
+            raise unknown(kind, n, valid, where)
+
+
+class Names(dict):
+    """A dict whose missing key raises UnknownName naming the nearest keys."""
+
+    def __init__(self, data, kind):
+        super().__init__(data)
+        self._kind = kind
+
+    def __missing__(self, key):
+        raise unknown(self._kind, key, self.keys())
