@@ -25,48 +25,21 @@ _LEADING = ("case_id", "case_index")
 _AFTER_GRID = "status"
 
 
-_USER_BLOCK = 512
-_MAGIC = b"RODEND-CHECKSUM 1\n"
-_HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
+def _load_casefiles():
+    """The package's checksum reader (python/rodend/casefiles.py), loaded by its path: the plots
+    run without the compiled module the package `rodend` loads on import."""
+    import importlib.util
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "python", "rodend",
+                        "casefiles.py")
+    spec = importlib.util.spec_from_file_location("rodend_casefiles", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
-class CorruptFile(ValueError):
-    """A results file (case file or summary.h5) whose bytes are damaged; the message names it."""
-
-
-def verify_checksum(path, kind="case file"):
-    """Checks the checksum header of a case file or summary.h5 (docs/results.md, "Crash
-    safety") before any HDF5 reader sees the file: the 512-byte user block exactly as rodend
-    writes it, the size it states, the CRC-32 of the rest. True when it holds, False for a
-    file without a user block (written before checksums); raises CorruptFile naming the file."""
-    import re
-    import zlib
-    bad = f"corrupt {kind} {os.fspath(path)}: "
-    with open(path, "rb") as fh:
-        head = fh.read(_USER_BLOCK)
-        if head[:8] == _HDF5_SIGNATURE:
-            return False
-        if not head.startswith(_MAGIC):
-            raise CorruptFile(bad + ("empty file" if not head else
-                                     'no checksum header ("RODEND-CHECKSUM") and not an HDF5 file'))
-        m = re.match(rb"crc32 ([0-9a-f]{8})\nbytes ([0-9]+)\n", head[len(_MAGIC):])
-        if len(head) < _USER_BLOCK or not m:
-            raise CorruptFile(bad + "damaged checksum header")
-        stored, size = int(m.group(1), 16), int(m.group(2))
-        expected = (_MAGIC + b"crc32 %08x\nbytes %d\n" % (stored, size)).ljust(_USER_BLOCK, b"\0")
-        if head != expected:
-            raise CorruptFile(bad + "damaged checksum header")
-        actual = os.fstat(fh.fileno()).st_size
-        if actual != size:
-            raise CorruptFile(bad + f"{actual} bytes, its checksum header says {size} "
-                              "(truncated or extended)")
-        crc = 0
-        for block in iter(lambda: fh.read(1 << 20), b""):
-            crc = zlib.crc32(block, crc)
-    if crc != stored:
-        raise CorruptFile(bad + f"content does not match its checksum (CRC-32 {crc:08x}, "
-                          f"stored {stored:08x})")
-    return True
+_casefiles = _load_casefiles()
+CorruptFile = _casefiles.CorruptFile
+verify_checksum = _casefiles.verify_checksum
 
 
 class NotAStudy(Exception):
