@@ -24,7 +24,7 @@ METRICS = [
     ("lowpass_p95_revolution_peak_slider_acceleration", "95 %, 1 kHz low-pass"),
     ("peak_slider_acceleration_settled", "largest (settled peak)"),
     ("slider_acceleration_peak_to_peak", "peak-to-peak"),
-    ("steady_min_eccentricity_ratio", "min |e| / c"),
+    ("steady_min_eccentricity_ratio", "min abs(e)/c"),
 ]
 
 
