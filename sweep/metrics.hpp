@@ -45,10 +45,12 @@ struct MetricsSettings {
 
 /// A Butterworth low-pass of order n and cut-off f_c, run forward (causal, as the anti-alias
 /// filter of an accelerometer's conditioning) over a non-uniform sequence of samples: the analog
-/// filter (cascaded second-order sections, and one first-order section for odd n) integrated
-/// exactly between samples with the input taken linear between them (first-order hold), so the
-/// step sizes need not be uniform and no step is too large for stability. |H(f)|^2 =
-/// 1 / (1 + (f/f_c)^(2n)): gain 1/sqrt(2) at f_c for every order.
+/// filter as cascaded second-order sections (and one first-order section for odd n), each
+/// integrated exactly over a step with its input taken linear between the step ends
+/// (first-order hold: exact for a piecewise-linear input to the first section; for the later
+/// sections, whose input is the previous one's output, the hold is second order in the step).
+/// No resampling, and no step is too large for stability. |H(f)|^2 = 1 / (1 + (f/f_c)^(2n)):
+/// gain 1/sqrt(2) at f_c for every order.
 class ButterworthLowPass {
  public:
   ButterworthLowPass(double cutoff_hz, int order);

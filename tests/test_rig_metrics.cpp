@@ -138,3 +138,25 @@ TEST_CASE("rig metrics of a pure sine: per-revolution peaks, swing, filter and w
   CHECK(m(MetricId::steady_min_eccentricity_ratio) == Approx(0.8).epsilon(1e-12));
   CHECK(m(MetricId::peak_slider_acceleration_settled_change) < 1e-3);
 }
+
+TEST_CASE("rig metrics: the low-pass off leaves its metrics NaN", "[metrics][rig-metrics]") {
+  const auto scene =
+      make_scene("planar-slider-crank", ParameterSet::defaults_for("planar-slider-crank"));
+  MetricsSettings off;
+  off.lowpass_cutoff = 0.0;
+  MetricsAccumulator acc(*scene, off);
+  const double h = kTurn / 100.0;
+  for (int i = 1; i <= 4 * 100; ++i) {
+    SignalFrame f;
+    f.set(SignalId::time, i * h);
+    f.set(SignalId::crank_angle, kOmega * i * h);
+    f.set(SignalId::surface_rate, kOmega);
+    f.set(SignalId::slider_acceleration, 100.0 * std::sin(kOmega * i * h));
+    acc.on_step(f);
+  }
+  const MetricValues v = acc.finish(RunStats{});
+  CHECK(std::isnan(
+      v[static_cast<std::size_t>(MetricId::lowpass_median_revolution_peak_slider_acceleration)]));
+  CHECK(v[static_cast<std::size_t>(MetricId::median_revolution_peak_slider_acceleration)] ==
+        Approx(100.0).epsilon(1e-3));  // sampled every 3.6 degrees: cos(1.8 deg) = 1 - 4.9e-4
+}
