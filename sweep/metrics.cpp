@@ -52,6 +52,8 @@ MetricsAccumulator::MetricsAccumulator(const Scene& scene, const MetricsSettings
                                                               : SignalId::actuator_position),
       periodic_(scene) {
   v_.fill(kNaN);
+  if (has_crank_ && settings_.lowpass_cutoff > 0.0)
+    lowpass_.emplace(settings_.lowpass_cutoff, settings_.lowpass_order);
   if (has_contact_) {
     for (MetricId id : {MetricId::first_impact_peak_force, MetricId::max_contact_force,
                         MetricId::max_eccentricity, MetricId::max_penetration,
@@ -189,7 +191,9 @@ void MetricsAccumulator::on_step(const SignalFrame& f) {
       }
     };
     take(current_);  // the step that crosses a turn ends both revolutions
+    take_rig(f, dt);
     if (index > revolution_) {
+      close_rig_revolution();
       before_last_ = index == revolution_ + 1 ? last_ : Revolution{};
       last_ = index == revolution_ + 1 ? current_ : Revolution{};
       revolution_peaks_.push_back(current_.peak_acceleration);
@@ -276,7 +280,204 @@ SettledPeak settled_peak(std::span<const double> pk) {
   out.change = 0.0;
   for (std::size_t k = 1; k <= back; ++k)
     out.change = std::max(out.change, std::abs(peak_of(n - k) - out.peak) / out.peak);
+  // the two halves of the window, disjoint: an early spike in every cut window above is in
+  // one half only (issue 36)
+  const auto full = window(n);
+  const auto half = full.size() / 2;
+  const double first = *std::max_element(full.begin(), full.begin() + half);
+  const double second = *std::max_element(full.begin() + half, full.end());
+  out.change = std::max(out.change, std::abs(first - second) / out.peak);
   return out;
+}
+
+ButterworthLowPass::ButterworthLowPass(double cutoff_hz, int order)
+    : omega_(2.0 * std::numbers::pi * cutoff_hz) {
+  // poles omega exp(i pi (2k + n + 1) / (2n)), k = 0 .. n-1: the pairs k, n-1-k have damping
+  // sin(pi (2k + 1) / (2n)); the real pole of an odd order is a first-order section
+  for (int k = 0; k < order / 2; ++k)
+    sections_.push_back({std::sin(std::numbers::pi * (2 * k + 1) / (2.0 * order))});
+  if (order % 2) sections_.push_back({-1.0});
+}
+
+double ButterworthLowPass::reset(double u) {
+  for (Section& s : sections_) {
+    s.x0 = u;
+    s.x1 = 0.0;
+  }
+  u_prev_ = u;
+  return u;
+}
+
+namespace {
+
+/// A 2x2 matrix [a b; c d].
+struct Mat2 {
+  double a = 0, b = 0, c = 0, d = 0;
+};
+Mat2 mul(const Mat2& x, const Mat2& y) {
+  return {x.a * y.a + x.b * y.c, x.a * y.b + x.b * y.d, x.c * y.a + x.d * y.c,
+          x.c * y.b + x.d * y.d};
+}
+/// x + k y
+Mat2 add(const Mat2& x, const Mat2& y, double k) {
+  return {x.a + k * y.a, x.b + k * y.b, x.c + k * y.c, x.d + k * y.d};
+}
+
+/// The exact step of x' = A x + b u over h with u linear from u0 to u1:
+/// x(h) = Phi x0 + G0 b u0 + G1 b (u1 - u0) / h, Phi = e^{A h}, G0 = int_0^h e^{A s} ds,
+/// G1 = int_0^h e^{A s} (h - s) ds. For |A| h < 0.05 by their series (ten terms: truncation
+/// below 1e-15 relative), else in closed form, G0 = A^-1 (Phi - I), G1 = A^-1 (G0 - h I).
+struct Discrete {
+  Mat2 phi, g0, g1;
+};
+Discrete discretise(const Mat2& A, const Mat2& phi, double h, bool small) {
+  const Mat2 I{1, 0, 0, 1};
+  Discrete r;
+  if (!small) {
+    const double det = A.a * A.d - A.b * A.c;
+    const Mat2 inv{A.d / det, -A.b / det, -A.c / det, A.a / det};
+    r.phi = phi;
+    r.g0 = mul(inv, add(phi, I, -1.0));
+    r.g1 = mul(inv, add(r.g0, I, -h));
+    return r;
+  }
+  // Phi = sum (A h)^k / k!, G0 = h sum (A h)^k / (k+1)!, G1 = h^2 sum (A h)^k / (k+2)!
+  Mat2 power = I;     // (A h)^k
+  double fact = 1.0;  // k!
+  for (int k = 0; k < 10; ++k) {
+    if (k > 0) {
+      power = add(Mat2{}, mul(power, A), h);
+      fact *= k;
+    }
+    r.phi = add(r.phi, power, 1.0 / fact);
+    r.g0 = add(r.g0, power, h / (fact * (k + 1)));
+    r.g1 = add(r.g1, power, h * h / (fact * (k + 1) * (k + 2)));
+  }
+  return r;
+}
+
+}  // namespace
+
+double ButterworthLowPass::step(double h, double u) {
+  double in0 = u_prev_, in1 = u;
+  u_prev_ = u;  // each section's input: the previous section's output
+  for (Section& s : sections_) {
+    const double y0 = s.x0;
+    if (!(h > 0.0)) {
+      // a repeated sample: no time passes
+    } else if (s.zeta < 0.0) {
+      // first order, y' = w (u - y): Phi = e^{-w h}, G0 b = 1 - Phi, G1 b = h - (1 - Phi) / w
+      const double one_minus_phi = -std::expm1(-omega_ * h);
+      const double k = (in1 - in0) / h;
+      s.x0 = (1.0 - one_minus_phi) * s.x0 + one_minus_phi * in0 + (h - one_minus_phi / omega_) * k;
+    } else {
+      // second order, x = (y, y'), y'' + 2 zeta w y' + w^2 y = w^2 u, b = (0, w^2)
+      const double w = omega_, sigma = s.zeta * w, wd = w * std::sqrt(1.0 - s.zeta * s.zeta);
+      const Mat2 A{0.0, 1.0, -w * w, -2.0 * sigma};
+      const double e = std::exp(-sigma * h), sn = std::sin(wd * h) / wd;
+      const Mat2 phi{e * (std::cos(wd * h) + sn * sigma), e * sn, e * sn * A.c,
+                     e * (std::cos(wd * h) + sn * (A.d + sigma))};
+      const Discrete dz = discretise(A, phi, h, w * h < 0.05);
+      const double k = (in1 - in0) / h, b = w * w;
+      const double x0 = s.x0, x1 = s.x1;
+      s.x0 = dz.phi.a * x0 + dz.phi.b * x1 + dz.g0.b * b * in0 + dz.g1.b * b * k;
+      s.x1 = dz.phi.c * x0 + dz.phi.d * x1 + dz.g0.d * b * in0 + dz.g1.d * b * k;
+    }
+    in0 = y0;
+    in1 = s.x0;
+  }
+  return in1;
+}
+
+double percentile(std::vector<double> values, double q) {
+  if (values.empty()) return kNaN;
+  std::sort(values.begin(), values.end());
+  const double pos = std::clamp(q, 0.0, 1.0) * static_cast<double>(values.size() - 1);
+  const auto lo = static_cast<std::size_t>(std::floor(pos));
+  const std::size_t hi = std::min(lo + 1, values.size() - 1);
+  return values[lo] + (pos - static_cast<double>(lo)) * (values[hi] - values[lo]);
+}
+
+RigMetrics rig_metrics(std::span<const RigRevolution> revs) {
+  RigMetrics out;
+  const std::size_t n = revs.size();
+  if (n < 2) return out;
+  const auto window = revs.subspan(n / 2);  // N/2+1 .. N, as settled_peak()
+  std::vector<double> peaks, filtered;
+  double lo = kNaN, hi = kNaN, flo = kNaN, fhi = kNaN, ecc = kNaN;
+  for (const RigRevolution& r : window) {
+    peaks.push_back(r.peak);
+    filtered.push_back(r.filtered_peak);
+    lo = std::isnan(lo) ? r.min : std::min(lo, r.min);
+    hi = std::isnan(hi) ? r.max : std::max(hi, r.max);
+    flo = std::isnan(flo) ? r.filtered_min : std::min(flo, r.filtered_min);
+    fhi = std::isnan(fhi) ? r.filtered_max : std::max(fhi, r.filtered_max);
+    ecc = std::isnan(ecc) ? r.min_ecc_ratio : std::min(ecc, r.min_ecc_ratio);
+  }
+  out.median = percentile(peaks, 0.5);
+  out.p95 = percentile(peaks, 0.95);
+  out.ptp = hi - lo;
+  out.filtered_median = percentile(filtered, 0.5);
+  out.filtered_p95 = percentile(filtered, 0.95);
+  out.filtered_ptp = fhi - flo;
+  out.filtered_peak = *std::max_element(filtered.begin(), filtered.end());
+  out.min_ecc_ratio = ecc;
+  return out;
+}
+
+namespace {
+/// `r` extended by one more sample's record `f`.
+void merge(RigRevolution& r, const RigRevolution& f) {
+  r.peak = std::max(r.peak, f.peak);
+  r.min = std::min(r.min, f.min);
+  r.max = std::max(r.max, f.max);
+  r.filtered_peak = std::max(r.filtered_peak, f.filtered_peak);
+  r.filtered_min = std::min(r.filtered_min, f.filtered_min);
+  r.filtered_max = std::max(r.filtered_max, f.filtered_max);
+  r.min_ecc_ratio = std::min(r.min_ecc_ratio, f.min_ecc_ratio);
+}
+}  // namespace
+
+void MetricsAccumulator::take_rig(const SignalFrame& f, double dt) {
+  const double a = f.get(SignalId::slider_acceleration);
+  RigRevolution& r = rig_frame_;
+  r = RigRevolution{};
+  r.peak = std::abs(a);
+  r.min = r.max = a;
+  if (lowpass_) {
+    const double y = lowpass_started_ ? lowpass_->step(dt, a) : lowpass_->reset(a);
+    lowpass_started_ = true;
+    r.filtered_peak = std::abs(y);
+    r.filtered_min = r.filtered_max = y;
+  } else {
+    r.filtered_peak = r.filtered_min = r.filtered_max = kNaN;
+  }
+  if (has_contact_) {
+    // the clearance is |e| - penetration (the penetration is |e| - c, signed)
+    const double e = f.get(SignalId::eccentricity);
+    const double c = e - f.get(SignalId::penetration);
+    if (c > 0.0) r.min_ecc_ratio = e / c;
+  }
+  merge(rig_current_, r);
+}
+
+void MetricsAccumulator::close_rig_revolution() {
+  rig_revolutions_.push_back(rig_current_);
+  rig_current_ = rig_frame_;  // the step that crosses a turn ends both revolutions
+}
+
+void MetricsAccumulator::finish_rig(MetricValues& v) const {
+  const RigMetrics m = rig_metrics(rig_revolutions_);
+  at(v, MetricId::p95_revolution_peak_slider_acceleration) = m.p95;
+  at(v, MetricId::slider_acceleration_peak_to_peak) = m.ptp;
+  if (lowpass_) {
+    at(v, MetricId::lowpass_median_revolution_peak_slider_acceleration) = m.filtered_median;
+    at(v, MetricId::lowpass_p95_revolution_peak_slider_acceleration) = m.filtered_p95;
+    at(v, MetricId::lowpass_peak_slider_acceleration_settled) = m.filtered_peak;
+    at(v, MetricId::lowpass_slider_acceleration_peak_to_peak) = m.filtered_ptp;
+  }
+  if (has_contact_ && std::isfinite(m.min_ecc_ratio))
+    at(v, MetricId::steady_min_eccentricity_ratio) = m.min_ecc_ratio;
 }
 
 MetricValues MetricsAccumulator::finish(const RunStats& stats) const {
@@ -319,6 +520,7 @@ MetricValues MetricsAccumulator::finish(const RunStats& stats) const {
       at(v, MetricId::peak_slider_acceleration_settled_change) = settled.change;
       if (!std::isnan(settled.change))
         at(v, MetricId::slider_response_settled) = settled.change < 0.01 ? 1.0 : 0.0;
+      finish_rig(v);
       if (has_contact_) {
         if (has_joint_forces_) at(v, MetricId::peak_contact_force) = last_.peak_force;
         at(v, MetricId::last_revolution_min_eccentricity) = last_.ecc_min;

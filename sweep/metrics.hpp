@@ -4,6 +4,7 @@
 
 #include <array>
 #include <limits>
+#include <optional>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -38,7 +39,65 @@ inline double& metric(MetricValues& v, MetricId id) {
 struct MetricsSettings {
   double post_impact_window = 0.05;        ///< [s] window for the eccentricity oscillation
   double surface_motion_threshold = 1e-3;  ///< [rad] surface counts as moving beyond this
+  /// [Hz] cut-off of the anti-alias low-pass of the rig metrics (ButterworthLowPass); 0 = off
+  double lowpass_cutoff = 1000.0;
+  int lowpass_order = 4;  ///< [-] order of that Butterworth low-pass
 };
+
+/// A Butterworth low-pass of order n and cut-off f_c, run forward (causal, as the anti-alias
+/// filter of an accelerometer's conditioning) over a non-uniform sequence of samples: the analog
+/// filter as cascaded second-order sections (and one first-order section for odd n), each
+/// integrated exactly over a step with its input taken linear between the step ends
+/// (first-order hold: exact for a piecewise-linear input to the first section; for the later
+/// sections, whose input is the previous one's output, the hold is second order in the step).
+/// No resampling, and no step is too large for stability. |H(f)|^2 = 1 / (1 + (f/f_c)^(2n)):
+/// gain 1/sqrt(2) at f_c for every order.
+class ButterworthLowPass {
+ public:
+  ButterworthLowPass(double cutoff_hz, int order);
+  /// Start at rest at the constant input u (output u); returns u.
+  double reset(double u);
+  /// Advance by h [s] to the next sample u (the input linear in between); returns the output.
+  double step(double h, double u);
+
+ private:
+  struct Section {
+    double zeta = 0.0;  // damping ratio; < 0 marks a first-order section
+    double x0 = 0.0, x1 = 0.0;
+  };
+  double omega_ = 0.0;  // [rad/s] 2 pi f_c
+  std::vector<Section> sections_;
+  double u_prev_ = 0.0;
+};
+
+/// The value below which the fraction q of `values` lies, linear between order statistics
+/// (the "type 7" definition: q = 0 the smallest, 0.5 the median, 1 the largest); NaN when empty.
+double percentile(std::vector<double> values, double q);
+
+/// What a rig reads from the per-revolution records of the steady window (RigRevolution).
+struct RigRevolution {
+  double peak = 0.0;  ///< [m/s^2] peak |slider acceleration| of the revolution
+  double min = std::numeric_limits<double>::infinity();   ///< [m/s^2] smallest (signed)
+  double max = -std::numeric_limits<double>::infinity();  ///< [m/s^2] largest (signed)
+  double filtered_peak = 0.0;                             ///< [m/s^2] the same, low-passed
+  double filtered_min = std::numeric_limits<double>::infinity();
+  double filtered_max = -std::numeric_limits<double>::infinity();
+  double min_ecc_ratio = std::numeric_limits<double>::infinity();  ///< [-] min |e| / clearance
+};
+/// The rig metrics over the steady window of the revolution records (rig_metrics()).
+struct RigMetrics {
+  double median = std::numeric_limits<double>::quiet_NaN();  ///< [m/s^2] median peak
+  double p95 = std::numeric_limits<double>::quiet_NaN();     ///< [m/s^2] 95th percentile peak
+  double ptp = std::numeric_limits<double>::quiet_NaN();     ///< [m/s^2] max - min over window
+  double filtered_median = std::numeric_limits<double>::quiet_NaN();
+  double filtered_p95 = std::numeric_limits<double>::quiet_NaN();
+  double filtered_ptp = std::numeric_limits<double>::quiet_NaN();
+  double filtered_peak = std::numeric_limits<double>::quiet_NaN();  ///< [m/s^2] max peak
+  double min_ecc_ratio = std::numeric_limits<double>::quiet_NaN();  ///< [-]
+};
+/// The steady window is the same as settled_peak()'s: revolutions N/2+1 .. N of N (the first
+/// half, which holds the start-up transient, left out). NaN below 2 revolutions.
+RigMetrics rig_metrics(std::span<const RigRevolution> revolutions);
 
 /// The settled peak of a crank-driven response from the peak |slider acceleration| of each full
 /// revolution (`revolution_peaks`, in order): the largest over the second half of the
@@ -74,6 +133,12 @@ class MetricsAccumulator {
   MetricValues finish(const RunStats& stats) const;
 
  private:
+  /// The rig metrics (RigRevolution): one frame into the revolution under way, and the end of
+  /// a revolution.
+  void take_rig(const SignalFrame& f, double dt);
+  void close_rig_revolution();
+  void finish_rig(MetricValues& v) const;
+
   MetricsSettings settings_;
   // what the scene has (Scene::features)
   bool has_contact_ = false, has_surface_ = false, has_energy_ = false;
@@ -103,6 +168,11 @@ class MetricsAccumulator {
   Revolution current_, last_, before_last_;
   std::vector<double> revolution_peaks_;  // [m/s^2] peak |slider acceleration| of each turn
   PeriodicAccumulator periodic_;          // frequency response, free-play loop
+  // the rig metrics: the revolution under way, the finished ones, the anti-alias low-pass
+  RigRevolution rig_current_, rig_frame_;
+  std::vector<RigRevolution> rig_revolutions_;
+  std::optional<ButterworthLowPass> lowpass_;
+  bool lowpass_started_ = false;
 };
 
 }  // namespace rodend

@@ -1,0 +1,89 @@
+#!/usr/bin/env python3
+"""Issue 36: the tables of docs/planar-slider-crank.md, "Against the measured rig", from the
+summaries of the shipped studies (standard library only):
+
+    build/rodend run studies/planar-slider-crank-clearance.json
+    build/rodend run studies/planar-slider-crank-band.json
+    python3 scripts/slider-crank-comparison.py [results]
+
+The measurement and the published Adams simulation are the values of the flap-actuation study
+that quotes the rig (its Table 4; issue 36), crank at 500 rpm.
+"""
+import csv
+import math
+import sys
+from pathlib import Path
+
+MEASURED = {1e-4: 268.0, 3e-4: 297.7, 5e-4: 345.4}  # [m/s^2] oscillation peak on the rig
+ADAMS = {1e-4: 283.1, 3e-4: 318.2, 5e-4: 371.8}  # [m/s^2] the study's Adams model
+CLEARANCE = "parameters.joints.rod_slider.clearance"
+METRICS = [
+    ("median_revolution_peak_slider_acceleration", "median revolution peak"),
+    ("p95_revolution_peak_slider_acceleration", "95 % revolution peak"),
+    ("lowpass_median_revolution_peak_slider_acceleration", "median, 1 kHz low-pass"),
+    ("lowpass_p95_revolution_peak_slider_acceleration", "95 %, 1 kHz low-pass"),
+    ("peak_slider_acceleration_settled", "largest (settled peak)"),
+    ("slider_acceleration_peak_to_peak", "peak-to-peak"),
+    ("steady_min_eccentricity_ratio", "min abs(e)/c"),
+]
+
+
+def rows(results, study):
+    with open(Path(results) / study / "summary.csv", newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def err(x, ref):
+    return f"{100.0 * (x - ref) / ref:+.0f} %"
+
+
+def baseline(results):
+    by_c = {}
+    for r in rows(results, "planar-slider-crank-clearance"):
+        assert r["status"] == "ok", r
+        if r["parameters.joints.rod_slider.model"] == "clearance":
+            by_c[float(r[CLEARANCE])] = r
+    print("| clearance | measured | Adams (published) | " +
+          " | ".join(label for _, label in METRICS[:4]) + " | settled | min abs(e)/c |")
+    print("| --- " * 9 + "|")
+    for c in sorted(MEASURED):
+        r = by_c[c]
+        m = MEASURED[c]
+        cells = [f"{float(r[k]):.1f} ({err(float(r[k]), m)})" for k, _ in METRICS[:4]]
+        print(f"| {c * 1e3:.1f} mm | {m} | {ADAMS[c]} ({err(ADAMS[c], m)}) | " + " | ".join(cells) +
+              f" | {int(float(r['slider_response_settled']))} | "
+              f"{float(r['steady_min_eccentricity_ratio']):.3f} |")
+
+
+def band(results):
+    by_c = {}
+    for r in rows(results, "planar-slider-crank-band"):
+        assert r["status"] == "ok", r
+        by_c.setdefault(float(r[CLEARANCE]), []).append(r)
+    print("| clearance | cases | measured | " + " | ".join(label for _, label in METRICS) + " |")
+    print("| --- " * (3 + len(METRICS)) + "|")
+    for c in sorted(by_c):
+        cells = []
+        for k, _ in METRICS:
+            v = [float(r[k]) for r in by_c[c] if not math.isnan(float(r[k]))]
+            fmt = "{:.3f}" if k == "steady_min_eccentricity_ratio" else "{:.0f}"
+            cells.append(fmt.format(min(v)) + " – " + fmt.format(max(v)))
+        print(f"| {c * 1e3:.1f} mm | {len(by_c[c])} | {MEASURED[c]} | " + " | ".join(cells) + " |")
+    print()
+    # the largest median-revolution peak of each clearance and what set it
+    keys = ["parameters.friction.dynamic_coefficient", "parameters.rod.inertia",
+            "parameters.gravity", "parameters.contact.ball_radius",
+            "parameters.contact.bearing_length"]
+    k = METRICS[0][0]
+    for c in sorted(by_c):
+        for pick, name in ((max, "largest"), (min, "smallest")):
+            r = pick(by_c[c], key=lambda r: float(r[k]))
+            print(f"- {c * 1e3:.1f} mm, {name} median revolution peak {float(r[k]):.1f} m/s² at " +
+                  ", ".join(f"{x.split('.')[-1]} {r[x]}" for x in keys))
+
+
+if __name__ == "__main__":
+    where = sys.argv[1] if len(sys.argv) > 1 else "results"
+    baseline(where)
+    print()
+    band(where)
