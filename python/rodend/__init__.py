@@ -23,6 +23,7 @@ directory of another name), or next to itself.
 import glob
 import importlib.util
 import json
+import numbers
 import os
 import sys
 
@@ -131,7 +132,7 @@ def run_case(scene, parameters=None, *, time=None, integrator=None, signals=None
                        ("signals", signals), ("health", health), ("metrics", metrics)):
         if value is not None:
             doc[key] = value
-    text = json.dumps(doc, allow_nan=False)
+    text = _dumps(doc, "run_case()", "")
     return Case(_ext.run_case(text, "run_case()", "" if write is None else os.fspath(write)))
 
 
@@ -146,16 +147,35 @@ def run_study(path, *, threads=1, results_root="results", set=None, rerun_failed
     """Runs a study as `rodend run` does (resume included) and returns (exit code, results
     folder): 0 when every case is ok, 1 when one failed. `set` is {key.path: value} or a list
     of "key.path=value" strings, as `--set`. Raises InputError for a bad study."""
+    # the command line's checks: --threads is an integer from 1 to 4096 (the range is checked
+    # by the compiled part, with the command line's message)
+    if isinstance(threads, bool) or not isinstance(threads, numbers.Integral):
+        raise TypeError(f"run_study(): threads: expected an integer from 1 to 4096, got "
+                        f"{type(threads).__name__} {threads!r}")
+    for name, flag in (("rerun_failed", rerun_failed), ("progress", progress)):
+        if not isinstance(flag, bool):
+            raise TypeError(f"run_study(): {name}: expected True or False, got "
+                            f"{type(flag).__name__} {flag!r}")
     rc, folder = _ext.run_study(os.fspath(path), int(threads), os.fspath(results_root),
-                                _overrides(set), bool(rerun_failed), bool(progress))
+                                _overrides(set), rerun_failed, progress)
     return rc, folder
+
+
+def _dumps(value, origin, key):
+    """JSON text of a Python value; a value nested too deep for the json module (which
+    recurses) raises InputError naming the key, as the loader does for deep study files."""
+    try:
+        return json.dumps(value, allow_nan=False)
+    except RecursionError:
+        raise InputError(f"{origin}: {key or 'the document'}: nested too deep (the loader "
+                         f"takes at most 64 levels); expected a value a study can hold") from None
 
 
 def _overrides(s):
     if s is None:
         return []
     if isinstance(s, dict):
-        return [f"{k}={json.dumps(v)}" for k, v in s.items()]
+        return [f"{k}={_dumps(v, 'set=', k)}" for k, v in s.items()]
     return [str(x) for x in s]
 
 
