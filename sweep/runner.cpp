@@ -307,9 +307,30 @@ OutOfMemory::OutOfMemory(long complete, long in_scope, const char* cases_dir,
 
 namespace {
 
+/// The shard of another split (K'/M, M != n) running in `dir`, if any ("" when none): its lock
+/// file `.rodend.lock.shard-K'-of-M` is held. Shards of different splits share case files.
+std::string other_split_running(const fs::path& dir, int n) {
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    int k = 0, m = 0;
+    char tail = 0;
+    if (std::sscanf(name.c_str(), ".rodend.lock.shard-%d-of-%d%c", &k, &m, &tail) != 2 || m == n)
+      continue;
+    const int fd = ::open(e.path().c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK);
+    if (fd < 0) continue;
+    const bool held = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+    ::close(fd);
+    if (held) return std::to_string(k) + "/" + std::to_string(m);
+  }
+  return "";
+}
+
 /// Takes the results directory's locks: a full run holds `.rodend.lock` exclusively; a shard
 /// K/N holds it shared (the shards of one study run side by side, a full run or a merge waits
-/// for them all) and `.rodend.lock.shard-K-of-N` exclusively.
+/// for them all) and `.rodend.lock.shard-K-of-N` exclusively, and refuses to run beside a shard
+/// of another split (checked after its own lock is held: of two starting at once, neither
+/// misses the other).
 void claim_locks(const Study& study, const RunOptions& opt, RunPlan& plan) {
   const std::string study_lock = std::string(kResultsMarker) + ".lock";
   const std::string file = study.file.string();
@@ -322,6 +343,13 @@ void claim_locks(const Study& study, const RunOptions& opt, RunPlan& plan) {
                                  study_lock + ".shard-" + std::to_string(opt.shard_index) + "-of-" +
                                      std::to_string(opt.shard_count),
                                  file, opt.wait);
+  // refused even with --wait: two shards of different splits waiting for each other would wait
+  // forever, each holding its own lock
+  if (const std::string other = other_split_running(plan.dir, opt.shard_count); !other.empty())
+    throw std::runtime_error("shard " + other + " of another split runs in " + plan.dir.string() +
+                             "; its cases overlap those of shard " +
+                             std::to_string(opt.shard_index) + "/" +
+                             std::to_string(opt.shard_count) + ": rerun when it has finished");
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
 """One writer per results folder (issue 37 item 6), each run bounded by a timeout:
 
 - a full run and `--shard 1/2` of the same study on the same folder exclude each other, in
-  either order (exit 2 naming the lock's holder), and so do a merge and a running shard;
-  shards 1/2 and 2/2 still run side by side (before: the full run and a shard each took a lock
+  either order (exit 2 naming the lock's holder), and so do a merge and a running shard, and
+  shards of different splits (1/3 beside 1/2); shards 1/2 and 2/2 still run side by side (before: the full run and a shard each took a lock
   file of its own and computed the same cases at once);
 - case files deleted by another process during a run are noticed before the summary is
   written: exit 2 naming them, no summary, and the resume reruns them (before: exit 0 and a
@@ -48,16 +48,19 @@ def exclusion(tmp):
     study = slow_study(os.path.join(tmp, "excl.json"), "excl", n=8)
     root = os.path.join(tmp, "excl-root")
     cases = os.path.join(root, "excl", "cases", "*.h5")
-    for first, second in ((["--shard", "1/2"], []), ([], ["--shard", "1/2"]),
-                          (["--shard", "2/2"], ["--shard", "1/2"])):
+    # (first, second, what the second says: None = it runs beside the first)
+    for first, second, says in ((["--shard", "1/2"], [], ".rodend.lock"),
+                                ([], ["--shard", "1/2"], ".rodend.lock"),
+                                (["--shard", "2/2"], ["--shard", "1/2"], None),
+                                (["--shard", "1/2"], ["--shard", "1/3"], "another split")):
         p = start(["run", study, "-q", "-j", "1", "--results-root", root] + first)
         check(wait_for(cases, 1), f"{first}: no case file appeared")
         r = run(["run", study, "-q", "-j", "1", "--results-root", root] + second, timeout=120)
-        if second and first:  # two shards of one split: side by side
+        if says is None:  # two shards of one split: side by side
             check(r.returncode == 0, f"shard {second} beside {first}: exit {r.returncode} "
                                      f"{r.stderr[-400:]}")
         else:
-            check(r.returncode == 2 and "holds" in r.stderr and ".rodend.lock" in r.stderr,
+            check(r.returncode == 2 and says in r.stderr,
                   f"{second or 'full run'} while {first or 'full run'} runs: exit "
                   f"{r.returncode} {r.stderr[-400:]}")
         if first == ["--shard", "1/2"] and not second:
