@@ -4,6 +4,7 @@
 // 2 bad input (the message names the file, the key path and what was expected).
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <sstream>
 
@@ -275,6 +276,14 @@ int main(int argc, char** argv) {
   } catch (const InputError& e) {
     std::cerr << "rodend: error: " << e.what() << "\n";
     return 2;
+  } catch (const std::bad_alloc& e) {
+    // memory ran out (sweep::OutOfMemory names the complete cases and the resume command).
+    // Ended at once, without the handlers at exit: HDF5's own cleanup crashes on what an
+    // allocation that failed inside it left behind, and nothing else is left to flush
+    std::cerr << "rodend: error: " << e.what() << "\n";
+    std::cout.flush();
+    std::fflush(nullptr);
+    std::_Exit(2);
   } catch (const std::exception& e) {
     std::cerr << "rodend: error: " << e.what() << "\n";
     return 2;

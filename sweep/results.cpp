@@ -128,7 +128,7 @@ long long clock_ns(clockid_t clock) {
 /// thread's error stack in H5Eset_auto2, datatypes closed in H5Awrite) and then crashes at exit.
 /// So every HDF5 session first makes sure this much memory could be had (and `extra` more:
 /// the in-memory image of a file), and throws std::bad_alloc instead of entering HDF5 if not.
-constexpr std::size_t kHdf5Headroom = std::size_t{8} << 20;
+constexpr std::size_t kHdf5Headroom = std::size_t{16} << 20;
 void ensure_memory_for_hdf5(std::size_t extra = 0) {
   void* probe = std::malloc(kHdf5Headroom + extra);  // address space only: never touched
   if (probe == nullptr) throw std::bad_alloc();
@@ -559,7 +559,7 @@ unsigned char* thread_scratch(ScratchSlot slot, std::size_t size) {
 /// the expected size [bytes] (the core driver's allocation step). Call under Hdf5Lock.
 template <class Build>
 ByteSpan build_image(const Context& cx, hsize_t user_block, std::size_t estimate, Build&& build) {
-  ensure_memory_for_hdf5(estimate);  // the core driver allocates the estimate at once
+  ensure_memory_for_hdf5(2 * estimate);  // the estimate at once, and a case growing meanwhile
   const Handle fapl = cx.own(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "cannot create the file");
   cx.ok(H5Pset_fapl_core(fapl.get(), std::max<std::size_t>(estimate, 1 << 16), /*backing=*/0),
         "cannot create the file");

@@ -6,10 +6,10 @@ the child (as `ulimit` does), each run bounded by a timeout.
   for the shell); no case file holds a failed status, and the resume without the limit runs
   the 4 cases to ok (before: every case stored as internal_error "std::bad_alloc", and the
   resume said "4 of 4 cases already complete");
-- the default study with -j 2 under address-space limits from 40 to 120 MB: never killed by a
-  signal (before: SIGSEGV in H5Eset_auto2 or H5Awrite, SIGABRT from std::bad_alloc in the
-  loop's catch handler); it ends 0, or 2 with the count of complete cases and the resume
-  command;
+- the default study with -j 2 under address-space limits from 40 to 120 MB (every 5 MB): never
+  killed by a signal (before: SIGSEGV in H5Eset_auto2 or H5Awrite, SIGABRT from std::bad_alloc
+  in the loop's catch handler); it ends 0, or 2 with the count of complete cases and the
+  resume command;
 - -j 64 on 64 cases under a 200 MB limit (8 MiB thread stacks): exit 2 naming the thread that
   could not be created, strerror and the resume command (before: exit 1, libgomp's "Thread
   creation failed" only);
@@ -76,7 +76,7 @@ def main():
         st = statuses(folder)
         check(len(st) == 4 and set(st.values()) == {"ok"}, f"resume: statuses {st}")
 
-        for kb in range(40000, 120001, 10000):
+        for kb in range(40000, 120001, 5000):
             out = os.path.join(tmp, f"d{kb}")
             rc, err = limited(["run", DEFAULT, "-q", "-j", "2", "--results-root", out],
                               address_kb=kb)
