@@ -65,11 +65,14 @@ DEEP = """
     for _ in range(100000):
         deep = [deep]
     text = "[" * 100000 + "0" + "]" * 100000
+    # a top-level key is copied whole (recursively) before the loader checks it
     for what, call in (
-            ("set dict", lambda: rodend.load_study("study.json", set={"parameters.contact.clearance": deep})),
-            ("set string", lambda: rodend.load_study("study.json", set=["parameters.contact.clearance=" + text])),
-            ("run_study set", lambda: rodend.run_study("study.json", results_root="res", set={"time.end": deep})),
-            ("run_case parameters", lambda: rodend.run_case("gravity-drop", {"contact.clearance": deep}))):
+            ("set dict", lambda: rodend.load_study("study.json", set={"description": deep})),
+            ("set string", lambda: rodend.load_study("study.json", set=["description=" + text])),
+            ("run_study set", lambda: rodend.run_study("study.json", results_root="res",
+                                                       set=["grid=" + text])),
+            ("run_case parameters",
+             lambda: rodend.run_case("gravity-drop", {"contact.clearance": deep}))):
         try:
             call()
             print(what, "accepted")
@@ -82,8 +85,10 @@ SIGINT_AFTER = """
     def study(name, end):
         rodend.run_study("slow.json", threads=1, results_root="res-" + name,
                          set={"time.end": end})
-    # A starts first and ends last in one order, first in the other
-    for ends in ((0.6, 0.1), (0.1, 0.6)):
+    # A starts 0.1 s before B; it ends last in one order (0.6 s vs 0.2 s of wall time), first
+    # in the other (before the fix: A restored Python's handler, then B what it had replaced,
+    # rodend's, which swallowed the next SIGINT)
+    for ends in ((4.0, 1.5), (1.5, 4.0)):
         a = threading.Thread(target=study, args=("a%s" % ends[0], ends[0]))
         b = threading.Thread(target=study, args=("b%s" % ends[1], ends[1]))
         a.start(); time.sleep(0.1); b.start(); a.join(); b.join()
@@ -105,7 +110,7 @@ def main():
             "grid": [{"key": "parameters.contact.clearance", "values": [2e-4, 4e-4]}]})
         write_study(os.path.join(tmp, "slow.json"), {
             "name": "slow", "scene": "rod-end-kinematic",
-            "time": {"end": 0.6, "sample_interval": 1e-3}})
+            "time": {"end": 4.0, "sample_interval": 1e-3}})
 
         for k in range(3):
             rc, out = child(FIRST_CALLS, 30, tmp)
