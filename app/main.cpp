@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <new>
 #include <sstream>
@@ -292,6 +293,14 @@ int rodend_main(int argc, char** argv) {
   } catch (const InputError& e) {
     std::cerr << "rodend: error: " << e.what() << "\n";
     return 2;
+  } catch (const std::bad_alloc& e) {
+    // memory ran out (sweep::OutOfMemory names the complete cases and the resume command).
+    // Ended at once, without the handlers at exit: HDF5's own cleanup crashes on what an
+    // allocation that failed inside it left behind, and nothing else is left to flush
+    std::cerr << "rodend: error: " << e.what() << "\n";
+    std::cout.flush();
+    std::fflush(nullptr);
+    std::_Exit(2);
   } catch (const std::exception& e) {
     std::cerr << "rodend: error: " << e.what() << "\n";
     return 2;

@@ -8,6 +8,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <new>
 #include <sstream>
 #include <utility>
 
@@ -192,8 +193,10 @@ class Driver {
     } catch (const odeint::step_adjustment_error& e) {
       result.status = RunStatus::step_size_underflow;
       result.message = std::string("step size underflow: ") + e.what();
+    } catch (const std::bad_alloc&) {
+      throw;  // out of memory: the environment's failure, not the case's (the runner stops)
     } catch (const std::exception& e) {
-      // not a numerical failure: a bug, or a resource the run could not get
+      // not a numerical failure: a bug
       std::ostringstream m;
       m << "internal error after t = " << stats_.t_reached << " s: " << e.what();
       result.status = RunStatus::internal_error;

@@ -11,6 +11,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <exception>
+#include <new>
 #include <sstream>
 #include <utility>
 
@@ -75,7 +76,7 @@ class CvodeStepper final : public Stepper {
     tmp_ = N_VNew_Serial(n_, ctx_);
     const bool bdf = s.method == "cvode_bdf";
     mem_ = CVodeCreate(bdf ? CV_BDF : CV_ADAMS, ctx_);
-    if (!y_ || !tmp_ || !mem_) fail("cannot create CVODE");
+    if (!y_ || !tmp_ || !mem_) throw std::bad_alloc();  // only an allocation fails here
     z_buf_.resize(static_cast<std::size_t>(n_));
     dz_buf_.resize(static_cast<std::size_t>(n_));
     N_VConst(0.0, y_);
@@ -213,6 +214,7 @@ class CvodeStepper final : public Stepper {
   void check(int flag, const char* what) {
     if (flag < 0) {
       rethrow_pending();
+      if (flag == CV_MEM_FAIL) throw std::bad_alloc();  // the environment's, not the case's
       fail(std::string(what) + " failed: " + CVodeGetReturnFlagName(flag));
     }
   }

@@ -1,7 +1,13 @@
 // rodend._rodend: the C++ side of the Python module (python/rodend/__init__.py is the API).
 // Everything goes through the same loader, runner and results code as the command line, so a
 // bad input raises rodend.InputError with the CLI's message (file, key path, what was
-// expected), and results are the same bits. The GIL is released while cases run.
+// expected), and results are the same bits.
+//
+// Threads: the GIL is released around every call into rodend's C++ (loading, running,
+// writing), which never calls back into Python; what pybind11 initialises lazily under a C++
+// static guard while holding the GIL (numpy's API table, which imports numpy) is initialised at
+// import instead, so two threads making their first calls at once cannot deadlock (one in the
+// guard holding the GIL, the other inside it waiting for the GIL).
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -92,26 +98,29 @@ void check_write_path(const std::string& write, const std::string& origin) {
 /// `write` when given (the same file `rodend run` writes).
 py::dict py_run_case(const std::string& doc_text, const std::string& origin,
                      const std::string& write) {
-  Json doc;
-  try {
-    doc = Json::parse(doc_text);
-  } catch (const Json::exception& e) {
-    throw InputError("", std::string("not JSON: ") + e.what(), origin);
-  }
-  const Study study = parse_study(doc, origin);
-  if (study.cases.size() != 1)
-    throw InputError("grid",
-                     "run_case runs one case; this has " + std::to_string(study.cases.size()) +
-                         " (use run_study for a grid)",
-                     origin);
-  const CaseSpec& spec = study.cases.front();
-  if (!write.empty()) check_write_path(write, origin);
   History h;
   CaseRecord rec;
+  Json parameters, canonical;
   {
-    py::gil_scoped_release release;
+    py::gil_scoped_release release;  // C++ only: loading, running, writing
+    Json doc;
+    try {
+      doc = Json::parse(doc_text);
+    } catch (const Json::exception& e) {
+      throw InputError("", std::string("not JSON: ") + e.what(), origin);
+    }
+    const Study study = parse_study(doc, origin);
+    if (study.cases.size() != 1)
+      throw InputError("grid",
+                       "run_case runs one case; this has " + std::to_string(study.cases.size()) +
+                           " (use run_study for a grid)",
+                       origin);
+    const CaseSpec& spec = study.cases.front();
+    if (!write.empty()) check_write_path(write, origin);
     rec = rodend::run_case(spec, h);
     if (!write.empty()) write_case_file(write, spec, rec, h, provenance(study));
+    parameters = spec.parameters.leaves();
+    canonical = spec.canonical();
   }
   py::dict out = record_dict(rec);
   py::dict signals, units, names;
@@ -138,15 +147,18 @@ py::dict py_run_case(const std::string& doc_text, const std::string& origin,
   out["units"] = units;
   out["long_names"] = names;
   out["arrays"] = arrays;
-  out["parameters"] = from_json(spec.parameters.leaves());
-  out["case"] = from_json(spec.canonical());
+  out["parameters"] = from_json(parameters);
+  out["case"] = from_json(canonical);
   return out;
 }
 
 /// Loads a study (with --set overrides) as the CLI does: what it would run, where.
 py::dict py_load_study(const std::string& path, const std::string& results_root,
                        const std::vector<std::string>& overrides) {
-  const Study s = load_study(path, results_root, overrides);
+  const Study s = [&] {
+    py::gil_scoped_release release;
+    return load_study(path, results_root, overrides);
+  }();
   py::dict d;
   d["name"] = s.name;
   d["scene"] = s.scene;
@@ -171,19 +183,25 @@ py::dict py_load_study(const std::string& path, const std::string& results_root,
 py::tuple py_run_study(const std::string& path, int threads, const std::string& results_root,
                        const std::vector<std::string>& overrides, bool rerun_failed,
                        bool progress) {
-  if (threads < 1) throw InputError("threads", "expected an integer >= 1", path);
-  const Study study = load_study(path, results_root, overrides);
+  // as --threads (CLI::Range(1, 4096)): libgomp crashes on a team of 100,000
+  if (threads < 1 || threads > 4096)
+    throw InputError(
+        "threads",
+        "expected an integer from 1 to 4096 (as --threads), got " + std::to_string(threads), path);
   RunOptions opt;
   opt.threads = threads;
   opt.rerun_failed = rerun_failed;
   opt.progress = progress;
   opt.overrides = overrides;
   int rc = 0;
+  std::string folder;
   {
     py::gil_scoped_release release;
+    const Study study = load_study(path, results_root, overrides);
+    folder = study.output_dir.string();
     rc = rodend::run_study(study, opt);
   }
-  return py::make_tuple(rc, study.output_dir.string());
+  return py::make_tuple(rc, folder);
 }
 
 }  // namespace
@@ -198,6 +216,12 @@ PYBIND11_MODULE(_rodend, m) {
       input_error(e.what());
     }
   });
+  // numpy's API table (pybind11 fills it on first use, under a static guard, importing numpy)
+  // and rodend's catalogues: initialised now, once, under the import lock
+  (void)py::array_t<double>(0);
+  (void)scene_catalogue();
+  (void)metric_catalogue();
+  (void)signal_catalogue();
   m.attr("__version__") = RODEND_VERSION;
   m.attr("git_revision") = RODEND_GIT_REVISION;
   m.attr("schema_version") = kResultsSchemaVersion;

@@ -89,6 +89,20 @@ std::string host_name() {
   std::_Exit(2);  // not reached
 }
 
+/// fatal() for memory that ran out: a fixed message, nothing allocated (the job is resumed by
+/// rerunning the same command: no case was recorded as failed for it).
+[[noreturn]] void fatal_out_of_memory(int rank) {
+  std::lock_guard lock(g_mpi);
+  std::fprintf(stderr,
+               "rodend: error: rank %d: out of memory (no case is recorded as failed for it); "
+               "free memory or run fewer threads, then rerun the same command to resume\n"
+               "rodend: aborting the MPI job\n",
+               rank);
+  std::fflush(stderr);
+  MPI_Abort(MPI_COMM_WORLD, 2);
+  std::_Exit(2);  // not reached
+}
+
 /// Rank 0's queue of case indices, shared by the manager and rank 0's computing threads; counts
 /// the cases handed to each rank.
 class WorkQueue {
@@ -153,6 +167,11 @@ void manage(WorkQueue& queue, Progress& progress) {
 
 /// A worker thread: asks rank 0 for a case, runs it, writes its file, asks again.
 void work_remote(int rank, const Study& study, const RunPlan& plan) {
+  try {
+    prepare_results_io();  // while memory is free (sweep/results.hpp)
+  } catch (const std::bad_alloc&) {
+    fatal_out_of_memory(rank);
+  }
   int last = kNone;
   for (;;) {
     int i = kNoMoreWork;
@@ -165,6 +184,8 @@ void work_remote(int rank, const Study& study, const RunPlan& plan) {
     try {
       const CaseRecord rec = run_and_write_case(study, plan, static_cast<std::size_t>(i));
       last = rec.status == "ok" ? kOk : kFailed;
+    } catch (const std::bad_alloc&) {
+      fatal_out_of_memory(rank);
     } catch (const std::exception& e) {
       fatal(rank, "case " + study.cases[static_cast<std::size_t>(i)].id + ": " + e.what());
     }
@@ -173,10 +194,17 @@ void work_remote(int rank, const Study& study, const RunPlan& plan) {
 
 /// One of rank 0's computing threads: takes cases from the queue directly.
 void work_local(const Study& study, const RunPlan& plan, WorkQueue& queue, Progress& progress) {
+  try {
+    prepare_results_io();  // while memory is free (sweep/results.hpp)
+  } catch (const std::bad_alloc&) {
+    fatal_out_of_memory(0);
+  }
   for (int i = queue.take(0); i >= 0; i = queue.take(0)) {
     try {
       const CaseRecord rec = run_and_write_case(study, plan, static_cast<std::size_t>(i));
       progress.case_done(rec.status != "ok");
+    } catch (const std::bad_alloc&) {
+      fatal_out_of_memory(0);
     } catch (const std::exception& e) {
       fatal(0, "case " + study.cases[static_cast<std::size_t>(i)].id + ": " + e.what());
     }

@@ -128,11 +128,24 @@ long long clock_ns(clockid_t clock) {
   return static_cast<long long>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
 }
 
+/// HDF5 does not survive running out of memory: it dereferences unchecked allocations (a
+/// thread's error stack in H5Eset_auto2, datatypes closed in H5Awrite) and then crashes at exit.
+/// So every HDF5 session first makes sure this much memory could be had (and `extra` more:
+/// the in-memory image of a file), and throws std::bad_alloc instead of entering HDF5 if not.
+constexpr std::size_t kHdf5Headroom = std::size_t{16} << 20;
+void ensure_memory_for_hdf5(std::size_t extra = 0) {
+  void* probe = std::malloc(kHdf5Headroom + extra);  // address space only: never touched
+  if (probe == nullptr) throw std::bad_alloc();
+  std::free(probe);
+}
+
 /// Holds g_hdf5_mutex; the first one in each thread also silences HDF5's automatic error
-/// printing.
+/// printing. Throws std::bad_alloc (ensure_memory_for_hdf5) rather than enter HDF5 short of
+/// memory.
 class Hdf5Lock {
  public:
   Hdf5Lock() : lock_(g_hdf5_mutex) {
+    ensure_memory_for_hdf5();
     // HDF5's error stacks (and so its automatic printing) are per thread in a thread-safe build:
     // each thread that calls HDF5 switches it off once
     thread_local bool silenced = false;
@@ -222,13 +235,28 @@ std::string hdf5_error_text() {
   return parts.first.empty() ? parts.second : parts.first + ": " + parts.second;
 }
 
-/// Names the file (and the action) in error messages; checks HDF5 return values.
+herr_t find_allocation_failure(unsigned, const H5E_error2_t* e, void* data) {
+  if (e->maj_num == H5E_RESOURCE && (e->min_num == H5E_CANTALLOC || e->min_num == H5E_NOSPACE))
+    *static_cast<bool*>(data) = true;
+  return 0;
+}
+
+/// True when the current HDF5 error is an allocation that failed (memory, not the file).
+bool hdf5_out_of_memory() {
+  bool found = false;
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, find_allocation_failure, &found);
+  return found;
+}
+
+/// Names the file (and the action) in error messages; checks HDF5 return values. An HDF5
+/// failure to allocate is std::bad_alloc: the environment's failure, not the file's.
 class Context {
  public:
   Context(const fs::path& file, std::string action)
       : file_(file.string()), action_(std::move(action)) {}
 
   [[noreturn]] void fail(const std::string& what) const {
+    if (hdf5_out_of_memory()) throw std::bad_alloc();
     const std::string detail = hdf5_error_text();
     throw std::runtime_error(action_ + " " + file_ + ": " + what +
                              (detail.empty() ? "" : " (HDF5: " + detail + ")"));
@@ -562,6 +590,7 @@ unsigned char* thread_scratch(ScratchSlot slot, std::size_t size) {
 /// the expected size [bytes] (the core driver's allocation step). Call under Hdf5Lock.
 template <class Build>
 ByteSpan build_image(const Context& cx, hsize_t user_block, std::size_t estimate, Build&& build) {
+  ensure_memory_for_hdf5(2 * estimate);  // the estimate at once, and a case growing meanwhile
   const Handle fapl = cx.own(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "cannot create the file");
   cx.ok(H5Pset_fapl_core(fapl.get(), std::max<std::size_t>(estimate, 1 << 16), /*backing=*/0),
         "cannot create the file");
@@ -1617,6 +1646,10 @@ bool verify_case_file(const fs::path& path) {
 
 bool verify_summary_file(const fs::path& path) {
   return verify_checksum(path, "summary file");
+}
+
+void prepare_results_io() {
+  const Hdf5Lock lock;  // H5open on first use, the free-list limits, this thread's error stack
 }
 
 std::optional<CaseRecord> read_case_record(const fs::path& path) {

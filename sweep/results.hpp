@@ -109,6 +109,12 @@ std::string utc_now();
 /// Process-wide provenance: rodend version and git revision, host, study file.
 Json provenance(const Study& study);
 
+/// Initialises HDF5 for the calling thread (the library once, its error printing switched off
+/// in this thread) while memory is still free: call it on the main thread before a parallel
+/// region and first thing in each thread of it (HDF5 crashes when these allocations fail).
+/// Throws std::bad_alloc when the memory HDF5 needs cannot be had.
+void prepare_results_io();
+
 /// Writes results/<study>/cases/<id>.h5 (temporary name, then rename).
 void write_case_file(const std::filesystem::path& path, const CaseSpec& spec,
                      const CaseRecord& record, const History& history, const Json& provenance);

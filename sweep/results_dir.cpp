@@ -157,7 +157,8 @@ bool is_stale_temporary(const std::string& name) {
 }
 
 std::unique_ptr<ResultsLock> ResultsLock::claim(const fs::path& dir, const std::string& lock_name,
-                                                const std::string& study_file, bool wait) {
+                                                const std::string& study_file, bool wait,
+                                                bool shared) {
   std::error_code ec;
   const fs::path marker = dir / kResultsMarker;
   const bool existed = fs::exists(dir, ec);
@@ -200,7 +201,8 @@ std::unique_ptr<ResultsLock> ResultsLock::claim(const fs::path& dir, const std::
   // the process's death, releases it)
   const fs::path lock_path = dir / lock_name;
   const int fd = open_lock_file(lock_path, study_file);
-  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+  const int mode = shared ? LOCK_SH : LOCK_EX;
+  if (::flock(fd, mode | LOCK_NB) != 0) {
     const int err = errno;
     if (err != EWOULDBLOCK) {
       ::close(fd);
@@ -216,7 +218,7 @@ std::unique_ptr<ResultsLock> ResultsLock::claim(const fs::path& dir, const std::
     }
     std::fprintf(stderr, "rodend: waiting for the run that holds %s (%s)\n", lock_path.c_str(),
                  holder.c_str());
-    while (::flock(fd, LOCK_EX) != 0) {
+    while (::flock(fd, mode) != 0) {
       if (errno != EINTR) {
         const int e = errno;
         ::close(fd);

@@ -4,10 +4,11 @@
 //   it. A non-empty directory without the marker is refused (rodend never overwrites or deletes
 //   a file it did not create), except a results directory of an earlier rodend version (it has
 //   `cases/` and only the names rodend writes), which is adopted and marked.
-// - One run at a time: the run holds an advisory lock (`flock`) on `.rodend.lock` (a shard on
-//   `.rodend.lock.shard-K-of-N`, so that the shards of one study run side by side) for its whole
-//   life. A second run of the same study refuses with a message naming the holder, or waits
-//   for it (`rodend run --wait`).
+// - One run at a time: the run holds an advisory lock (`flock`) on `.rodend.lock` for its whole
+//   life: exclusive for a full run and a merge; a shard holds it shared and
+//   `.rodend.lock.shard-K-of-N` exclusive, so that the shards of one study run side by side
+//   while a full run of the same folder waits for them (and they for it). A second run of the same
+//   study refuses with a message naming the holder, or waits for it (`rodend run --wait`).
 // - Stale temporary files: under the lock, the temporary files of writers that are no longer
 //   running on this host (`.<name>.tmp.<host>.<pid>.<n>`, and the older `.<name>.tmp.<pid>.<n>`)
 //   are removed.
@@ -33,10 +34,12 @@ class ResultsLock {
   /// Claims `dir` for a run: creates it (with the marker) or checks that rodend owns it, takes
   /// the lock named `lock_name` (waiting when `wait`, else throwing a std::runtime_error naming
   /// the holder), then removes stale temporary files in `dir` and its subdirectories.
+  /// `shared`: a shared hold (flock LOCK_SH), which excludes only the exclusive ones.
   /// Throws InputError (key "output", in `study_file`) for a directory rodend does not own.
   static std::unique_ptr<ResultsLock> claim(const std::filesystem::path& dir,
                                             const std::string& lock_name,
-                                            const std::string& study_file, bool wait);
+                                            const std::string& study_file, bool wait,
+                                            bool shared = false);
 
   /// Number of stale temporary files removed by claim().
   int stale_removed() const { return stale_removed_; }

@@ -1,6 +1,10 @@
 #include "sweep/runner.hpp"
 
+#include <fcntl.h>
 #include <omp.h>
+#include <pthread.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -8,6 +12,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -58,10 +63,14 @@ extern "C" void on_stop_signal(int sig) {
   std::signal(sig, SIG_DFL);
 }
 
-/// Installs the stop handlers for the life of a run.
+/// Installs the stop handlers for the life of a run. Runs may overlap (two Python threads each
+/// calling run_study): the first to start installs them and keeps the handlers it replaced, the
+/// last to end puts those back, whatever the order in which they end.
 class StopSignals {
  public:
   StopSignals() {
+    const std::lock_guard lock(mutex_);
+    if (active_++ > 0) return;
     g_stop_signal.store(0);
     struct sigaction sa {};
     sa.sa_handler = on_stop_signal;
@@ -70,6 +79,8 @@ class StopSignals {
     sigaction(SIGTERM, &sa, &old_term_);
   }
   ~StopSignals() {
+    const std::lock_guard lock(mutex_);
+    if (--active_ > 0) return;
     sigaction(SIGINT, &old_int_, nullptr);
     sigaction(SIGTERM, &old_term_, nullptr);
   }
@@ -77,9 +88,9 @@ class StopSignals {
   StopSignals& operator=(const StopSignals&) = delete;
 
  private:
-  struct sigaction old_int_ {
-  }, old_term_{};
-};
+  static inline std::mutex mutex_;
+  static inline int active_ = 0;
+  static inline struct sigaction old_int_ { }, old_term_{}; };
 
 }  // namespace
 
@@ -150,6 +161,8 @@ CaseRecord run_case(const CaseSpec& spec, History& history) {
   try {
     return spec.wear_evolution.enabled ? run_wear_evolution(spec, history)
                                        : run_single_case(spec, history);
+  } catch (const std::bad_alloc&) {
+    throw;  // the environment's failure, not the case's: the runner stops (OutOfMemory)
   } catch (const std::exception& e) {
     // outside the integration (simulate() keeps its own: internal_error with the time reached):
     // building the scene, the observer, the wear evolution's bookkeeping. This case's failure,
@@ -183,20 +196,156 @@ fs::path move_aside(const fs::path& path) {
   }
 }
 
+/// True when another process holds a write lock on `path`: HDF5 flocks the files it opens,
+/// exclusively for writing (h5py in "r+" mode). Such a file is being changed: not damaged, and
+/// not to be read, moved or rerun.
+bool locked_by_writer(const fs::path& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK);
+  if (fd < 0) return false;
+  const bool locked = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+  ::close(fd);
+  return locked;
+}
+
+/// read_case_record_strict, but a file another process holds open for writing is reported
+/// (std::runtime_error: unreadable, never moved aside) before anything reads it.
+std::optional<CaseRecord> read_case_unless_locked(const fs::path& path) {
+  if (locked_by_writer(path))
+    throw std::runtime_error(path.string() +
+                             " is locked by another process that has it open for writing (h5py "
+                             "in \"r+\" mode?): close it there");
+  return read_case_record_strict(path);
+}
+
+std::string shell_quote(const std::string& arg) {
+  static const char kPlain[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_-./=:,+@%";
+  if (!arg.empty() && arg.find_first_not_of(kPlain) == std::string::npos) return arg;
+  std::string q = "'";
+  for (const char c : arg) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+/// Threads that exist together until released (probe_threads).
+struct ThreadProbe {
+  std::mutex mutex;
+  std::condition_variable released_cv;
+  bool released = false;
+};
+
+extern "C" void* probe_thread_wait(void* arg) {
+  auto* p = static_cast<ThreadProbe*>(arg);
+  std::unique_lock lock(p->mutex);
+  p->released_cv.wait(lock, [p] { return p->released; });
+  return nullptr;
+}
+
+/// Starts n - 1 threads (the team OpenMP will start) that wait until all exist, then ends
+/// them. libgomp ends the process (exit 1, "Thread creation failed") when it cannot create its
+/// threads, so a run checks first. Returns 0 or the error of the first creation that failed;
+/// `started`: how many threads existed at once (the caller's included).
+int probe_threads(int n, int& started) {
+  ThreadProbe probe;
+  std::vector<pthread_t> threads;
+  threads.reserve(static_cast<std::size_t>(n));
+  int err = 0;
+  for (int k = 1; k < n && err == 0; ++k) {
+    pthread_t t{};
+    err = ::pthread_create(&t, nullptr, probe_thread_wait, &probe);
+    if (err == 0) threads.push_back(t);
+  }
+  {
+    const std::lock_guard lock(probe.mutex);
+    probe.released = true;
+  }
+  probe.released_cv.notify_all();
+  for (const pthread_t t : threads) ::pthread_join(t, nullptr);
+  started = static_cast<int>(threads.size()) + 1;
+  return err;
+}
+
+}  // namespace
+
+std::string resume_command(const Study& study, const RunOptions& opt) {
+  std::string cmd = "rodend run " + shell_quote(study.file.string());
+  if (study.results_root != "results")
+    cmd += " --results-root " + shell_quote(study.results_root.string());
+  for (const std::string& o : study.overrides) cmd += " --set " + shell_quote(o);
+  if (opt.shard_count > 1)
+    cmd += " --shard " + std::to_string(opt.shard_index) + "/" + std::to_string(opt.shard_count);
+  if (opt.rerun_failed) cmd += " --rerun-failed";
+  return cmd;
+}
+
+OutOfMemory::OutOfMemory(long complete, long in_scope, const char* cases_dir,
+                         const char* resume) noexcept {
+  std::snprintf(text_, sizeof text_,
+                "out of memory (a case, or the writing of its results, could not allocate; no "
+                "case is recorded as failed for it)\nrodend: stopped: %ld of %ld case(s) "
+                "complete in %s; no summary written. Free memory or run fewer threads "
+                "(--threads), then resume with: %s",
+                complete, in_scope, cases_dir, resume);
+}
+
+namespace {
+
+/// The shard of another split (K'/M, M != n) running in `dir`, if any ("" when none): its lock
+/// file `.rodend.lock.shard-K'-of-M` is held. Shards of different splits share case files.
+std::string other_split_running(const fs::path& dir, int n) {
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    int k = 0, m = 0;
+    char tail = 0;
+    if (std::sscanf(name.c_str(), ".rodend.lock.shard-%d-of-%d%c", &k, &m, &tail) != 2 || m == n)
+      continue;
+    const int fd = ::open(e.path().c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK);
+    if (fd < 0) continue;
+    const bool held = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+    ::close(fd);
+    if (held) return std::to_string(k) + "/" + std::to_string(m);
+  }
+  return "";
+}
+
+/// Takes the results directory's locks: a full run holds `.rodend.lock` exclusively; a shard
+/// K/N holds it shared (the shards of one study run side by side, a full run or a merge waits
+/// for them all) and `.rodend.lock.shard-K-of-N` exclusively, and refuses to run beside a shard
+/// of another split (checked after its own lock is held: of two starting at once, neither
+/// misses the other).
+void claim_locks(const Study& study, const RunOptions& opt, RunPlan& plan) {
+  const std::string study_lock = std::string(kResultsMarker) + ".lock";
+  const std::string file = study.file.string();
+  if (opt.shard_count <= 1) {
+    plan.lock = ResultsLock::claim(plan.dir, study_lock, file, opt.wait);
+    return;
+  }
+  plan.study_lock = ResultsLock::claim(plan.dir, study_lock, file, opt.wait, /*shared=*/true);
+  plan.lock = ResultsLock::claim(plan.dir,
+                                 study_lock + ".shard-" + std::to_string(opt.shard_index) + "-of-" +
+                                     std::to_string(opt.shard_count),
+                                 file, opt.wait);
+  // refused even with --wait: two shards of different splits waiting for each other would wait
+  // forever, each holding its own lock
+  if (const std::string other = other_split_running(plan.dir, opt.shard_count); !other.empty())
+    throw std::runtime_error("shard " + other + " of another split runs in " + plan.dir.string() +
+                             "; its cases overlap those of shard " +
+                             std::to_string(opt.shard_index) + "/" +
+                             std::to_string(opt.shard_count) + ": rerun when it has finished");
+}
+
 }  // namespace
 
 RunPlan plan_run(const Study& study, const RunOptions& opt) {
   RunPlan plan;
   plan.dir = study.output_dir;
   plan.cases_dir = plan.dir / "cases";
-  const std::string lock_name = opt.shard_count > 1 ? std::string(kResultsMarker) + ".lock.shard-" +
-                                                          std::to_string(opt.shard_index) + "-of-" +
-                                                          std::to_string(opt.shard_count)
-                                                    : std::string(kResultsMarker) + ".lock";
-  plan.lock = ResultsLock::claim(plan.dir, lock_name, study.file.string(), opt.wait);
-  if (plan.lock->stale_removed() > 0 && opt.progress)
-    std::fprintf(stderr, "rodend: removed %d temporary file(s) left by interrupted runs\n",
-                 plan.lock->stale_removed());
+  plan.resume = resume_command(study, opt);
+  claim_locks(study, opt, plan);
+  const int stale =
+      plan.lock->stale_removed() + (plan.study_lock ? plan.study_lock->stale_removed() : 0);
+  if (stale > 0 && opt.progress)
+    std::fprintf(stderr, "rodend: removed %d temporary file(s) left by interrupted runs\n", stale);
   std::error_code ec;
   fs::create_directories(plan.cases_dir, ec);
   if (ec)
@@ -258,7 +407,7 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
     const fs::path path = plan.cases_dir / (c.id + ".h5");
     std::optional<CaseRecord> rec;
     try {
-      rec = read_case_record_strict(path);
+      rec = read_case_unless_locked(path);
       if (rec && rec->id != c.id)
         throw std::runtime_error(path.string() + " holds case " + rec->id + ", not " + c.id);
     } catch (const CorruptCaseFile& e) {
@@ -303,55 +452,147 @@ CaseRecord run_and_write_case(const Study& study, const RunPlan& plan, std::size
   return rec;
 }
 
+namespace {
+
+/// The case files of the summary's rows that are gone (deleted by another process during the
+/// run): the summary must describe files that exist. Throws std::runtime_error naming them.
+void check_case_files_present(const RunPlan& plan) {
+  std::vector<CaseRecord> block;
+  std::vector<std::string> gone;
+  const std::size_t rows = plan.spool->size();
+  for (std::size_t begin = 0; begin < rows; begin += 4096) {
+    plan.spool->read(begin, std::min(rows, begin + 4096), block);
+    for (const CaseRecord& r : block) {
+      const fs::path f = plan.cases_dir / (r.id + ".h5");
+      struct stat st {};
+      if (::lstat(f.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) gone.push_back(f.string());
+    }
+  }
+  if (gone.empty()) return;
+  std::string m = std::to_string(gone.size()) + " case file(s) disappeared during the run (" +
+                  "removed or replaced by another process); no summary written, it would list "
+                  "cases without their files:";
+  for (std::size_t k = 0; k < gone.size() && k < 20; ++k) m += "\n  " + gone[k];
+  if (gone.size() > 20) m += "\n  ...";
+  throw std::runtime_error(m + "\nrodend: stopped: " + std::to_string(rows - gone.size()) + " of " +
+                           std::to_string(plan.in_scope) + " case(s) complete in " +
+                           plan.cases_dir.string() + ". Resume with: " + plan.resume +
+                           " (it reruns the missing cases)");
+}
+
+/// What stopped the parallel loop early, set by any thread without allocating (but the first
+/// error's text); the messages are composed after the loop, on the calling thread.
+struct LoopFailure {
+  std::atomic<bool> out_of_memory{false}, write_failed{false};
+  std::mutex mutex;
+  std::size_t first_case = 0;  ///< its study.cases index (resolving its id allocates)
+  std::string first_error;
+
+  bool stopping() const { return out_of_memory || write_failed || g_stop_signal.load() != 0; }
+  void record(std::size_t i, const char* what) noexcept {
+    write_failed.store(true);
+    try {
+      const std::lock_guard lock(mutex);
+      if (!first_error.empty()) return;
+      first_case = i;
+      first_error = what;
+    } catch (...) {
+      out_of_memory.store(true);  // the text could not be copied: memory ran out
+    }
+  }
+};
+
+/// Runs plan.todo on `threads` OpenMP threads: each prepares HDF5 first (while memory is
+/// free), then takes cases until none is left or the run stops.
+void run_cases(const Study& study, const RunPlan& plan, int threads, Progress& progress,
+               LoopFailure& fail) {
+  const long n_todo = static_cast<long>(plan.todo.size());
+#pragma omp parallel num_threads(threads)
+  {
+    try {
+      prepare_results_io();
+    } catch (const std::bad_alloc&) {
+      fail.out_of_memory.store(true);
+    }
+#pragma omp for schedule(dynamic, 1)
+    for (long k = 0; k < n_todo; ++k) {
+      // stopping (a signal, memory exhausted, or a results file that could not be written: a
+      // full disk fails every case after it): no new cases
+      if (fail.stopping()) continue;
+      const std::size_t i = plan.todo[static_cast<std::size_t>(k)];
+      try {
+        const CaseRecord rec = run_and_write_case(study, plan, i);
+        plan.spool->put(i, rec);
+        progress.case_done(rec.status != "ok");
+      } catch (const std::bad_alloc&) {
+        fail.out_of_memory.store(true);  // nothing allocated here
+      } catch (const std::exception& e) {
+        fail.record(i, e.what());
+      }
+    }
+  }
+}
+
+/// The team of threads: no more than the cases to run; refused (std::runtime_error naming the
+/// count of complete cases and the resume command) when the system cannot start them.
+int start_team(const RunOptions& opt, const RunPlan& plan) {
+  const int threads = static_cast<int>(
+      std::clamp<long>(static_cast<long>(plan.todo.size()), 1, std::max(opt.threads, 1)));
+  int started = 0;
+  if (const int err = probe_threads(threads, started); err != 0)
+    throw std::runtime_error(
+        "cannot start " + std::to_string(threads) + " threads (--threads " +
+        std::to_string(opt.threads) + "): thread " + std::to_string(started + 1) +
+        " could not be created (" + std::strerror(err) +
+        "; a memory limit, ulimit -v, or the process limit, ulimit -u)\nrodend: stopped: " +
+        std::to_string(plan.in_scope - static_cast<long>(plan.todo.size())) + " of " +
+        std::to_string(plan.in_scope) + " case(s) complete in " + plan.cases_dir.string() +
+        "; nothing ran. Resume with fewer threads (--threads " + std::to_string(started) +
+        " or less): " + plan.resume);
+  return threads;
+}
+
+}  // namespace
+
 int write_run_summary(const Study& study, const RunPlan& plan) {
+  check_case_files_present(plan);
   write_summary(plan.summary_dir, study, *plan.spool, plan.provenance);
   return plan.spool->failed() > 0 ? 1 : 0;
 }
 
 int run_study(const Study& study, const RunOptions& opt) {
   RunPlan plan = plan_run(study, opt);
-  const StopSignals stop_signals;
-  Progress progress(opt.progress, plan.in_scope,
-                    plan.in_scope - static_cast<long>(plan.todo.size()));
-
-  std::mutex error_mutex;
-  std::string first_error;
-  std::atomic<bool> write_failed{false};
-  const long n_todo = static_cast<long>(plan.todo.size());
-#pragma omp parallel for schedule(dynamic, 1) num_threads(std::max(opt.threads, 1))
-  for (long k = 0; k < n_todo; ++k) {
-    // stopping (a signal, or a results file that could not be written: a full disk fails every
-    // case after it): no new cases
-    if (g_stop_signal.load() != 0 || write_failed.load()) continue;
-    const std::size_t i = plan.todo[static_cast<std::size_t>(k)];
-    try {
-      const CaseRecord rec = run_and_write_case(study, plan, i);
-      plan.spool->put(i, rec);
-      progress.case_done(rec.status != "ok");
-    } catch (const std::exception& e) {
-      write_failed.store(true);
-      std::lock_guard lock(error_mutex);
-      if (first_error.empty()) first_error = "case " + study.cases[i].id + ": " + e.what();
+  const auto complete = [&plan] { return static_cast<long>(plan.spool->size()); };
+  try {
+    prepare_results_io();  // the library, on this thread, before any other thread uses it
+    const int threads = start_team(opt, plan);
+    const StopSignals stop_signals;
+    Progress progress(opt.progress, plan.in_scope,
+                      plan.in_scope - static_cast<long>(plan.todo.size()));
+    LoopFailure fail;
+    run_cases(study, plan, threads, progress, fail);
+    if (fail.out_of_memory)
+      throw OutOfMemory(complete(), plan.in_scope, plan.cases_dir.c_str(), plan.resume.c_str());
+    if (fail.write_failed)
+      throw std::runtime_error("case " + study.cases[fail.first_case].id + ": " + fail.first_error +
+                               "\nrodend: stopped: " + std::to_string(complete()) + " of " +
+                               std::to_string(plan.in_scope) + " case(s) complete in " +
+                               plan.cases_dir.string() +
+                               "; no summary written. Resume with: " + plan.resume);
+    if (const int sig = g_stop_signal.load(); sig != 0) {
+      std::fprintf(stderr,
+                   "rodend: stopped by %s: %ld of %ld case(s) complete in %s; no summary "
+                   "written. Resume with: %s\n",
+                   sig == SIGINT ? "SIGINT" : "SIGTERM", complete(), plan.in_scope,
+                   plan.cases_dir.c_str(), plan.resume.c_str());
+      return 128 + sig;
     }
+    return write_run_summary(study, plan);
+  } catch (const OutOfMemory&) {
+    throw;
+  } catch (const std::bad_alloc&) {  // on this thread: the summary, the messages
+    throw OutOfMemory(complete(), plan.in_scope, plan.cases_dir.c_str(), plan.resume.c_str());
   }
-  if (!first_error.empty()) {
-    const auto complete = static_cast<long>(plan.spool->size());
-    throw std::runtime_error(
-        first_error + "\nrodend: stopped: " + std::to_string(complete) + " of " +
-        std::to_string(plan.in_scope) + " case(s) complete in " + plan.cases_dir.string() +
-        "; no summary written. Resume with: rodend run " + study.file.string());
-  }
-  if (const int sig = g_stop_signal.load(); sig != 0) {
-    const auto complete = static_cast<long>(plan.spool->size());
-    std::fprintf(stderr,
-                 "rodend: stopped by %s: %ld of %ld case(s) complete in %s; no summary written. "
-                 "Resume with: rodend run %s\n",
-                 sig == SIGINT ? "SIGINT" : "SIGTERM", complete, plan.in_scope,
-                 plan.cases_dir.c_str(), study.file.c_str());
-    return 128 + sig;
-  }
-
-  return write_run_summary(study, plan);
 }
 
 int merge_study(const Study& study, std::ostream& report) {
@@ -385,7 +626,7 @@ int merge_study(const Study& study, std::ostream& report) {
     const std::size_t i = slot++;
     std::optional<CaseRecord> rec;
     try {
-      rec = read_case_record_strict(cases_dir / (c.id + ".h5"));
+      rec = read_case_unless_locked(cases_dir / (c.id + ".h5"));
     } catch (const CorruptCaseFile& e) {
       corrupt.push_back(e.what());
       continue;

@@ -15,6 +15,8 @@
 #include <iosfwd>
 #include <memory>
 #include <mutex>
+#include <new>
+#include <string>
 
 #include "sweep/results.hpp"
 #include "sweep/results_dir.hpp"
@@ -33,15 +35,35 @@ struct RunOptions {
 };
 
 /// Runs one case in memory: builds the scene, integrates, records histories and metrics.
-/// Never throws: numerical trouble is the record's status, and any exception (a scene that
-/// fails to build or throws while it runs, an internal bug) is stored as internal_error with
-/// its message, so the other cases of a study go on.
+/// Numerical trouble is the record's status, and any exception (a scene that fails to build or
+/// throws while it runs, an internal bug) is stored as internal_error with its message, so the
+/// other cases of a study go on; but running out of memory is the environment's failure, not
+/// the case's: std::bad_alloc propagates (and nothing is recorded).
 CaseRecord run_case(const CaseSpec& spec, History& history);
 
 /// Runs a study and writes its results. Returns the process exit code: 0 when every case is ok,
 /// 1 when at least one failed. Throws InputError / std::runtime_error for problems with the
-/// output directory.
+/// output directory, OutOfMemory when memory runs out in any thread (no case is recorded as
+/// failed for it), std::runtime_error when the threads cannot be started; each message gives
+/// the count of complete cases and the resume command.
 int run_study(const Study& study, const RunOptions& options);
+
+/// Memory ran out during a run (in any thread): an environment failure, not a case result.
+/// what(): the count of complete cases and the command to resume, composed into a buffer of
+/// the object itself (nothing allocated on the way to the message).
+class OutOfMemory : public std::bad_alloc {
+ public:
+  OutOfMemory(long complete, long in_scope, const char* cases_dir, const char* resume) noexcept;
+  const char* what() const noexcept override { return text_; }
+
+ private:
+  char text_[4096];
+};
+
+/// The command that resumes the run of `study` with `options`: `rodend run STUDY` with every
+/// option that changes what it runs or where (--results-root, --set, --shard, --rerun-failed),
+/// quoted for a POSIX shell.
+std::string resume_command(const Study& study, const RunOptions& options);
 
 /// The cases of one shard: case index i belongs to shard (i mod N) + 1.
 bool in_shard(const CaseSpec& c, const RunOptions& o);
@@ -66,6 +88,9 @@ struct RunPlan {
   std::vector<std::size_t> todo;      ///< case indices to run, in grid order
   long in_scope = 0;                  ///< cases of this shard (all cases without shards)
   std::shared_ptr<ResultsLock> lock;  ///< held for the run (sweep/results_dir.hpp)
+  /// a shard's shared hold on the study's lock: full runs and merges wait for the shards
+  std::shared_ptr<ResultsLock> study_lock;
+  std::string resume;  ///< resume_command(study, options), for the messages that stop a run
 };
 
 /// Claims the results directory (ownership marker, lock, stale temporaries removed:

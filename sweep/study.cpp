@@ -730,6 +730,7 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
     study.description =
         doc.contains("description") ? need_string(doc["description"], "description") : "";
     study.output_dir = results_root / study.name;
+    study.results_root = results_root;
     if (doc.contains("output")) parse_output(doc["output"], study);
 
     // the grid: axes, each a single key or a zip group; cartesian product, last axis fastest
@@ -1187,6 +1188,12 @@ Json apply_overrides(Json doc, const std::vector<std::string>& overrides, const 
     } catch (const Json::exception&) {
       value = text;  // not JSON: a string (--set scene=gravity-drop)
     }
+    // before any copy of it (nlohmann copies recursively: 100,000 levels overflow the stack)
+    if (nesting_depth(value) > kMaxDepth)
+      throw InputError(key,
+                       "the value is nested deeper than " + std::to_string(kMaxDepth) +
+                           " levels (from --set); expected a value a study can hold",
+                       file.string());
     const std::string from = " (from --set " + o + ")";
     try {
       if (!doc.is_object()) throw InputError("", "a study must be a JSON object");

@@ -173,6 +173,8 @@ struct Study {
   std::vector<std::string> design_units;  ///< each factor's SI unit, in factor order
   Json source;  ///< the study file as parsed, with the --set overrides applied
   std::vector<std::string> overrides;  ///< the --set key=value overrides, in order
+  /// where a study without an "output" key writes (--results-root), for the resume command
+  std::filesystem::path results_root = "results";
 };
 
 /// One setting of a study section (integrator, time, health, metrics, wear_evolution, output):

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <new>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -32,11 +33,13 @@ constexpr const char* kWhat = "test scene: a bug in the derivatives";
 /// numerical failure). Everything else is the wrapped scene's.
 class FaultyScene final : public Scene {
  public:
-  explicit FaultyScene(const ParameterSet& p)
+  /// `out_of_memory`: throws std::bad_alloc instead (memory that ran out, not a bug)
+  explicit FaultyScene(const ParameterSet& p, bool out_of_memory = false)
       : inner_(find_scene("gravity-drop")->make(p)),
         throw_after_(p.number("contact.clearance") == kFaultyClearance
                          ? kThrowAfter
-                         : std::numeric_limits<double>::infinity()) {}
+                         : std::numeric_limits<double>::infinity()),
+        out_of_memory_(out_of_memory) {}
   std::string_view name() const override { return inner_->name(); }
   Features features() const override { return inner_->features(); }
   int state_size() const override { return inner_->state_size(); }
@@ -45,6 +48,7 @@ class FaultyScene final : public Scene {
   std::span<const int> quaternion_offsets() const override { return inner_->quaternion_offsets(); }
   std::span<const int> audit_offsets() const override { return inner_->audit_offsets(); }
   void derivatives(double t, const double* x, const DiscreteState& d, double* dxdt) const override {
+    if (t > throw_after_ && out_of_memory_) throw std::bad_alloc();
     if (t > throw_after_) throw std::logic_error(kWhat);
     inner_->derivatives(t, x, d, dxdt);
   }
@@ -73,10 +77,15 @@ class FaultyScene final : public Scene {
  private:
   std::unique_ptr<Scene> inner_;
   double throw_after_;
+  bool out_of_memory_;
 };
 
 std::unique_ptr<Scene> make_faulty_scene(const ParameterSet& p) {
   return std::make_unique<FaultyScene>(p);
+}
+
+std::unique_ptr<Scene> make_out_of_memory_scene(const ParameterSet& p) {
+  return std::make_unique<FaultyScene>(p, true);
 }
 
 std::unique_ptr<Scene> make_unbuildable_scene(const ParameterSet&) {
@@ -126,6 +135,54 @@ TEST_CASE("a case whose scene throws is internal_error; the other cases go on", 
   CHECK(rec->status == "internal_error");
   CHECK(rec->message == message[1]);
   CHECK(rec->t_reached == t_reached);
+}
+
+TEST_CASE("memory running out in a case stops the run; no case is recorded as failed",
+          "[runner][faults]") {
+  const std::string method = GENERATE(as<std::string>{}, "dopri5", "cvode_bdf");
+  CAPTURE(method);
+  TempDir tmp;
+  const Study study = three_drops(tmp.path(), method);
+  const fs::path faulty = study.output_dir / "cases" / (study.cases[1].id + ".h5");
+  RunOptions opt;
+  opt.progress = false;
+  {
+    const SceneFactoryOverride oom("gravity-drop", &make_out_of_memory_scene);
+    History h;
+    CHECK_THROWS_AS(run_case(study.cases[1], h), std::bad_alloc);  // not internal_error
+    std::string what;
+    try {
+      run_study(study, opt);
+    } catch (const OutOfMemory& e) {
+      what = e.what();
+    }
+    CHECK_THAT(what, Catch::Contains("out of memory") &&
+                         Catch::Contains("1 of 3 case(s) complete") &&
+                         Catch::Contains("resume with: " + resume_command(study, opt)) &&
+                         Catch::Contains("--results-root"));
+    CHECK_FALSE(fs::exists(faulty));
+    CHECK_FALSE(fs::exists(study.output_dir / "summary.h5"));
+  }
+  CHECK(run_study(study, opt) == 0);  // the resume runs it, with memory
+  const auto rec = read_case_record(faulty);
+  REQUIRE(rec.has_value());
+  CHECK(rec->status == "ok");
+}
+
+TEST_CASE("the resume command names every option that changes what a run does", "[runner]") {
+  TempDir tmp;
+  const fs::path file = tmp.path() / "my study.json", root = tmp.path() / "res root";
+  const Study s = parse_study_text(
+      R"({"name": "r", "scene": "gravity-drop", "time": {"end": 0.01, "sample_interval": 1e-3}})",
+      file, root, {"description=it's", "time.end=0.02"});
+  RunOptions o;
+  CHECK(resume_command(s, o) == "rodend run '" + file.string() + "' --results-root '" +
+                                    root.string() +
+                                    "' --set 'description=it'\\''s' --set time.end=0.02");
+  o.shard_index = 2;
+  o.shard_count = 3;
+  o.rerun_failed = true;
+  CHECK_THAT(resume_command(s, o), Catch::EndsWith(" --shard 2/3 --rerun-failed"));
 }
 
 TEST_CASE("a scene that cannot be built at run time is internal_error", "[runner]") {

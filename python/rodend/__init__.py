@@ -211,8 +211,14 @@ def _json_default(v):
     raise TypeError(f"Object of type {type(v).__name__} is not JSON serializable")
 
 
-def _json(value):
-    return json.dumps(value, allow_nan=False, default=_json_default)
+def _json(value, key=""):
+    """JSON text of a Python value; a value nested too deep for the json module (which
+    recurses) raises InputError naming the key, as the loader does for deep study files."""
+    try:
+        return json.dumps(value, allow_nan=False, default=_json_default)
+    except RecursionError:
+        raise InputError(f"{key or 'the document'}: nested too deep (the loader takes at most 64 "
+                         "levels); expected a value a study can hold") from None
 
 
 def _check_type(name, value, types, what):
@@ -273,7 +279,7 @@ def _overrides(s):
     if isinstance(s, dict):
         for k in s:
             _check_type("set", k, str, "{key.path: value} with str keys")
-        return [f"{k}={_json(v)}" for k, v in s.items()]
+        return [f"{k}={_json(v, 'set=' + k)}" for k, v in s.items()]
     if isinstance(s, str):
         raise TypeError("set: expected {key.path: value} or a list of \"key.path=value\" "
                         "strings, got one str (wrap it in a list)")
