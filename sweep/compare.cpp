@@ -148,6 +148,18 @@ bool same_grid_point(const SummaryTable& a, std::size_t i, const SummaryTable& b
 }  // namespace
 
 CompareSettings load_tolerances(const fs::path& file) {
+  // the study loader's checks: a regular file (not a FIFO, which would block), readable
+  std::error_code ec;
+  const fs::file_status st = fs::status(file, ec);
+  if (ec || !fs::exists(st))
+    throw InputError(
+        "", "cannot open the tolerance file: " + (ec ? ec.message() : std::string("no such file")),
+        file.string());
+  if (!fs::is_regular_file(st))
+    throw InputError("",
+                     "is not a regular file (a directory, device, FIFO or socket); expected "
+                     "a tolerance file (JSON)",
+                     file.string());
   std::ifstream in(file);
   if (!in) throw InputError("", "cannot open the tolerance file", file.string());
   Json doc;

@@ -90,8 +90,9 @@ double need_number(const Json& v, const std::string& key) {
 long long need_integer(const Json& v, const std::string& key) {
   if (!v.is_number()) throw InputError(key, "expected an integer, got " + json_type_name(v));
   const double d = v.get<double>();
-  if (d != std::floor(d) || std::abs(d) > 9e18)
-    throw InputError(key, "expected an integer, got " + v.dump());
+  if (d != std::floor(d)) throw InputError(key, "expected an integer, got " + v.dump());
+  if (std::abs(d) > 9e18)
+    throw InputError(key, "expected an integer of magnitude at most 9e18, got " + v.dump());
   return static_cast<long long>(d);
 }
 std::string need_string(const Json& v, const std::string& key) {
@@ -1042,6 +1043,8 @@ std::string read_study_text(const fs::path& file) {
   const std::string name = file.string();
   std::error_code ec;
   const fs::file_status st = fs::status(file, ec);
+  if (ec && ec != std::errc::no_such_file_or_directory)  // a loop of links, no permission, ...
+    throw InputError("", "cannot open the study file: " + ec.message(), name);
   if (ec || !fs::exists(st)) throw InputError("", "cannot open the study file: no such file", name);
   if (fs::is_directory(st))
     throw InputError("", "is a directory; expected a study file (JSON)", name);
@@ -1184,7 +1187,20 @@ Json apply_overrides(Json doc, const std::vector<std::string>& overrides, const 
     const std::string key = o.substr(0, eq), text = o.substr(eq + 1);
     Json value;
     try {
+      (void)Json(o).dump();  // throws on bytes that are not UTF-8
+    } catch (const Json::type_error&) {
+      throw InputError(key, "expected UTF-8 text; the --set value has bytes that are not",
+                       file.string());
+    }
+    try {
       value = Json::parse(text);
+    } catch (const Json::out_of_range&) {  // 1e309: a number beyond a double's range
+      throw InputError(key,
+                       "the number " + text +
+                           " is beyond a double's range; expected a finite "
+                           "number (from --set " +
+                           o + ")",
+                       file.string());
     } catch (const Json::exception&) {
       value = text;  // not JSON: a string (--set scene=gravity-drop)
     }

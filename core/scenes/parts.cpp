@@ -93,6 +93,10 @@ ClearanceContactModel read_clearance_contact(const ParameterSet& p, const std::s
                          format_number(c));
   m.clearance = c;
   const double coefficient = read_hertz_coefficient(p, prefix, m);
+  if (!std::isfinite(coefficient))  // Rs - Rb rounds to 0: the conformal radius is infinite
+    throw InputError(prefix + ".clearance",
+                     "is too small for the radii: the socket's radius rounds to the ball's, so the "
+                     "Hertz coefficient is not a finite number; expected a larger clearance");
   const double scale = p.number(prefix + ".stiffness_scale");
   if (!(scale > 0.0)) throw InputError(prefix + ".stiffness_scale", "expected a value > 0");
   m.stiffness = scale * coefficient;
