@@ -706,329 +706,391 @@ const std::vector<std::string>& study_keys() {
   return keys;
 }
 
-Study parse_study(const Json& doc, const fs::path& file, const fs::path& results_root) {
-  const std::string fname = file.string();
+namespace {
+
+// --- the loader's stages (parse_study) ----------------------------------------------------
+
+/// The document as a whole: an object, nested a few levels, no NUL, only study keys.
+void check_document(const Json& doc) {
+  if (!doc.is_object()) throw InputError("", "a study must be a JSON object");
+  if (nesting_depth(doc) > kMaxDepth)
+    throw InputError("", "the document is nested deeper than " + std::to_string(kMaxDepth) +
+                             " levels; a study needs a few");
+  if (const auto nul = find_nul(doc))
+    throw InputError(*nul, "a string with a NUL character (\\u0000); expected text without NUL");
+  const std::vector<std::string>& keys = study_keys();
+  for (auto it = doc.begin(); it != doc.end(); ++it)
+    if (std::find(keys.begin(), keys.end(), it.key()) == keys.end())
+      throw InputError(it.key(), "unknown key; expected one of " + alternatives(keys, false));
+}
+
+/// Name, description and where the results go.
+void read_identity(Study& study, const Json& doc, const fs::path& file,
+                   const fs::path& results_root) {
+  study.file = file;
+  study.source = doc;
+  study.name = doc.contains("name") ? need_string(doc["name"], "name") : file.stem().string();
+  if (study.name.empty() || study.name.find('/') != std::string::npos || study.name == "." ||
+      study.name == "..")
+    throw InputError("name", "expected a non-empty name without '/'");
+  study.description =
+      doc.contains("description") ? need_string(doc["description"], "description") : "";
+  study.output_dir = results_root / study.name;
+  study.results_root = results_root;
+  if (doc.contains("output")) parse_output(doc["output"], study);
+}
+
+/// The grid's axes, each a single key or a zip group (cartesian product, last axis fastest),
+/// then a sampled design's points as one more axis, the last.
+std::vector<Axis> read_axes(Study& study, const Json& doc) {
+  std::vector<Axis> axes;
+  if (doc.contains("grid")) {
+    const Json& g = doc["grid"];
+    if (!g.is_array()) throw InputError("grid", "expected an array of axes");
+    for (std::size_t i = 0; i < g.size(); ++i)
+      axes.push_back(parse_axis(g[i], "grid[" + std::to_string(i) + "]"));
+  }
+  if (doc.contains("design")) {
+    std::size_t grid_points = 1;
+    for (const Axis& a : axes) grid_points *= std::max<std::size_t>(a.size(), 1);
+    auto design = std::make_shared<Design>(
+        parse_design(doc["design"], kMaxCases / std::max<std::size_t>(grid_points, 1)));
+    axes.push_back(design_axis(*design));
+    study.design = std::move(design);
+  }
+  return axes;
+}
+
+/// Where the grid's "scene" axis is, if it has one.
+struct SceneAxis {
+  std::ptrdiff_t axis = -1;  // index into the axes, -1 without a scene axis
+  std::size_t member = 0;    // its key's place in a zip group
+};
+
+SceneAxis find_scene_axis(const std::vector<Axis>& axes) {
+  for (std::size_t a = 0; a < axes.size(); ++a)
+    for (std::size_t k = 0; k < axes[a].keys.size(); ++k)
+      if (axes[a].keys[k] == "scene") return {static_cast<std::ptrdiff_t>(a), k};
+  return {};
+}
+
+/// The scenes: the "scene" key, or the values of the grid axis "scene", in order of first use.
+void read_scenes(Study& study, const Json& doc, const std::vector<Axis>& axes, SceneAxis sa) {
+  if (sa.axis < 0) {
+    if (!doc.contains("scene"))
+      throw InputError("scene", "missing: which scene to run (or a grid axis \"scene\")");
+    study.scene = need_string(doc["scene"], "scene");
+    study.scenes = {study.scene};
+    return;
+  }
+  const Axis& axis = axes[static_cast<std::size_t>(sa.axis)];
+  if (doc.contains("scene"))
+    throw InputError("scene", "the scene is also a grid axis (" + axis.wheres[sa.member] +
+                                  "): give it in one place");
+  const auto& values = axis.values[sa.member];
+  for (std::size_t j = 0; j < values.size(); ++j) {
+    const std::string where = axis.wheres[sa.member] + ".values[" + std::to_string(j) + "]";
+    const std::string name = need_string(values[j], where);
+    try {
+      (void)ParameterSet::defaults_for(name);
+    } catch (const InputError& e) {
+      throw InputError(where, e.problem());
+    }
+    if (std::find(study.scenes.begin(), study.scenes.end(), name) == study.scenes.end())
+      study.scenes.push_back(name);
+  }
+}
+
+std::string scene_list(const Study& study) {
+  std::string out;
+  for (const std::string& n : study.scenes) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+/// With a scene axis, a parameter key (study level or grid) applies where the case's scene has
+/// it; one that no scene of the study has is an error (a typo).
+void check_scene_axis_keys(const Study& study, const Json& doc, const std::vector<Axis>& axes) {
+  std::vector<ParameterSet> defaults;
+  for (const std::string& n : study.scenes) defaults.push_back(ParameterSet::defaults_for(n));
+  auto check_known = [&](const std::string& path, const std::string& where) {
+    if (std::none_of(defaults.begin(), defaults.end(),
+                     [&](const ParameterSet& p) { return p.has(path); }))
+      throw InputError(where, "no scene of this study (" + scene_list(study) + ") has parameter '" +
+                                  path + "' (see `rodend params SCENE`)");
+  };
+  if (doc.contains("parameters")) {
+    std::vector<std::pair<std::string, Json>> flat;
+    flatten(need_object(doc["parameters"], "parameters"), "", flat);
+    for (const auto& [k, v] : flat) check_known(k, "parameters." + k);
+  }
+  for (const Axis& a : axes)
+    for (std::size_t k = 0; k < a.keys.size(); ++k)
+      if (a.keys[k].rfind("parameters.", 0) == 0)
+        check_known(a.keys[k].substr(11), a.wheres[k] + ".key");
+}
+
+/// The recorded signals: "all" (default) or a list of names.
+struct SignalSelection {
+  Json names;
+  bool all = true;
+  std::vector<bool> provided;  // per listed name: some scene of the study records it
+};
+
+SignalSelection read_signal_selection(const Json& doc) {
+  SignalSelection s;
+  s.names = doc.contains("signals") ? doc["signals"] : Json("all");
+  s.all = s.names.is_string() && s.names.get<std::string>() == "all";
+  if (!s.all && !s.names.is_array())
+    throw InputError("signals", "expected \"all\" or an array of signal names");
+  s.provided.assign(s.all ? 0 : s.names.size(), false);
+  return s;
+}
+
+/// The signals a scene records of the selection, in catalogue order, time first.
+std::vector<SignalId> scene_signals(const Scene& scene, SignalSelection& sel, const Study& study,
+                                    bool several) {
+  const auto provided = scene.signals();
+  if (sel.all) return {provided.begin(), provided.end()};
+  std::vector<SignalId> signals{SignalId::time};
+  for (std::size_t i = 0; i < sel.names.size(); ++i) {
+    const std::string key = "signals[" + std::to_string(i) + "]";
+    const std::string sname = need_string(sel.names[i], key);
+    const auto id = signal_by_name(sname);
+    if (!id) throw InputError(key, "unknown signal '" + sname + "' (see `rodend signals`)");
+    if (std::find(provided.begin(), provided.end(), *id) == provided.end()) {
+      if (!several)
+        throw InputError(key, "signal '" + sname + "' is not recorded by scene " + study.scene);
+      continue;
+    }
+    sel.provided[i] = true;
+    if (std::find(signals.begin(), signals.end(), *id) == signals.end()) signals.push_back(*id);
+  }
+  std::sort(signals.begin(), signals.end());
+  return signals;
+}
+
+/// A scene's own error in a study of several scenes names the scene.
+[[noreturn]] void rethrow_for_scene(const InputError& e, const std::string& name, bool several) {
+  if (!several) throw e;
+  throw InputError(e.key_path(), e.problem() + " (scene " + name + ")");
+}
+
+/// The base draft of one scene: its defaults and balanced preset, then the study's sections.
+Draft base_draft(const std::string& name, const Json& doc, bool several) {
+  Draft base;
+  base.scene = name;
+  base.skip_absent_parameters = several;
+  base.parameters = ParameterSet::defaults_for(name);        // unknown scene -> key "scene"
+  base.integrator = *preset_settings(name, kDefaultPreset);  // overridden below
   try {
-    if (!doc.is_object()) throw InputError("", "a study must be a JSON object");
-    if (nesting_depth(doc) > kMaxDepth)
-      throw InputError("", "the document is nested deeper than " + std::to_string(kMaxDepth) +
-                               " levels; a study needs a few");
-    if (const auto nul = find_nul(doc))
-      throw InputError(*nul,
-                       "a string with a NUL character (\\u0000); expected text without "
-                       "NUL");
-    const std::vector<std::string>& kKeys = study_keys();
-    for (auto it = doc.begin(); it != doc.end(); ++it)
-      if (std::find(kKeys.begin(), kKeys.end(), it.key()) == kKeys.end())
-        throw InputError(it.key(), "unknown key; expected one of " + alternatives(kKeys, false));
+    for (const std::string& section : case_sections()) apply_section(base, doc, section);
+  } catch (const InputError& e) {
+    rethrow_for_scene(e, name, several);
+  }
+  if (!doc["time"].contains("end")) throw InputError("time.end", "missing: the end time [s]");
+  if (!doc["time"].contains("sample_interval"))
+    throw InputError("time.sample_interval", "missing: the history sample interval [s]");
+  return base;
+}
+
+/// What rebuilds a case from its grid index (issue 16 item 6): the base draft and signals of
+/// each scene, the axes, and one 64-bit id per case once validated.
+struct Grid {
+  std::vector<Axis> axes;
+  SceneAxis scene_axis;
+  std::vector<std::string> scenes;
+  std::vector<Draft> bases;
+  std::vector<std::vector<SignalId>> scene_signals;
+  OutputSettings output;
+  std::vector<std::uint64_t> ids;  // filled by the validation pass
+};
+
+/// Each scene's base draft and recorded signals; a scene's own error names it when the study
+/// has several.
+void build_bases(Grid& grid, const Study& study, const Json& doc, bool several) {
+  SignalSelection sel = read_signal_selection(doc);
+  for (const std::string& name : study.scenes) {
+    Draft base = base_draft(name, doc, several);
+    std::unique_ptr<Scene> scene;  // the scene's signal list needs a built scene
+    try {
+      scene = build_checked(name, base.parameters);
+    } catch (const InputError& e) {
+      rethrow_for_scene(e, name, several);
+    }
+    grid.scene_signals.push_back(scene_signals(*scene, sel, study, several));
+    grid.bases.push_back(std::move(base));
+  }
+  for (std::size_t i = 0; i < sel.provided.size(); ++i)
+    if (!sel.provided[i])
+      throw InputError("signals[" + std::to_string(i) + "]",
+                       "signal '" + sel.names[i].get<std::string>() +
+                           "' is recorded by no scene of this study (" + scene_list(study) + ")");
+}
+
+/// The coordinate keys, each on one axis, and the number of cases (at most kMaxCases).
+std::size_t count_cases(Study& study, const std::vector<Axis>& axes) {
+  std::size_t total = 1;
+  for (const Axis& a : axes) {
+    for (const std::string& k : a.keys) {
+      if (std::find(study.axis_keys.begin(), study.axis_keys.end(), k) != study.axis_keys.end())
+        throw InputError("grid", "key '" + k + "' appears on more than one axis");
+      study.axis_keys.push_back(k);
+    }
+    total *= a.size();
+    if (total > kMaxCases)
+      throw InputError("grid",
+                       "more than 1e7 cases, the limit of a study (each case is "
+                       "validated before anything runs): split the study into several");
+  }
+  return total;
+}
+
+/// A preset sets every integrator field, so a preset axis would silently override any other
+/// integrator setting of the study (the summary would then show a method the case did not
+/// run): refuse the combination.
+void check_preset_axis(const Study& study, const Json& doc) {
+  const auto& keys = study.axis_keys;
+  if (std::find(keys.begin(), keys.end(), "integrator.preset") == keys.end()) return;
+  for (const std::string& k : keys)
+    if (k != "integrator.preset" && k.rfind("integrator.", 0) == 0)
+      throw InputError("grid", "axes integrator.preset and " + k +
+                                   " contradict each other (a preset sets every integrator "
+                                   "field); expected one of them");
+  if (doc.contains("integrator"))
+    for (auto it = doc["integrator"].begin(); it != doc["integrator"].end(); ++it)
+      if (it.key() != "preset")
+        throw InputError("integrator." + it.key(),
+                         "set beside a grid axis integrator.preset, which sets every "
+                         "integrator field; expected the preset axis alone, or the "
+                         "setting as an axis without presets");
+}
+
+/// Each axis's position for case `index` (last axis fastest) and the case's scene.
+std::vector<std::size_t> grid_position(const Grid& g, std::size_t index, std::size_t& which) {
+  std::size_t rest = index;
+  std::vector<std::size_t> pos(g.axes.size());
+  for (std::size_t a = g.axes.size(); a-- > 0;) {
+    pos[a] = rest % g.axes[a].size();
+    rest /= g.axes[a].size();
+  }
+  which = 0;  // the case's scene, an index into g.scenes
+  if (g.scene_axis.axis >= 0) {
+    const auto sa = static_cast<std::size_t>(g.scene_axis.axis);
+    const std::string& name =
+        g.axes[sa].values[g.scene_axis.member][pos[sa]].get_ref<const std::string&>();
+    which = static_cast<std::size_t>(std::find(g.scenes.begin(), g.scenes.end(), name) -
+                                     g.scenes.begin());
+  }
+  return pos;
+}
+
+/// The checks that interact between axes: integrator and time settings, history size, the
+/// scene's own checks, a wear evolution's needs.
+void check_case(const Draft& d, const std::vector<SignalId>& signals) {
+  validate(d.integrator);
+  validate(d.time);
+  check_history_size(d.time, signals);
+  const auto scene = build_checked(d.scene, d.parameters);
+  if (d.wear_evolution.enabled && !scene->features().has(Feature::wear))
+    throw InputError("parameters.wear.model",
+                     "a wear_evolution study needs a scene with a wear model and "
+                     "wear.model \"archard\"");
+  if (d.wear_evolution.enabled && d.wear_evolution.clearance_limit == 0.0 &&
+      d.wear_evolution.backlash_limit == 0.0 && d.wear_evolution.max_cycles >= 1e8)
+    throw InputError("wear_evolution",
+                     "needs a clearance_limit, a backlash_limit or a max_cycles below "
+                     "1e8 to stop at");
+}
+
+/// Case `index` of the grid; `check`: the per-case validation and the id from the canonical
+/// form (else the id stored by the validation pass).
+CaseSpec resolve_case(const Grid& g, std::size_t index, bool check) {
+  CaseSpec c;
+  std::size_t which = 0;
+  const std::vector<std::size_t> pos = grid_position(g, index, which);
+  Draft d = g.bases[which];
+  try {
+    for (std::size_t a = 0; a < g.axes.size(); ++a)
+      for (std::size_t k = 0; k < g.axes[a].keys.size(); ++k) {
+        const std::string& key = g.axes[a].keys[k];
+        const Json& v = g.axes[a].values[k][pos[a]];
+        c.coordinates[key] = v;
+        if (key == "scene") continue;  // chosen above
+        if (key == "design.sample")
+          c.design_sample = v.get<long>();
+        else
+          apply(d, key, v);
+      }
+    if (check) check_case(d, g.scene_signals[which]);
+  } catch (const InputError& e) {
+    if (g.axes.empty()) throw;
+    throw InputError(e.key_path(), e.problem() + " (grid case " + std::to_string(index) + ": " +
+                                       c.coordinates.dump() + ")");
+  }
+  c.index = static_cast<long>(index);
+  c.scene = d.scene;
+  c.parameters = std::move(d.parameters);
+  c.integrator = d.integrator;
+  c.time = d.time;
+  c.health = d.health;
+  c.metrics = d.metrics;
+  c.wear_evolution = d.wear_evolution;
+  c.signals = g.scene_signals[which];
+  c.output = g.output;
+  if (check) {
+    c.id = case_id(c);
+  } else {
+    char buf[17];
+    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(g.ids[index]));
+    c.id = buf;
+  }
+  return c;
+}
+
+/// Every case resolved and checked once (its id kept), distinct points checked to be distinct
+/// cases; afterwards a case is resolved again when it is asked for (study.cases[i]).
+CaseList index_cases(std::shared_ptr<Grid> grid, std::size_t total) {
+  grid->ids.reserve(total);
+  for (std::size_t index = 0; index < total; ++index)
+    grid->ids.push_back(std::stoull(resolve_case(*grid, index, true).id, nullptr, 16));
+  std::vector<std::uint64_t> ids = grid->ids;
+  std::sort(ids.begin(), ids.end());
+  if (std::adjacent_find(ids.begin(), ids.end()) != ids.end())
+    throw InputError("grid", "two grid points resolve to the same case (a repeated value?)");
+  const std::shared_ptr<const Grid> frozen = grid;
+  return CaseList(total, std::make_shared<const CaseList::Resolver>([frozen](std::size_t i) {
+                    if (i >= frozen->ids.size())
+                      throw std::out_of_range("case index " + std::to_string(i));
+                    return resolve_case(*frozen, i, false);
+                  }));
+}
+
+}  // namespace
+
+Study parse_study(const Json& doc, const fs::path& file, const fs::path& results_root) {
+  try {
+    check_document(doc);
     Study study;
-    study.file = file;
-    study.source = doc;
-    study.name = doc.contains("name") ? need_string(doc["name"], "name") : file.stem().string();
-    if (study.name.empty() || study.name.find('/') != std::string::npos || study.name == "." ||
-        study.name == "..")
-      throw InputError("name", "expected a non-empty name without '/'");
-    study.description =
-        doc.contains("description") ? need_string(doc["description"], "description") : "";
-    study.output_dir = results_root / study.name;
-    study.results_root = results_root;
-    if (doc.contains("output")) parse_output(doc["output"], study);
-
-    // the grid: axes, each a single key or a zip group; cartesian product, last axis fastest
-    std::vector<Axis> axes;
-    if (doc.contains("grid")) {
-      const Json& g = doc["grid"];
-      if (!g.is_array()) throw InputError("grid", "expected an array of axes");
-      for (std::size_t i = 0; i < g.size(); ++i)
-        axes.push_back(parse_axis(g[i], "grid[" + std::to_string(i) + "]"));
-    }
-    // a sampled design: one more axis, the last (every grid point runs every design point)
-    if (doc.contains("design")) {
-      std::size_t grid_points = 1;
-      for (const Axis& a : axes) grid_points *= std::max<std::size_t>(a.size(), 1);
-      auto design = std::make_shared<Design>(
-          parse_design(doc["design"], kMaxCases / std::max<std::size_t>(grid_points, 1)));
-      axes.push_back(design_axis(*design));
-      study.design = std::move(design);
-    }
-
-    // the scenes: the "scene" key, or the values of the grid axis "scene"
-    const Axis* scene_axis = nullptr;
-    std::size_t scene_member = 0;
-    for (const Axis& a : axes)
-      for (std::size_t k = 0; k < a.keys.size(); ++k)
-        if (a.keys[k] == "scene" && !scene_axis) {
-          scene_axis = &a;
-          scene_member = k;
-        }
-    if (scene_axis) {
-      if (doc.contains("scene"))
-        throw InputError("scene", "the scene is also a grid axis (" +
-                                      scene_axis->wheres[scene_member] + "): give it in one place");
-      const auto& values = scene_axis->values[scene_member];
-      for (std::size_t j = 0; j < values.size(); ++j) {
-        const std::string where =
-            scene_axis->wheres[scene_member] + ".values[" + std::to_string(j) + "]";
-        const std::string name = need_string(values[j], where);
-        try {
-          (void)ParameterSet::defaults_for(name);
-        } catch (const InputError& e) {
-          throw InputError(where, e.problem());
-        }
-        if (std::find(study.scenes.begin(), study.scenes.end(), name) == study.scenes.end())
-          study.scenes.push_back(name);
-      }
-    } else {
-      if (!doc.contains("scene"))
-        throw InputError("scene", "missing: which scene to run (or a grid axis \"scene\")");
-      study.scene = need_string(doc["scene"], "scene");
-      study.scenes = {study.scene};
-    }
-    const bool several = scene_axis != nullptr;
-    auto scene_list = [&] {
-      std::string out;
-      for (const std::string& n : study.scenes) out += (out.empty() ? "" : ", ") + n;
-      return out;
-    };
-
-    // with a scene axis, a parameter key (study level or grid) applies where the case's scene
-    // has it; one that no scene of the study has is an error (a typo)
-    if (several) {
-      std::vector<ParameterSet> defaults;
-      for (const std::string& n : study.scenes) defaults.push_back(ParameterSet::defaults_for(n));
-      auto check_known = [&](const std::string& path, const std::string& where) {
-        if (std::none_of(defaults.begin(), defaults.end(),
-                         [&](const ParameterSet& p) { return p.has(path); }))
-          throw InputError(where, "no scene of this study (" + scene_list() + ") has parameter '" +
-                                      path + "' (see `rodend params SCENE`)");
-      };
-      if (doc.contains("parameters")) {
-        std::vector<std::pair<std::string, Json>> flat;
-        flatten(need_object(doc["parameters"], "parameters"), "", flat);
-        for (const auto& [k, v] : flat) check_known(k, "parameters." + k);
-      }
-      for (const Axis& a : axes)
-        for (std::size_t k = 0; k < a.keys.size(); ++k)
-          if (a.keys[k].rfind("parameters.", 0) == 0)
-            check_known(a.keys[k].substr(11), a.wheres[k] + ".key");
-    }
+    read_identity(study, doc, file, results_root);
+    auto grid = std::make_shared<Grid>();
+    grid->axes = read_axes(study, doc);
+    grid->scene_axis = find_scene_axis(grid->axes);
+    read_scenes(study, doc, grid->axes, grid->scene_axis);
+    const bool several = grid->scene_axis.axis >= 0;
+    if (several) check_scene_axis_keys(study, doc, grid->axes);
     if (study.design) check_design_keys(*study.design, study.scenes);
     if (study.design) study.design_units = design_units(*study.design, study.scenes);
     if (!doc.contains("time"))
       throw InputError("time", "missing: {\"end\": ..., \"sample_interval\": ...}");
-
-    // one base draft per scene: its defaults and preset, then the study's sections; and the
-    // signals it records: "all" (default) or a list of names
-    const Json sel = doc.contains("signals") ? doc["signals"] : Json("all");
-    const bool all_signals = sel.is_string() && sel.get<std::string>() == "all";
-    if (!all_signals && !sel.is_array())
-      throw InputError("signals", "expected \"all\" or an array of signal names");
-    std::vector<Draft> bases;
-    std::vector<std::vector<SignalId>> scene_signals;
-    std::vector<bool> signal_provided(all_signals ? 0 : sel.size(), false);
-    for (const std::string& name : study.scenes) {
-      Draft base;
-      base.scene = name;
-      base.skip_absent_parameters = several;
-      base.parameters = ParameterSet::defaults_for(name);        // unknown scene -> key "scene"
-      base.integrator = *preset_settings(name, kDefaultPreset);  // overridden below
-      try {
-        for (const std::string& section : case_sections()) apply_section(base, doc, section);
-      } catch (const InputError& e) {
-        if (!several) throw;
-        throw InputError(e.key_path(), e.problem() + " (scene " + name + ")");
-      }
-      if (!doc["time"].contains("end")) throw InputError("time.end", "missing: the end time [s]");
-      if (!doc["time"].contains("sample_interval"))
-        throw InputError("time.sample_interval", "missing: the history sample interval [s]");
-
-      std::vector<SignalId> signals;
-      // the scene's signal list needs a built scene; the base draft must build
-      std::unique_ptr<Scene> scene;
-      try {
-        scene = build_checked(name, base.parameters);
-      } catch (const InputError& e) {
-        if (!several) throw;
-        throw InputError(e.key_path(), e.problem() + " (scene " + name + ")");
-      }
-      const auto provided = scene->signals();
-      if (all_signals) {
-        signals.assign(provided.begin(), provided.end());
-      } else {
-        signals.push_back(SignalId::time);
-        for (std::size_t i = 0; i < sel.size(); ++i) {
-          const std::string key = "signals[" + std::to_string(i) + "]";
-          const std::string sname = need_string(sel[i], key);
-          const auto id = signal_by_name(sname);
-          if (!id) throw InputError(key, "unknown signal '" + sname + "' (see `rodend signals`)");
-          if (std::find(provided.begin(), provided.end(), *id) == provided.end()) {
-            if (!several)
-              throw InputError(key,
-                               "signal '" + sname + "' is not recorded by scene " + study.scene);
-            continue;
-          }
-          signal_provided[i] = true;
-          if (std::find(signals.begin(), signals.end(), *id) == signals.end())
-            signals.push_back(*id);
-        }
-        std::sort(signals.begin(), signals.end());
-      }
-      bases.push_back(std::move(base));
-      scene_signals.push_back(std::move(signals));
-    }
-    for (std::size_t i = 0; i < signal_provided.size(); ++i)
-      if (!signal_provided[i])
-        throw InputError("signals[" + std::to_string(i) + "]",
-                         "signal '" + sel[i].get<std::string>() +
-                             "' is recorded by no scene of this study (" + scene_list() + ")");
-
-    std::size_t total = 1;
-    for (const Axis& a : axes) {
-      for (const std::string& k : a.keys) {
-        if (std::find(study.axis_keys.begin(), study.axis_keys.end(), k) != study.axis_keys.end())
-          throw InputError("grid", "key '" + k + "' appears on more than one axis");
-        study.axis_keys.push_back(k);
-      }
-      total *= a.size();
-      if (total > kMaxCases)
-        throw InputError("grid",
-                         "more than 1e7 cases, the limit of a study (each case is "
-                         "validated before anything runs): split the study into several");
-    }
-
-    // a preset sets every integrator field, so a preset axis would silently override any other
-    // integrator setting of the study (the summary would then show a method the case did not
-    // run): refuse the combination
-    if (std::find(study.axis_keys.begin(), study.axis_keys.end(), "integrator.preset") !=
-        study.axis_keys.end()) {
-      for (const std::string& k : study.axis_keys)
-        if (k != "integrator.preset" && k.rfind("integrator.", 0) == 0)
-          throw InputError("grid", "axes integrator.preset and " + k +
-                                       " contradict each other (a preset sets every integrator "
-                                       "field); expected one of them");
-      if (doc.contains("integrator"))
-        for (auto it = doc["integrator"].begin(); it != doc["integrator"].end(); ++it)
-          if (it.key() != "preset")
-            throw InputError("integrator." + it.key(),
-                             "set beside a grid axis integrator.preset, which sets every "
-                             "integrator field; expected the preset axis alone, or the "
-                             "setting as an axis without presets");
-    }
-    // What rebuilds a case from its grid index (issue 16 item 6): the base draft and signals of
-    // each scene, the axes, and one 64-bit id per case once validated. Every case is resolved
-    // and checked once here (the checks that interact between axes: integrator and time
-    // settings, history size, the scene's own checks); afterwards a case is resolved again when
-    // it is asked for (study.cases[i]) and dropped by its user.
-    struct Grid {
-      std::vector<Axis> axes;
-      std::ptrdiff_t scene_axis = -1;  // index into axes, -1 without a scene axis
-      std::size_t scene_member = 0;
-      std::vector<std::string> scenes;
-      std::vector<Draft> bases;
-      std::vector<std::vector<SignalId>> scene_signals;
-      OutputSettings output;
-      std::vector<std::uint64_t> ids;  // filled by the validation pass
-    };
-    auto grid = std::make_shared<Grid>();
-    grid->scene_axis = scene_axis ? scene_axis - axes.data() : -1;
-    grid->scene_member = scene_member;
-    grid->axes = std::move(axes);
+    build_bases(*grid, study, doc, several);
+    const std::size_t total = count_cases(study, grid->axes);
+    check_preset_axis(study, doc);
     grid->scenes = study.scenes;
-    grid->bases = std::move(bases);
-    grid->scene_signals = std::move(scene_signals);
     grid->output = study.output;
-    // resolves case `index`; `check`: the per-case validation and the id from the canonical
-    // form (else the id stored by the validation pass)
-    auto resolve = [](const Grid& g, std::size_t index, bool check) {
-      CaseSpec c;
-      std::size_t rest = index;
-      std::vector<std::size_t> pos(g.axes.size());
-      for (std::size_t a = g.axes.size(); a-- > 0;) {
-        pos[a] = rest % g.axes[a].size();
-        rest /= g.axes[a].size();
-      }
-      std::size_t which = 0;  // the case's scene, an index into g.scenes
-      if (g.scene_axis >= 0) {
-        const auto sa = static_cast<std::size_t>(g.scene_axis);
-        const std::string& name =
-            g.axes[sa].values[g.scene_member][pos[sa]].get_ref<const std::string&>();
-        which = static_cast<std::size_t>(std::find(g.scenes.begin(), g.scenes.end(), name) -
-                                         g.scenes.begin());
-      }
-      Draft d = g.bases[which];
-      try {
-        for (std::size_t a = 0; a < g.axes.size(); ++a)
-          for (std::size_t k = 0; k < g.axes[a].keys.size(); ++k) {
-            const Json& v = g.axes[a].values[k][pos[a]];
-            c.coordinates[g.axes[a].keys[k]] = v;
-            if (g.axes[a].keys[k] == "scene") continue;  // chosen above
-            if (g.axes[a].keys[k] == "design.sample") {
-              c.design_sample = v.get<long>();
-              continue;
-            }
-            apply(d, g.axes[a].keys[k], v);
-          }
-        if (check) {
-          validate(d.integrator);
-          validate(d.time);
-          check_history_size(d.time, g.scene_signals[which]);
-          const auto scene = build_checked(d.scene, d.parameters);  // the scene's own checks
-          if (d.wear_evolution.enabled && !scene->features().has(Feature::wear))
-            throw InputError("parameters.wear.model",
-                             "a wear_evolution study needs a scene with a wear model and "
-                             "wear.model \"archard\"");
-          if (d.wear_evolution.enabled && d.wear_evolution.clearance_limit == 0.0 &&
-              d.wear_evolution.backlash_limit == 0.0 && d.wear_evolution.max_cycles >= 1e8)
-            throw InputError("wear_evolution",
-                             "needs a clearance_limit, a backlash_limit or a max_cycles below "
-                             "1e8 to stop at");
-        }
-      } catch (const InputError& e) {
-        if (g.axes.empty()) throw;
-        std::string where = e.key_path();
-        throw InputError(where, e.problem() + " (grid case " + std::to_string(index) + ": " +
-                                    c.coordinates.dump() + ")");
-      }
-      c.index = static_cast<long>(index);
-      c.scene = d.scene;
-      c.parameters = std::move(d.parameters);
-      c.integrator = d.integrator;
-      c.time = d.time;
-      c.health = d.health;
-      c.metrics = d.metrics;
-      c.wear_evolution = d.wear_evolution;
-      c.signals = g.scene_signals[which];
-      c.output = g.output;
-      if (check) {
-        c.id = case_id(c);
-      } else {
-        char buf[17];
-        std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(g.ids[index]));
-        c.id = buf;
-      }
-      return c;
-    };
-    grid->ids.reserve(total);
-    for (std::size_t index = 0; index < total; ++index) {
-      const CaseSpec c = resolve(*grid, index, true);
-      grid->ids.push_back(std::stoull(c.id, nullptr, 16));
-    }
-    // distinct grid points must be distinct cases
-    {
-      std::vector<std::uint64_t> ids = grid->ids;
-      std::sort(ids.begin(), ids.end());
-      if (std::adjacent_find(ids.begin(), ids.end()) != ids.end())
-        throw InputError("grid", "two grid points resolve to the same case (a repeated value?)");
-    }
-    const std::shared_ptr<const Grid> frozen = grid;
-    study.cases = CaseList(
-        total, std::make_shared<const CaseList::Resolver>([frozen, resolve](std::size_t i) {
-          if (i >= frozen->ids.size()) throw std::out_of_range("case index " + std::to_string(i));
-          return resolve(*frozen, i, false);
-        }));
+    study.cases = index_cases(std::move(grid), total);
     return study;
   } catch (const InputError& e) {
-    throw e.located(fname);
+    throw e.located(file.string());
   }
 }
 
