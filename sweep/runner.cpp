@@ -556,7 +556,16 @@ int start_team(const RunOptions& opt, const RunPlan& plan) {
 
 int write_run_summary(const Study& study, const RunPlan& plan) {
   check_case_files_present(plan);
-  write_summary(plan.summary_dir, study, *plan.spool, plan.provenance);
+  try {
+    write_summary(plan.summary_dir, study, *plan.spool, plan.provenance);
+  } catch (const std::bad_alloc&) {
+    throw;
+  } catch (const std::exception& e) {  // a full disk, an I/O error: the cases are safe
+    throw std::runtime_error(std::string(e.what()) + "; " + std::to_string(plan.spool->size()) +
+                             " of " + std::to_string(plan.in_scope) + " cases are complete in " +
+                             plan.cases_dir.string() +
+                             ", no summary written. Resume with: " + plan.resume);
+  }
   return plan.spool->failed() > 0 ? 1 : 0;
 }
 

@@ -263,8 +263,11 @@ TEST_CASE("a full disk (injected write failure) stops the run with one message",
   SECTION("while writing the summary") {
     {
       const WriteFailureInjection full(study_json + all_cases + 100);  // not summary.h5
+      // the message gives the count of complete cases and the resume command (issue 37 Why 7)
       CHECK_THROWS_WITH(run_study(study, opt), Catch::Contains("cannot write summary file") &&
-                                                   Catch::Contains("No space left on device"));
+                                                   Catch::Contains("No space left on device") &&
+                                                   Catch::Contains("3 of 3 cases are complete") &&
+                                                   Catch::Contains("Resume with: rodend run"));
     }
     for (const CaseSpec& c : study.cases) CHECK(verify_case_file(cases / (c.id + ".h5")));
     CHECK_FALSE(fs::exists(study.output_dir / "summary.h5"));
