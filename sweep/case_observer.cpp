@@ -59,7 +59,14 @@ CaseObserver::CaseObserver(const Scene& scene, const CaseSpec& spec, History* h)
   if (const WearModel* w = scene.wear_model()) wear_.emplace(*w);
 }
 
+std::atomic<bool>& case_interrupt() {
+  static std::atomic<bool> flag{false};
+  static_assert(std::atomic<bool>::is_always_lock_free);
+  return flag;
+}
+
 void CaseObserver::on_sample(const SignalFrame& f) {
+  if (case_interrupt().load(std::memory_order_relaxed)) throw CaseInterrupted{};
   if (wear_) sliding_work_ = f.get(SignalId::sliding_work);
   if (!history_) return;
   for (std::size_t i = 0; i < history_->signals.size(); ++i) {

@@ -3,6 +3,7 @@
 // evolution (sweep/wear_evolution.hpp).
 #pragma once
 
+#include <atomic>
 #include <optional>
 
 #include "core/integrator.hpp"
@@ -13,6 +14,13 @@
 #include "sweep/study.hpp"
 
 namespace rodend {
+
+/// Interrupting a case in flight (the Python module's run_case, issue 35 item 2): once set, the
+/// case's next sample throws CaseInterrupted, which is no std::exception, so that no handler of
+/// a case takes it for the case's failure; nothing of the case is recorded. Set from a signal
+/// handler (lock-free); the batch runner never sets it (its cases in flight finish).
+std::atomic<bool>& case_interrupt();
+struct CaseInterrupted {};
 
 /// A record with the case's identity (id, index, scene, coordinates), its start time and every
 /// metric NaN: what run_case and the wear evolution fill in.

@@ -29,6 +29,7 @@ import importlib.util
 import json
 import numbers
 import os
+import signal
 import sys
 import tempfile
 
@@ -199,6 +200,9 @@ def run_study(study, *, threads=1, results_root="results", set=None, rerun_faile
     with _StudyFile(study, root) as path:
         rc, folder = _ext.run_study(path, int(threads), root, overrides, bool(rerun_failed),
                                     bool(progress))
+    if rc == 128 + signal.SIGINT:  # Ctrl-C: the cases in flight were finished and written
+        raise KeyboardInterrupt(f"run_study interrupted; the complete cases are in {folder}: "
+                                "run it again to resume")
     return rc, folder
 
 
