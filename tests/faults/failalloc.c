@@ -1,9 +1,10 @@
-/* Allocation-failure injection for the fault suite (issue 37 item 8; tests/cli/test_alloc_failures.py),
- * in the spirit of SQLite's malloc tests: preloaded (LD_PRELOAD) into a rodend process, it makes
- * the K-th call of malloc, calloc, realloc, aligned_alloc or posix_memalign (counted over every
- * thread) return NULL (errno ENOMEM), and with RODEND_FAIL_ALLOC_PERSIST=1 every call after it
- * too. Without RODEND_FAIL_ALLOC it only counts, and prints the count to stderr at exit when
- * RODEND_FAIL_ALLOC_COUNT=1 (how many allocations a run makes, to choose the K's).
+/* Allocation-failure injection for the fault suite (issue 37 item 8;
+ * tests/cli/test_alloc_failures.py), in the spirit of SQLite's malloc tests: preloaded (LD_PRELOAD)
+ * into a rodend process, it makes the K-th call of malloc, calloc, realloc, aligned_alloc or
+ * posix_memalign (counted over every thread) return NULL (errno ENOMEM), and with
+ * RODEND_FAIL_ALLOC_PERSIST=1 every call after it too. Without RODEND_FAIL_ALLOC it only counts,
+ * and prints the count to stderr at exit when RODEND_FAIL_ALLOC_COUNT=1 (how many allocations a run
+ * makes, to choose the K's).
  *
  * Only the allocations that rodend's code makes are counted and failed: those called from the
  * executable itself, from libstdc++ (operator new on rodend's behalf), SUNDIALS and libdeflate.
@@ -17,9 +18,9 @@
 #include <dlfcn.h>
 #include <errno.h>
 #include <link.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <stdint.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -108,9 +109,15 @@ static int fail_now(const void* caller) {
 }
 
 #define CALLER __builtin_return_address(0)
-void* malloc(size_t size) { return fail_now(CALLER) ? NULL : __libc_malloc(size); }
-void* calloc(size_t n, size_t size) { return fail_now(CALLER) ? NULL : __libc_calloc(n, size); }
-void* realloc(void* p, size_t size) { return fail_now(CALLER) ? NULL : __libc_realloc(p, size); }
+void* malloc(size_t size) {
+  return fail_now(CALLER) ? NULL : __libc_malloc(size);
+}
+void* calloc(size_t n, size_t size) {
+  return fail_now(CALLER) ? NULL : __libc_calloc(n, size);
+}
+void* realloc(void* p, size_t size) {
+  return fail_now(CALLER) ? NULL : __libc_realloc(p, size);
+}
 void* aligned_alloc(size_t align, size_t size) {
   return fail_now(CALLER) ? NULL : __libc_memalign(align, size);
 }
