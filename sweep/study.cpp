@@ -1309,6 +1309,9 @@ Json apply_overrides(Json doc, const std::vector<std::string>& overrides, const 
       if (doc.contains(section) && !doc[section].is_object())
         throw InputError(section, "expected an object, got " + json_type_name(doc[section]));
       erase_path(doc[section], rest);
+      // a preset sets every integrator field: asked for on the command line, it replaces the
+      // study's integrator settings (an integrator key --set after it still applies on top)
+      if (key == "integrator.preset") doc[section] = Json::object();
       doc[section][rest] = value;
     } catch (const InputError& e) {
       throw InputError(e.key_path(), e.problem() + from, file.string());

@@ -390,3 +390,19 @@ TEST_CASE("a grid above 1e7 cases is refused with the limit in the message", "[s
   }
   CHECK(kMaxStudyCases == 10'000'000);
 }
+
+TEST_CASE("a preset set on the command line replaces the study's integrator keys", "[study]") {
+  Json doc = Json::parse(R"({"name": "p", "scene": "gravity-drop",
+      "integrator": {"method": "dopri5", "abs_tol": 1e-5, "rel_tol": 1e-5},
+      "time": {"end": 0.01, "sample_interval": 1e-3}})");
+  const Json fast = apply_overrides(doc, {"integrator.preset=reference"}, "p.json");
+  const CaseSpec c = parse_study(fast, "p.json", "/tmp/r").cases[0];
+  const IntegratorSettings want = *preset_settings("gravity-drop", "reference");
+  CHECK(c.integrator.method == want.method);
+  CHECK(c.integrator.abs_tol == want.abs_tol);
+  CHECK(c.integrator.rel_tol == want.rel_tol);
+  // a key set after the preset still applies on top of it
+  const Json tuned =
+      apply_overrides(doc, {"integrator.preset=reference", "integrator.abs_tol=1e-9"}, "p.json");
+  CHECK(parse_study(tuned, "p.json", "/tmp/r").cases[0].integrator.abs_tol == 1e-9);
+}
