@@ -4,9 +4,11 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <exception>
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <mutex>
 #include <optional>
 #include <sstream>
 #include <type_traits>
@@ -1049,10 +1051,38 @@ CaseSpec resolve_case(const Grid& g, std::size_t index, bool check) {
 
 /// Every case resolved and checked once (its id kept), distinct points checked to be distinct
 /// cases; afterwards a case is resolved again when it is asked for (study.cases[i]).
+/// Every case resolved and checked once, its id kept: over the cores for a large study (the
+/// cases are independent; each costs about 0.16 ms, mostly its scene's own checks and its id).
+/// The error of the lowest failing case is the one reported, as a pass in order would.
+void validate_cases(Grid& grid, std::size_t total) {
+  constexpr std::size_t kParallelFrom = 4096;  // below, a thread team costs more than it saves
+  grid.ids.assign(total, 0);
+  std::size_t first_bad = total;
+  std::exception_ptr error;
+  std::mutex mutex;
+  const auto n = static_cast<std::ptrdiff_t>(total);
+#pragma omp parallel for schedule(dynamic, 256) if (total >= kParallelFrom)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const auto index = static_cast<std::size_t>(i);
+    {
+      const std::lock_guard lock(mutex);
+      if (index > first_bad) continue;  // a lower case failed: its error is the one reported
+    }
+    try {
+      grid.ids[index] = std::stoull(resolve_case(grid, index, true).id, nullptr, 16);
+    } catch (...) {
+      const std::lock_guard lock(mutex);
+      if (index < first_bad) {
+        first_bad = index;
+        error = std::current_exception();
+      }
+    }
+  }
+  if (error) std::rethrow_exception(error);
+}
+
 CaseList index_cases(std::shared_ptr<Grid> grid, std::size_t total) {
-  grid->ids.reserve(total);
-  for (std::size_t index = 0; index < total; ++index)
-    grid->ids.push_back(std::stoull(resolve_case(*grid, index, true).id, nullptr, 16));
+  validate_cases(*grid, total);
   std::vector<std::uint64_t> ids = grid->ids;
   std::sort(ids.begin(), ids.end());
   if (std::adjacent_find(ids.begin(), ids.end()) != ids.end())

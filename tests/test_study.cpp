@@ -406,3 +406,20 @@ TEST_CASE("a preset set on the command line replaces the study's integrator keys
       apply_overrides(doc, {"integrator.preset=reference", "integrator.abs_tol=1e-9"}, "p.json");
   CHECK(parse_study(tuned, "p.json", "/tmp/r").cases[0].integrator.abs_tol == 1e-9);
 }
+
+TEST_CASE("a large grid validated over the cores reports its lowest failing case", "[study]") {
+  // 5000 cases: validated in parallel (from 4096); cases 3000 and 4500 are refused (a negative
+  // clearance), and the message must name 3000, as a pass in order would
+  Json values = Json::array();
+  for (int i = 0; i < 5000; ++i) values.push_back(i == 3000 || i == 4500 ? -1e-4 : 1e-4 + i * 1e-8);
+  Json doc = Json::parse(R"({"name": "big", "scene": "gravity-drop",
+                             "time": {"end": 0.01, "sample_interval": 1e-3}})");
+  doc["grid"] = Json::array({{{"key", "parameters.contact.clearance"}, {"values", values}}});
+  CHECK_THROWS_WITH(parse_study(doc, "big.json", "/tmp/r"), Catch::Contains("grid case 3000"));
+  values[3000] = 1e-4 + 3000 * 1e-8;
+  values[4500] = 1e-4 + 4500 * 1e-8;
+  doc["grid"][0]["values"] = values;
+  const Study s = parse_study(doc, "big.json", "/tmp/r");
+  CHECK(s.cases.size() == 5000);
+  CHECK(s.cases[4999].id == case_id(s.cases[4999]));  // the id kept by the pass is the case's
+}
