@@ -18,13 +18,14 @@
 namespace rodend {
 const std::vector<DesignMethodInfo>& design_method_catalogue() {
   static const std::vector<DesignMethodInfo> k{
-      {DesignMethod::monte_carlo, "monte-carlo", "independent random points"},
-      {DesignMethod::latin_hypercube, "latin-hypercube",
+      {DesignMethod::monte_carlo, "monte-carlo", true, "independent random points"},
+      {DesignMethod::latin_hypercube, "latin-hypercube", true,
        "one point in each of N equal-probability strata of every factor"},
-      {DesignMethod::sobol, "sobol", "Sobol' low-discrepancy points, randomly shifted by the seed"},
-      {DesignMethod::saltelli, "saltelli",
+      {DesignMethod::sobol, "sobol", true,
+       "Sobol' low-discrepancy points, randomly shifted by the seed"},
+      {DesignMethod::saltelli, "saltelli", false,
        "pick-freeze blocks A, B and A with column i from B: Sobol' indices, N (d + 2) points"},
-      {DesignMethod::morris, "morris",
+      {DesignMethod::morris, "morris", false,
        "Morris trajectories on a p-level grid: elementary effects, N (d + 1) points"},
   };
   return k;
@@ -67,6 +68,12 @@ std::string_view to_string(DistributionKind k) {
   for (const auto& i : distribution_catalogue())
     if (i.kind == k) return i.name;
   return "?";
+}
+
+const std::vector<std::string_view>& design_keys() {
+  static const std::vector<std::string_view> k{"method", "size", "seed",
+                                               "levels", "base", "factors"};
+  return k;
 }
 
 const DistributionInfo& distribution_info(DistributionKind k) {

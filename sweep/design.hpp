@@ -29,6 +29,7 @@ enum class DistributionKind { uniform, normal, truncated_normal, lognormal, tria
 struct DesignMethodInfo {
   DesignMethod method;
   std::string_view name;
+  bool sample;  ///< draws a sample of N points: also a saltelli design's base for A and B
   std::string_view description;
 };
 struct DistributionInfo {
@@ -40,6 +41,9 @@ struct DistributionInfo {
 };
 const std::vector<DesignMethodInfo>& design_method_catalogue();
 const std::vector<DistributionInfo>& distribution_catalogue();
+/// The keys of the "design" block (its scalar settings, then "factors"): the reader's, the
+/// schema's and --set's one list.
+const std::vector<std::string_view>& design_keys();
 std::string_view to_string(DesignMethod m);
 std::string_view to_string(DistributionKind k);
 const DistributionInfo& distribution_info(DistributionKind k);
@@ -89,6 +93,11 @@ struct Design {
   /// The --dry-run table: each factor's distribution moments beside the points' statistics.
   std::string statistics() const;
 };
+
+/// Bounds of the design block, the reader's and the schema's: factors (a Sobol' base of 2 d
+/// dimensions stays in Boost's table of 3667) and Morris levels.
+inline constexpr std::size_t kMaxDesignFactors = 1000;
+inline constexpr int kMaxMorrisLevels = 1000;
 
 /// Parses and draws the "design" block; `max_points` is the case limit left for it. Throws
 /// InputError naming the key path under "design".

@@ -11,8 +11,6 @@
 namespace rodend {
 namespace {
 
-constexpr std::size_t kMaxFactors = 1000;  // a Sobol' base of 2 d dimensions stays in Boost's table
-
 std::string quoted_names(const std::vector<std::string_view>& names) {
   std::string out;
   for (const auto n : names) out += (out.empty() ? "\"" : ", \"") + std::string(n) + "\"";
@@ -143,7 +141,9 @@ std::vector<DesignFactor> read_factors(const Json& block) {
                      "expected a non-empty array of factors {\"key\": ..., "
                      "\"distribution\": ..., its parameters}");
   const Json& fs = block["factors"];
-  if (fs.size() > kMaxFactors) throw InputError("design.factors", "more than 1000 factors");
+  if (fs.size() > kMaxDesignFactors)
+    throw InputError("design.factors",
+                     "more than " + std::to_string(kMaxDesignFactors) + " factors");
   std::vector<DesignFactor> out;
   for (std::size_t i = 0; i < fs.size(); ++i) {
     const std::string where = "design.factors[" + std::to_string(i) + "]";
@@ -184,17 +184,19 @@ void read_method_keys(Design& d, const Json& block) {
     if (d.method != DesignMethod::morris)
       throw InputError("design.levels", "only a morris design has levels");
     const long long p = integer_at(block["levels"], "design.levels");
-    if (p < 2 || p > 1000 || p % 2 != 0)
-      throw InputError("design.levels",
-                       "expected an even number of levels in [2, 1000] (the "
-                       "step p/(2(p-1)) then lands on the grid)");
+    if (p < 2 || p > kMaxMorrisLevels || p % 2 != 0)
+      throw InputError("design.levels", "expected an even number of levels in [2, " +
+                                            std::to_string(kMaxMorrisLevels) +
+                                            "] (the "
+                                            "step p/(2(p-1)) then lands on the grid)");
     d.levels = static_cast<int>(p);
   }
   if (block.contains("base")) {
     if (d.method != DesignMethod::saltelli)
       throw InputError("design.base", "only a saltelli design has a base");
-    const auto& cat = design_method_catalogue();
-    const std::vector<DesignMethodInfo> bases(cat.begin(), cat.begin() + 3);
+    std::vector<DesignMethodInfo> bases;
+    for (const DesignMethodInfo& m : design_method_catalogue())
+      if (m.sample) bases.push_back(m);
     d.base =
         choice(
             bases, [](const DesignMethodInfo& i) { return i.name; }, block["base"], "design.base")
@@ -207,7 +209,7 @@ void read_method_keys(Design& d, const Json& block) {
 Design parse_design(const Json& block, std::size_t max_points) {
   if (!block.is_object())
     throw InputError("design", "expected an object {\"method\", \"size\", \"seed\", \"factors\"}");
-  check_keys(block, {"method", "size", "seed", "levels", "base", "factors"}, "design");
+  check_keys(block, design_keys(), "design");
   Design d;
   d.method = choice(
                  design_method_catalogue(), [](const DesignMethodInfo& i) { return i.name; },

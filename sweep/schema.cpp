@@ -43,8 +43,12 @@ Json parameter_schema(const Json& leaf) {
 /// The "design" block (sweep/design.hpp), from its catalogues: the methods, and per
 /// distribution its parameters.
 Json design_schema(const std::string& key_pattern) {
-  Json methods = Json::array(), kinds = Json::array(), per_kind = Json::array();
-  for (const auto& m : design_method_catalogue()) methods.push_back(std::string(m.name));
+  Json methods = Json::array(), bases = Json::array(), kinds = Json::array(),
+       per_kind = Json::array();
+  for (const auto& m : design_method_catalogue()) {
+    methods.push_back(std::string(m.name));
+    if (m.sample) bases.push_back(std::string(m.name));
+  }
   for (const auto& d : distribution_catalogue()) {
     kinds.push_back(std::string(d.name));
     Json props = {{"key", true}, {"distribution", true}};
@@ -76,9 +80,14 @@ Json design_schema(const std::string& key_pattern) {
        {{"method", {{"enum", methods}}},
         {"size", {{"type", "integer"}, {"minimum", 1}}},
         {"seed", {{"type", "integer"}, {"minimum", 0}}},
-        {"levels", {{"type", "integer"}, {"minimum", 2}, {"maximum", 1000}, {"multipleOf", 2}}},
-        {"base", {{"enum", {"monte-carlo", "latin-hypercube", "sobol"}}}},
-        {"factors", {{"type", "array"}, {"minItems", 1}, {"items", factor}}}}}};
+        {"levels",
+         {{"type", "integer"}, {"minimum", 2}, {"maximum", kMaxMorrisLevels}, {"multipleOf", 2}}},
+        {"base", {{"enum", bases}}},
+        {"factors",
+         {{"type", "array"},
+          {"minItems", 1},
+          {"maxItems", kMaxDesignFactors},
+          {"items", factor}}}}}};
 }
 
 /// A scene's parameters object: each parameter by its dotted path, or nested at any of its dots

@@ -1261,10 +1261,11 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
 
 /// `--set design.KEY=value` for the design's scalar keys; the loader checks the value.
 void set_design_key(Json& doc, const std::string& rest, const Json& value) {
-  static const std::vector<std::string> kScalars{"design.method", "design.size", "design.seed",
-                                                 "design.levels", "design.base"};
-  if (std::find(kScalars.begin(), kScalars.end(), "design." + rest) == kScalars.end())
-    throw InputError("design." + rest, "expected one of " + alternatives(kScalars, false) +
+  std::vector<std::string> scalars;  // the design's keys but its factors
+  for (const std::string_view k : design_keys())
+    if (k != "factors") scalars.push_back("design." + std::string(k));
+  if (std::find(scalars.begin(), scalars.end(), "design." + rest) == scalars.end())
+    throw InputError("design." + rest, "expected one of " + alternatives(scalars, false) +
                                            " (the factors: --set design=...)");
   if (!doc.contains("design") || !doc["design"].is_object())
     throw InputError("design", "the study has no design block to change");
