@@ -6,7 +6,7 @@ the child (as `ulimit` does), each run bounded by a timeout.
   for the shell); no case file holds a failed status, and the resume without the limit runs
   the 4 cases to ok (before: every case stored as internal_error "std::bad_alloc", and the
   resume said "4 of 4 cases already complete");
-- the default study with -j 2 under address-space limits from 40 to 120 MB (every 5 MB): never
+- the kinematic clearance sweep (tests/studies/limits-kinematic.json) with -j 2 under address-space limits from 40 to 120 MB (every 5 MB): never
   killed by a signal (before: SIGSEGV in H5Eset_auto2 or H5Awrite, SIGABRT from std::bad_alloc
   in the loop's catch handler); it ends 0, or 2 with the count of complete cases and the
   resume command;
@@ -27,7 +27,8 @@ import h5py
 from common import check, finish, rodend_path, write_study
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-DEFAULT = os.path.join(ROOT, "studies", "default.json")
+# the kinematic sweep the limits were measured with (tests/studies/limits-kinematic.json says why)
+DEFAULT = os.path.join(ROOT, "tests", "studies", "limits-kinematic.json")
 
 
 def limited(args, address_kb=None, nofile=None, timeout=120):
