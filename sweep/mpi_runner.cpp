@@ -1,13 +1,17 @@
 // Distributed runs over MPI; see mpi_runner.hpp. This is the only file that calls MPI.
 //
 // Protocol (MPI_COMM_WORLD, ints only):
-//   worker thread t -> rank 0, tag kTagRequest: {status of the case it just finished (kNone on
-//                     its first request, kOk, kFailed), t}, i.e. "give me a case" (8 bytes);
-//   rank 0 -> that rank, tag kTagWork + t: a case index into Study::cases, or -1: no more work
-//                     (4 bytes).
+//   worker thread t -> rank 0, tag kTagRequest: {cases ok, cases failed since its last request,
+//                     t}, i.e. "give me a case" (12 bytes);
+//   rank 0 -> that rank, tag kTagWork + t: {a case index into Study::cases, or -1: no more work;
+//                     the cases still to hand out after it} (8 bytes).
 // Each thread receives its replies on a tag of its own, so it posts the receive, sends the
 // request and waits for the reply without holding g_mpi (MPI_THREAD_SERIALIZED: one MPI call at
-// a time per rank). A rank enters the final barrier after each of its threads got -1; rank 0's
+// a time per rank). While many cases are left, a worker thread asks for its next case as it
+// starts one (one request ahead), so the manager's latency is hidden behind the computation;
+// the last 2 x (computing threads of the job) cases are asked for one at a time, so that no
+// thread holds a case while another idles at the end. A rank enters the final barrier after
+// each of its threads got -1; rank 0's
 // manager serves requests until that barrier completes, so when it does every case handed out
 // has its file under its final name.
 //
@@ -45,6 +49,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <utility>
 
 #include "sweep/results_dir.hpp"
 
@@ -57,7 +62,7 @@ constexpr int kTagRequest = 1;
 constexpr int kTagWork = 16;                     // + the asking thread's number
 constexpr int kNone = -1, kOk = 0, kFailed = 1;  // request payload
 constexpr int kNoMoreWork = -1;                  // reply payload
-constexpr int kManagerIdlePollUs = 500;          // the manager's sleep when no request waits
+constexpr int kManagerIdlePollUs = 1000;         // the manager's sleep when no request waits
 constexpr int kReplyPollUs = 50;                 // a worker's sleep while its reply is due
 
 /// Serialises every MPI call made while threads run (MPI_THREAD_SERIALIZED).
@@ -79,6 +84,7 @@ long long clock_ns(clockid_t clock = CLOCK_MONOTONIC) {
 struct DispatchStats {
   std::atomic<long long> served{0}, serve_ns{0}, serve_cpu_ns{0};  // rank 0's manager
   long long manager_cpu_ns = 0;  // the manager thread's CPU time, idle polling included
+  long long idle_polls = 0;
   std::atomic<long long> asks{0}, wait_ns{0};  // this rank's threads, waiting for their replies
   long long read_back_ns = 0;                  // rank 0 reading the other ranks' case files
 };
@@ -148,11 +154,13 @@ void bcast_int_polled(int& value) {
 class WorkQueue {
  public:
   WorkQueue(const std::vector<std::size_t>& todo, int ranks) : todo_(todo), given_(ranks, 0) {}
-  int take(int rank) {
+  int take(int rank, int* remaining = nullptr) {
     std::lock_guard lock(mutex_);
-    if (next_ >= todo_.size()) return kNoMoreWork;
-    ++given_[static_cast<std::size_t>(rank)];
-    return static_cast<int>(todo_[next_++]);
+    const bool empty = next_ >= todo_.size();
+    if (!empty) ++given_[static_cast<std::size_t>(rank)];
+    const int i = empty ? kNoMoreWork : static_cast<int>(todo_[next_++]);
+    if (remaining != nullptr) *remaining = static_cast<int>(todo_.size() - next_);
+    return i;
   }
   std::vector<long> given() {
     std::lock_guard lock(mutex_);
@@ -169,16 +177,17 @@ class WorkQueue {
 /// The manager's answer to one request that is waiting from `source`.
 void serve(int source, WorkQueue& queue, Progress& progress) {
   const long long t0 = clock_ns(), c0 = clock_ns(CLOCK_THREAD_CPUTIME_ID);
-  int request[2] = {kNone, 0};  // {status of the last case, the asking thread}
+  int request[3] = {0, 0, 0};  // {cases ok, cases failed, the asking thread}
   {
     std::lock_guard lock(g_mpi);
-    MPI_Recv(request, 2, MPI_INT, source, kTagRequest, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    MPI_Recv(request, 3, MPI_INT, source, kTagRequest, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
   }
-  if (request[0] != kNone) progress.case_done(request[0] != kOk);
-  int next = queue.take(source);
+  for (int k = 0; k < request[0] + request[1]; ++k) progress.case_done(k >= request[0]);
+  int reply[2] = {kNoMoreWork, 0};
+  reply[0] = queue.take(source, &reply[1]);
   {
     std::lock_guard lock(g_mpi);
-    MPI_Send(&next, 1, MPI_INT, source, kTagWork + request[1], MPI_COMM_WORLD);
+    MPI_Send(reply, 2, MPI_INT, source, kTagWork + request[2], MPI_COMM_WORLD);
   }
   g_stats.serve_cpu_ns += clock_ns(CLOCK_THREAD_CPUTIME_ID) - c0;
   g_stats.serve_ns += clock_ns() - t0;
@@ -193,40 +202,56 @@ void manage(WorkQueue& queue, Progress& progress) {
     std::lock_guard lock(g_mpi);
     MPI_Ibarrier(MPI_COMM_WORLD, &barrier);
   }
-  for (;;) {
+  for (long idle = 0;; ++idle) {
     int pending = 0, done = 0;
     MPI_Status st;
     {
       std::lock_guard lock(g_mpi);
       MPI_Iprobe(MPI_ANY_SOURCE, kTagRequest, MPI_COMM_WORLD, &pending, &st);
-      if (!pending) MPI_Test(&barrier, &done, MPI_STATUS_IGNORE);
+      // the barrier completes only at the end: tested on every 16th idle poll (each test runs
+      // the collective's progress engine)
+      if (!pending && idle % 16 == 0) MPI_Test(&barrier, &done, MPI_STATUS_IGNORE);
     }
     if (pending) {
       serve(st.MPI_SOURCE, queue, progress);
       continue;  // drain bursts (every thread asks at the start) without sleeping
     }
     if (done) break;
+    ++g_stats.idle_polls;
     sleep_us(kManagerIdlePollUs);
   }
   g_stats.manager_cpu_ns = clock_ns(CLOCK_THREAD_CPUTIME_ID) - c0;
 }
 
-/// A worker thread's round trip to rank 0: reports the status of its last case, returns the
-/// index of its next one (kNoMoreWork: none left). The reply comes on this thread's own tag.
-int ask(int last, int thread) {
-  const long long t0 = clock_ns();
-  int request[2] = {last, thread}, reply = kNoMoreWork;
-  MPI_Request req;
-  {
+/// A worker thread's requests to rank 0: reports the cases it finished since its last request,
+/// and receives {next case index or kNoMoreWork, cases left} on its own tag.
+class Asker {
+ public:
+  explicit Asker(int thread) : thread_(thread) {}
+  void post() {
+    int request[3] = {ok_, failed_, thread_};
+    ok_ = failed_ = 0;
     std::lock_guard lock(g_mpi);
-    MPI_Irecv(&reply, 1, MPI_INT, 0, kTagWork + thread, MPI_COMM_WORLD, &req);
-    MPI_Send(request, 2, MPI_INT, 0, kTagRequest, MPI_COMM_WORLD);
+    MPI_Irecv(reply_, 2, MPI_INT, 0, kTagWork + thread_, MPI_COMM_WORLD, &req_);
+    MPI_Send(request, 3, MPI_INT, 0, kTagRequest, MPI_COMM_WORLD);
   }
-  wait_polled(req, kReplyPollUs);
-  g_stats.wait_ns += clock_ns() - t0;
-  ++g_stats.asks;
-  return reply;
-}
+  /// Waits for the reply to the request posted; returns {case index, cases left}.
+  std::pair<int, int> reply() {
+    const long long t0 = clock_ns();
+    wait_polled(req_, kReplyPollUs);
+    g_stats.wait_ns += clock_ns() - t0;
+    ++g_stats.asks;
+    return {reply_[0], reply_[1]};
+  }
+  void finished(int status) { ++(status == kOk ? ok_ : failed_); }
+  bool owes_report() const { return ok_ + failed_ > 0; }
+
+ private:
+  const int thread_;
+  int ok_ = 0, failed_ = 0;
+  int reply_[2] = {kNoMoreWork, 0};
+  MPI_Request req_ = MPI_REQUEST_NULL;
+};
 
 /// Runs case `i` and writes its file; returns kOk or kFailed. Memory that runs out or a file
 /// that cannot be written ends the job (fatal).
@@ -249,11 +274,24 @@ void prepare_io(int rank) {
   }
 }
 
-/// A worker thread: asks rank 0 for a case, runs it, writes its file, asks again.
-void work_remote(int rank, const Study& study, const RunPlan& plan) {
+/// A worker thread: asks rank 0 for a case (one request ahead while more than `ahead_above`
+/// cases are left), runs it, writes its file, and so on until none is left.
+void work_remote(int rank, const Study& study, const RunPlan& plan, int ahead_above) {
   prepare_io(rank);
-  const int thread = omp_get_thread_num();
-  for (int i = ask(kNone, thread); i >= 0;) i = ask(run_one(rank, study, plan, i), thread);
+  Asker asker(omp_get_thread_num());
+  asker.post();
+  for (;;) {
+    const auto [i, left] = asker.reply();
+    if (i < 0) break;
+    const bool ahead = left > ahead_above;
+    if (ahead) asker.post();
+    asker.finished(run_one(rank, study, plan, i));
+    if (!ahead) asker.post();
+  }
+  if (asker.owes_report()) {  // the last case's status, for the progress line
+    asker.post();
+    asker.reply();
+  }
 }
 
 /// One of rank 0's computing threads: takes cases from the queue directly.
@@ -469,7 +507,7 @@ std::vector<long> run_on_every_rank(const Session& session, const Study& study, 
                                     int threads, bool progress_on) {
   if (session.rank() != 0) {
 #pragma omp parallel num_threads(threads)
-    work_remote(session.rank(), study, plan);
+    work_remote(session.rank(), study, plan, 2 * threads * session.size());
     MPI_Request barrier;
     {
       std::lock_guard lock(g_mpi);
@@ -531,12 +569,12 @@ void print_closing(const Session& session, const std::vector<long>& given, const
       1, plan.todo.size() - static_cast<std::size_t>(given.empty() ? 0 : given[0]));
   std::fprintf(stderr,
                "rodend: MPI dispatch: %lld requests served, %.1f us wall and %.1f us CPU of the "
-               "manager each; manager thread %.3f s CPU in all (idle polling included); a worker "
-               "waited %.1f us per request; 8 + 4 bytes of payload per case; rank 0 read the "
+               "manager each; manager thread %.3f s CPU in all, %lld idle polls; a worker "
+               "waited %.1f us per request; 12 + 8 bytes of payload per request; rank 0 read the "
                "case files back in %.2f ms per case\n",
                g_stats.served.load(), 1e-3 * static_cast<double>(g_stats.serve_ns) / served,
                1e-3 * static_cast<double>(g_stats.serve_cpu_ns) / served,
-               1e-9 * static_cast<double>(g_stats.manager_cpu_ns),
+               1e-9 * static_cast<double>(g_stats.manager_cpu_ns), g_stats.idle_polls,
                1e-3 * static_cast<double>(all[1]) / asks,
                1e-6 * static_cast<double>(g_stats.read_back_ns) / static_cast<double>(read));
 }
