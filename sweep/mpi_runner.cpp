@@ -51,6 +51,7 @@
 #include <thread>
 #include <utility>
 
+#include "sweep/record_bytes.hpp"
 #include "sweep/results_dir.hpp"
 
 namespace rodend::mpi {
@@ -86,7 +87,7 @@ struct DispatchStats {
   long long manager_cpu_ns = 0;  // the manager thread's CPU time, idle polling included
   long long idle_polls = 0;
   std::atomic<long long> asks{0}, wait_ns{0};  // this rank's threads, waiting for their replies
-  long long read_back_ns = 0;                  // rank 0 reading the other ranks' case files
+  std::atomic<long long> bytes{0};             // request and reply bytes through the manager
 };
 DispatchStats g_stats;
 
@@ -174,28 +175,69 @@ class WorkQueue {
   std::mutex mutex_;
 };
 
-/// The manager's answer to one request that is waiting from `source`.
-void serve(int source, WorkQueue& queue, Progress& progress) {
-  const long long t0 = clock_ns(), c0 = clock_ns(CLOCK_THREAD_CPUTIME_ID);
-  int request[3] = {0, 0, 0};  // {cases ok, cases failed, the asking thread}
-  {
-    std::lock_guard lock(g_mpi);
-    MPI_Recv(request, 3, MPI_INT, source, kTagRequest, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+/// What rank 0's manager and computing threads share.
+struct Rank0 {
+  const Study& study;
+  const RunPlan& plan;
+  WorkQueue queue;
+  Progress progress;
+};
+
+/// Puts the records a worker sent (sweep/record_bytes.hpp) into the summary's spool, their
+/// index, scene and coordinates from rank 0's own copy of the study; returns the sender's
+/// thread. A malformed message, or a disk that cannot take the spool, ends the job.
+int take_records(std::string_view in, Rank0& r0) {
+  int thread = 0;
+  try {
+    if (in.size() < sizeof thread) throw std::runtime_error("a request message is truncated");
+    std::memcpy(&thread, in.data(), sizeof thread);
+    in.remove_prefix(sizeof thread);
+    while (!in.empty()) {
+      CaseRecord rec;
+      const std::size_t i = unpack_record(in, rec);
+      const CaseSpec& c = r0.study.cases.at(i);
+      if (rec.id != c.id) throw std::runtime_error("a record of case " + rec.id + " for " + c.id);
+      rec.index = c.index;
+      rec.scene = c.scene;
+      rec.coordinates = c.coordinates;
+      r0.plan.spool->put(i, rec);
+      r0.progress.case_done(rec.status != "ok");
+    }
+  } catch (const std::bad_alloc&) {
+    fatal_out_of_memory(0);
+  } catch (const std::exception& e) {
+    fatal(0, std::string("manager: ") + e.what());
   }
-  for (int k = 0; k < request[0] + request[1]; ++k) progress.case_done(k >= request[0]);
-  int reply[2] = {kNoMoreWork, 0};
-  reply[0] = queue.take(source, &reply[1]);
+  return thread;
+}
+
+/// The manager's answer to the request `st` announced: takes its records, sends the next case.
+void serve(const MPI_Status& st, Rank0& r0) {
+  const long long t0 = clock_ns(), c0 = clock_ns(CLOCK_THREAD_CPUTIME_ID);
+  int bytes = 0;
+  std::string request;
   {
     std::lock_guard lock(g_mpi);
-    MPI_Send(reply, 2, MPI_INT, source, kTagWork + request[2], MPI_COMM_WORLD);
+    MPI_Get_count(&st, MPI_BYTE, &bytes);
+    request.resize(static_cast<std::size_t>(bytes));
+    MPI_Recv(request.data(), bytes, MPI_BYTE, st.MPI_SOURCE, kTagRequest, MPI_COMM_WORLD,
+             MPI_STATUS_IGNORE);
+  }
+  const int thread = take_records(request, r0);
+  int reply[2] = {kNoMoreWork, 0};
+  reply[0] = r0.queue.take(st.MPI_SOURCE, &reply[1]);
+  {
+    std::lock_guard lock(g_mpi);
+    MPI_Send(reply, 2, MPI_INT, st.MPI_SOURCE, kTagWork + thread, MPI_COMM_WORLD);
   }
   g_stats.serve_cpu_ns += clock_ns(CLOCK_THREAD_CPUTIME_ID) - c0;
   g_stats.serve_ns += clock_ns() - t0;
+  g_stats.bytes += bytes + static_cast<long long>(sizeof reply);
   ++g_stats.served;
 }
 
 /// Rank 0's manager: answers requests until every other rank has entered the end barrier.
-void manage(WorkQueue& queue, Progress& progress) {
+void manage(Rank0& r0) {
   const long long c0 = clock_ns(CLOCK_THREAD_CPUTIME_ID);
   MPI_Request barrier;
   {
@@ -213,7 +255,7 @@ void manage(WorkQueue& queue, Progress& progress) {
       if (!pending && idle % 16 == 0) MPI_Test(&barrier, &done, MPI_STATUS_IGNORE);
     }
     if (pending) {
-      serve(st.MPI_SOURCE, queue, progress);
+      serve(st, r0);
       continue;  // drain bursts (every thread asks at the start) without sleeping
     }
     if (done) break;
@@ -223,42 +265,53 @@ void manage(WorkQueue& queue, Progress& progress) {
   g_stats.manager_cpu_ns = clock_ns(CLOCK_THREAD_CPUTIME_ID) - c0;
 }
 
-/// A worker thread's requests to rank 0: reports the cases it finished since its last request,
-/// and receives {next case index or kNoMoreWork, cases left} on its own tag.
+/// A worker thread's requests to rank 0: each carries the records of the cases it finished since
+/// its last request (sweep/record_bytes.hpp) and receives {next case index or kNoMoreWork,
+/// cases left} on the thread's own tag.
 class Asker {
  public:
-  explicit Asker(int thread) : thread_(thread) {}
+  explicit Asker(int thread) : thread_(thread) { restart(); }
+  void finished(std::size_t slot, const CaseRecord& rec) {
+    pack_record(slot, rec, records_);
+    ++owed_;
+  }
+  bool owes_report() const { return owed_ > 0; }
   void post() {
-    int request[3] = {ok_, failed_, thread_};
-    ok_ = failed_ = 0;
+    sending_.swap(records_);
+    restart();
     std::lock_guard lock(g_mpi);
-    MPI_Irecv(reply_, 2, MPI_INT, 0, kTagWork + thread_, MPI_COMM_WORLD, &req_);
-    MPI_Send(request, 3, MPI_INT, 0, kTagRequest, MPI_COMM_WORLD);
+    MPI_Irecv(reply_, 2, MPI_INT, 0, kTagWork + thread_, MPI_COMM_WORLD, &recv_);
+    MPI_Isend(sending_.data(), static_cast<int>(sending_.size()), MPI_BYTE, 0, kTagRequest,
+              MPI_COMM_WORLD, &send_);
   }
   /// Waits for the reply to the request posted; returns {case index, cases left}.
   std::pair<int, int> reply() {
     const long long t0 = clock_ns();
-    wait_polled(req_, kReplyPollUs);
+    wait_polled(recv_, kReplyPollUs);
+    wait_polled(send_, kReplyPollUs);
     g_stats.wait_ns += clock_ns() - t0;
     ++g_stats.asks;
     return {reply_[0], reply_[1]};
   }
-  void finished(int status) { ++(status == kOk ? ok_ : failed_); }
-  bool owes_report() const { return ok_ + failed_ > 0; }
 
  private:
+  void restart() {
+    records_.assign(sizeof thread_, '\0');
+    std::memcpy(records_.data(), &thread_, sizeof thread_);
+    owed_ = 0;
+  }
   const int thread_;
-  int ok_ = 0, failed_ = 0;
+  std::string records_, sending_;  // the next request's bytes; the one in flight
+  int owed_ = 0;
   int reply_[2] = {kNoMoreWork, 0};
-  MPI_Request req_ = MPI_REQUEST_NULL;
+  MPI_Request recv_ = MPI_REQUEST_NULL, send_ = MPI_REQUEST_NULL;
 };
 
-/// Runs case `i` and writes its file; returns kOk or kFailed. Memory that runs out or a file
-/// that cannot be written ends the job (fatal).
-int run_one(int rank, const Study& study, const RunPlan& plan, int i) {
+/// Runs case `i` and writes its file; returns its record. Memory that runs out or a file that
+/// cannot be written ends the job (fatal).
+CaseRecord run_one(int rank, const Study& study, const RunPlan& plan, int i) {
   try {
-    const CaseRecord rec = run_and_write_case(study, plan, static_cast<std::size_t>(i));
-    return rec.status == "ok" ? kOk : kFailed;
+    return run_and_write_case(study, plan, static_cast<std::size_t>(i));
   } catch (const std::bad_alloc&) {
     fatal_out_of_memory(rank);
   } catch (const std::exception& e) {
@@ -285,33 +338,41 @@ void work_remote(int rank, const Study& study, const RunPlan& plan, int ahead_ab
     if (i < 0) break;
     const bool ahead = left > ahead_above;
     if (ahead) asker.post();
-    asker.finished(run_one(rank, study, plan, i));
+    asker.finished(static_cast<std::size_t>(i), run_one(rank, study, plan, i));
     if (!ahead) asker.post();
   }
-  if (asker.owes_report()) {  // the last case's status, for the progress line
+  if (asker.owes_report()) {  // the last case's record
     asker.post();
     asker.reply();
   }
 }
 
 /// One of rank 0's computing threads: takes cases from the queue directly.
-void work_local(const Study& study, const RunPlan& plan, WorkQueue& queue, Progress& progress) {
+void work_local(Rank0& r0) {
   prepare_io(0);
-  for (int i = queue.take(0); i >= 0; i = queue.take(0))
-    progress.case_done(run_one(0, study, plan, i) != kOk);
+  for (int i = r0.queue.take(0); i >= 0; i = r0.queue.take(0)) {
+    const CaseRecord rec = run_one(0, r0.study, r0.plan, i);
+    try {
+      r0.plan.spool->put(static_cast<std::size_t>(i), rec);
+    } catch (const std::exception& e) {
+      fatal(0, e.what());
+    }
+    r0.progress.case_done(rec.status != "ok");
+  }
 }
 
-/// Reads the record of a case another rank wrote. On a network file system a file renamed on
-/// one node may take a few seconds to show on another (cached directory entries): retries for
-/// up to 60 s, listing the directory to revalidate it, before giving up.
-CaseRecord read_back(const fs::path& cases_dir, const CaseSpec& c) {
+/// Waits until the case file another rank wrote shows on rank 0. On a network file system a
+/// file renamed on one node may take a few seconds to show on another (cached directory
+/// entries): retries for up to 60 s, listing the directory to revalidate it, before giving up.
+void await_visible(const fs::path& cases_dir, const CaseSpec& c) {
   const fs::path path = cases_dir / (c.id + ".h5");
   const auto t0 = std::chrono::steady_clock::now();
   for (;;) {
-    if (auto rec = read_case_record(path)) return *rec;
+    struct stat st {};
+    if (::lstat(path.c_str(), &st) == 0) return;
     if (std::chrono::steady_clock::now() - t0 > std::chrono::seconds(60))
       throw std::runtime_error("case " + c.id + " was run but " + path.string() +
-                               " cannot be read on rank 0");
+                               " does not show on rank 0");
     std::error_code ec;
     for (fs::directory_iterator it(cases_dir, ec), end; !ec && it != end; it.increment(ec)) {
     }
@@ -516,29 +577,26 @@ std::vector<long> run_on_every_rank(const Session& session, const Study& study, 
     wait_polled(barrier);
     return {};
   }
-  Progress progress(progress_on, plan.in_scope,
-                    plan.in_scope - static_cast<long>(plan.todo.size()));
-  WorkQueue queue(plan.todo, session.size());
+  Rank0 r0{
+      study, plan, WorkQueue(plan.todo, session.size()),
+      Progress(progress_on, plan.in_scope, plan.in_scope - static_cast<long>(plan.todo.size()))};
 #pragma omp parallel num_threads(threads + 1)
   {
     if (omp_get_thread_num() == 0)
-      manage(queue, progress);
+      manage(r0);
     else
-      work_local(study, plan, queue, progress);
+      work_local(r0);
   }
-  return queue.given();
+  return r0.queue.given();
 }
 
-/// Step 4: rank 0 reads the new case files back and writes the summary; every rank returns the
-/// exit code.
+/// Step 4: rank 0 writes the summary from the records it holds, once every new case file shows
+/// on it; every rank returns the exit code.
 int summarise(int rank, const Study& study, RunPlan& plan) {
   int rc = 0;
   if (rank == 0) {
     try {
-      const long long t0 = clock_ns();
-      for (const std::size_t i : plan.todo)
-        plan.spool->put(i, read_back(plan.cases_dir, study.cases[i]));
-      g_stats.read_back_ns = clock_ns() - t0;
+      for (const std::size_t i : plan.todo) await_visible(plan.cases_dir, study.cases[i]);
       rc = write_run_summary(study, plan);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "rodend: error: %s\n", e.what());
@@ -551,8 +609,7 @@ int summarise(int rank, const Study& study, RunPlan& plan) {
 
 /// Rank 0's closing lines: the cases per rank and, with RODEND_MPI_STATS=1, the dispatch
 /// costs (the workers' waits summed over the ranks: a collective, so every rank calls this).
-void print_closing(const Session& session, const std::vector<long>& given, const RunPlan& plan,
-                   bool progress) {
+void print_closing(const Session& session, const std::vector<long>& given, bool progress) {
   long long mine[2] = {g_stats.asks.load(), g_stats.wait_ns.load()}, all[2] = {0, 0};
   MPI_Reduce(mine, all, 2, MPI_LONG_LONG, MPI_SUM, 0, MPI_COMM_WORLD);
   if (session.rank() != 0) return;
@@ -565,18 +622,15 @@ void print_closing(const Session& session, const std::vector<long>& given, const
   if (std::getenv("RODEND_MPI_STATS") == nullptr) return;
   const double served = std::max(1.0, static_cast<double>(g_stats.served.load()));
   const double asks = std::max(1.0, static_cast<double>(all[0]));
-  const double read = std::max<std::size_t>(
-      1, plan.todo.size() - static_cast<std::size_t>(given.empty() ? 0 : given[0]));
   std::fprintf(stderr,
                "rodend: MPI dispatch: %lld requests served, %.1f us wall and %.1f us CPU of the "
-               "manager each; manager thread %.3f s CPU in all, %lld idle polls; a worker "
-               "waited %.1f us per request; 12 + 8 bytes of payload per request; rank 0 read the "
-               "case files back in %.2f ms per case\n",
+               "manager each, %.0f bytes each (request with its records, and reply); manager "
+               "thread %.3f s CPU in all, %lld idle polls; a worker waited %.1f us per request\n",
                g_stats.served.load(), 1e-3 * static_cast<double>(g_stats.serve_ns) / served,
                1e-3 * static_cast<double>(g_stats.serve_cpu_ns) / served,
+               static_cast<double>(g_stats.bytes) / served,
                1e-9 * static_cast<double>(g_stats.manager_cpu_ns), g_stats.idle_polls,
-               1e-3 * static_cast<double>(all[1]) / asks,
-               1e-6 * static_cast<double>(g_stats.read_back_ns) / static_cast<double>(read));
+               1e-3 * static_cast<double>(all[1]) / asks);
 }
 
 /// On one node, Open MPI's default point-to-point layer probes UCX first, which costs about
@@ -648,7 +702,7 @@ int run_study_mpi(const Session& session, const fs::path& study_file, const fs::
   const std::vector<long> given =
       run_on_every_rank(session, *study, plan, std::max(opt.threads, 1), opt.progress);
   const int rc = summarise(rank, *study, plan);
-  print_closing(session, given, plan, opt.progress && rc != 2);
+  print_closing(session, given, opt.progress && rc != 2);
   if (rank == 0 && rc != 2)
     std::fprintf(stderr, "rodend: results in %s\n", plan.dir.string().c_str());
   return rc;
