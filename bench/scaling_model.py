@@ -14,12 +14,14 @@ The model (every figure per case, from one-thread runs; docs/performance.md, "Sc
   b   bytes of one case file; k = 3 metadata operations per case on the results file system
       (create the temporary, rename it, rank 0's lstat at the end)
 
-  one process, T threads:  W = F + s * N + (t - s) * N / T
-  R ranks x T threads:     W = F + F_mpi + max(ceil(N / (R T)) * (T s + t - s),
+  X(T)  cases per second of one process with T threads: a closed queue (exact mean-value
+        analysis) of T threads, each computing t - s unlocked then queueing for the lock held s:
+        X = T / t while the lock is seldom busy, 1 / s when it is always busy (Amdahl's limit)
+  one process, T threads:  W = F + N / X(T)
+  R ranks x T threads:     W = F + F_mpi + max(ceil(N / (R T)) T / X(T),
                                                N m, N k / M_fs, N b / B_fs)
-where the first term is the cases of one thread (rounded up: the last round) times the time
-they take with their rank's lock shared by T threads (Amdahl within each rank). Speed-up =
-W(1 thread) / W.
+where the first term is the cases of one rank (rounded up: the last round) at its rate; each
+rank has its own lock. Speed-up = W(1 thread) / W.
 
 M_fs (metadata operations per second) and B_fs (bytes per second) of a shared parallel file
 system are not measured here: they are assumptions (--fs-metadata-ops, --fs-bandwidth), stated
@@ -41,14 +43,26 @@ def per_case(st):
     return {"n": n, "t": t, "s": min(s, t), "F": st["fixed_wall_s"], "b": st["case_file_bytes"]}
 
 
+def rate(c, threads):
+    """Cases per second of one process of `threads` threads sharing one lock (mean-value
+    analysis of a closed network: the lock a queue with service s, the rest a delay t - s)."""
+    t, s = c["t"], c["s"]
+    queue = 0.0
+    x = 0.0
+    for k in range(1, threads + 1):
+        response = s * (1.0 + queue)
+        x = k / (response + t - s)
+        queue = x * response
+    return x
+
+
 def wall(c, n, ranks, threads, mpi, fs=None):
     """Predicted wall time [s] of n cases on `ranks` ranks x `threads` threads (mpi: the MPI
     runner's costs apply; fs: (metadata ops/s, bytes/s) of a shared file system, or None)."""
-    t, s = c["t"], c["s"]
     if not mpi:  # one process: its lock is shared by every thread
-        return c["F"] + s * n + (t - s) * n / threads
-    rounds = math.ceil(n / (ranks * threads))  # cases per thread, the last round included
-    limits = [rounds * (threads * s + t - s), n * mpi["m"]]  # a rank's lock shared by its threads
+        return c["F"] + n / rate(c, threads)
+    per_rank = math.ceil(n / (ranks * threads)) * threads  # the last round included
+    limits = [per_rank / rate(c, threads), n * mpi["m"]]
     if fs:
         limits += [n * 3 / fs[0], n * c["b"] / fs[1]]
     return c["F"] + mpi["F_mpi"] + max(limits)
@@ -95,13 +109,14 @@ def extrapolate(name, c, mpi, fs, per_core=100):
 
 def limiter(c, n, ranks, threads, mpi, fs):
     t, s = c["t"], c["s"]
+    locked = rate(c, threads) < 0.9 * threads / t  # the lock costs more than 10 %
     if not mpi:
-        return "the HDF5 lock (Amdahl)" if s * threads > 0.1 * t else "compute"
-    compute = math.ceil(n / (ranks * threads)) * (threads * s + t - s)
+        return "the HDF5 lock" if locked else "compute"
+    compute = math.ceil(n / (ranks * threads)) * threads / rate(c, threads)
     terms = {"compute": compute, "the manager": n * mpi["m"],
              "file-system metadata": n * 3 / fs[0], "file-system bandwidth": n * c["b"] / fs[1]}
     top = max(terms, key=terms.get)
-    if top == "compute" and threads > 1 and s * threads > 0.1 * t:
+    if top == "compute" and locked:
         return "compute, each rank's HDF5 lock"
     return top
 

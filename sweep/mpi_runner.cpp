@@ -462,6 +462,12 @@ class RankWatch {
   std::thread thread_;  // last: started once the members above exist
 };
 
+/// Takes the stop report back from a RankWatch when it goes out of scope.
+struct Disarm {
+  RankWatch& watch;
+  ~Disarm() { watch.arm(nullptr); }
+};
+
 /// The case files of plan.todo as they were when the run started (their inode, 0 for none): a
 /// file renamed into place since then is a case this run completed, one still there from
 /// before (a failed case kept for --rerun-failed) is not.
@@ -684,14 +690,15 @@ int run_study_mpi(const Session& session, const fs::path& study_file, const fs::
                    "threads; running one case at a time per rank\n");
     opt.threads = 1;
   }
-  if (rank == 0)  // a stop while rank 0 plans: nothing ran yet
+  RunPlan plan;
+  const Disarm disarm{watch};  // first to go: the reports below refer to `study` and `plan`
+  if (rank == 0)               // a stop while rank 0 plans: nothing ran yet
     watch.arm([&](int sig) {
       std::fprintf(stderr,
                    "\nrodend: stopped by %s before any case ran. Resume with: mpirun -np %d %s\n",
                    sig == SIGINT ? "SIGINT" : "SIGTERM", session.size(),
                    resume_command(*study, opt).c_str());
     });
-  RunPlan plan;
   if (const int status = plan_on_rank0(rank, *study, opt, plan); status != 0) return status;
   watch.arm([&, before = rank == 0 ? inodes_of(*study, plan) : std::vector<ino_t>{}](int sig) {
     remove_own_temporaries(plan.cases_dir);
