@@ -1,6 +1,6 @@
 """Distributed runs: the same study run by 1 thread, 2 threads, shards 1/2 + 2/2 + `rodend merge`
 and (given the path of mpirun as the first argument) `mpirun -np 2`, with 1 and 2 threads per
-rank, gives identical summaries (but timings) and bitwise-identical histories. Also: merge
+rank, and `mpirun -np 3`, gives identical summaries (but timings) and bitwise-identical histories. Also: merge
 reports missing cases; under mpirun, resume, --rerun-failed, bad input and a case file that
 cannot be written (MPI_Abort) behave as documented. Plain runs get an environment with no MPI
 variables at all: as root, without OMPI_ALLOW_RUN_AS_ROOT, `rodend run` must not touch MPI."""
@@ -86,6 +86,11 @@ with tempfile.TemporaryDirectory() as tmp:
             check(r.returncode == 0, f"mpirun -np 2 --threads {threads}: {r.returncode} {r.stderr}")
             check("2 MPI ranks" in r.stderr, f"mpirun -np 2: not distributed: {r.stderr}")
             assert_same_results(res("one"), os.path.join(root, "grid"), f"1 thread vs mpirun -np 2 --threads {threads}")
+        # three ranks on two cores (oversubscribed): two remote workers asking one request
+        # ahead, the manager serving both; the same results
+        r = mpirun(3, ["run", study, "--threads", "1", "--results-root", os.path.join(tmp, "np3"), "-q"])
+        check(r.returncode == 0, f"mpirun -np 3: {r.returncode} {r.stderr}")
+        assert_same_results(res("one"), res("np3"), "1 thread vs mpirun -np 3")
         # rank 0 decides what to run from the case files present: nothing, then one case
         r = mpirun(2, ["run", study, "--results-root", os.path.join(tmp, "mpi1")])
         check(r.returncode == 0 and "6 of 6 cases already complete, 0 to run" in r.stderr,
