@@ -485,8 +485,8 @@ std::vector<ino_t> inodes_of(const Study& study, const RunPlan& plan) {
 }
 
 /// Removes the temporary files this process was writing in `dir` (the cases abandoned by a
-/// stop: `.<name>.tmp.<host>.<pid>.<n>`, sweep/results.cpp), so that none is left behind even
-/// where the next run cannot tell that their writer is gone (another node).
+/// stop: `.<name>.tmp.<host>.<pid>.<n>`, sweep/results/atomic_file.cpp), so that none is left
+/// behind even where the next run cannot tell that their writer is gone (another node).
 void remove_own_temporaries(const fs::path& dir) {
   const std::string mine = ".tmp." + host_name() + "." + std::to_string(::getpid()) + ".";
   std::error_code ec;
