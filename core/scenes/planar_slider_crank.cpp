@@ -18,6 +18,14 @@
 //       sin phi_c = -y_Brod / L,  x_c = x_Brod + L cos phi_c     (loop closure at C, y = 0).
 // The crank angle theta = theta_0 + omega t is prescribed (the motor holds it). With every joint
 // ideal there is no coordinate: the positions are the closed-form slider-crank kinematics.
+// The model forms of issue 36 (planar_slider_crank_options.hpp), each off by default, add:
+//   guide.model clearance: the slider's y across its guide (the loop closes at C through it:
+//     sin phi_c = (y_s - y_Brod) / L), a coordinate after the joints';
+//   rod_flexibility.model first_mode: the rod's mode amplitude eta, the last coordinate; the
+//     mode's points are bodies of the pose (mode_pose()), so its inertia couples through the
+//     same Jacobians;
+//   drive.model motor: theta is solved for with q (its row carries the flywheel and the motor
+//     torque), and theta' is a state.
 //
 // Dynamics (Lagrange's equations in minimal coordinates q, n = 2 x clearance joints):
 //   M(q) q'' = Q(q, q', t) - sum_b [m_b J_b^T c_b + I_b j_b^T c_phi,b]
@@ -32,7 +40,8 @@
 // (inverse dynamics): tau = sum_b (m_b a_b - F_b) . dr_b/dtheta + I_b phi_b'' dphi_b/dtheta
 // - Q_theta(contacts); its power tau omega is the audit's input work.
 //
-// State: crank angle theta [rad] | q (n) | q' (n) | input work [J] | dissipated energy [J].
+// State: crank angle theta [rad] | q (n) | q' (n) | [theta' with the motor] | input work [J] |
+// dissipated energy [J].
 // theta is a state (theta' = omega, integrated exactly by every Runge-Kutta method) so that the
 // contact gaps, which the driver asks for from the state alone, see the crank's position.
 #include <Eigen/Dense>
