@@ -8,6 +8,7 @@ summaries of the shipped studies (standard library only):
     build/rodend run studies/planar-slider-crank-guide.json          (item 4b)
     build/rodend run studies/planar-slider-crank-motor.json          (item 4c)
     build/rodend run studies/planar-slider-crank-all-joints.json     (item 5)
+    build/rodend run studies/planar-slider-crank-combined.json       (items 4-5 at once)
     python3 scripts/slider-crank-comparison.py [results]
 
 A study whose results are missing is skipped with a note (the baseline is required).
@@ -97,6 +98,7 @@ MODEL_FORMS = [
     ("planar-slider-crank-motor", ["drive.flywheel_inertia"], "motor curve and flywheel"),
     ("planar-slider-crank-all-joints", ["joints.ground_crank.clearance"],
      "clearance at A and B too (same at both)"),
+    ("planar-slider-crank-combined", [], "every form at once, default values"),
 ]
 
 
@@ -128,7 +130,7 @@ def model_forms(results):
             label = ", ".join(f"{k.split('.')[-1]} {r['parameters.' + k]}" for k in keys)
             groups.setdefault(label, {})[float(r[CLEARANCE])] = r
         for label, by_c in groups.items():
-            print_form_row(f"{what} ({study}: {label})", by_c)
+            print_form_row(f"{what} ({study}" + (f": {label})" if label else ")"), by_c)
 
 
 def print_form_row(label, by_c):
