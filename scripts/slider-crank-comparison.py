@@ -4,7 +4,14 @@ summaries of the shipped studies (standard library only):
 
     build/rodend run studies/planar-slider-crank-clearance.json
     build/rodend run studies/planar-slider-crank-band.json
+    build/rodend run studies/planar-slider-crank-flexible-rod.json   (issue 36 item 4a)
+    build/rodend run studies/planar-slider-crank-guide.json          (item 4b)
+    build/rodend run studies/planar-slider-crank-motor.json          (item 4c)
+    build/rodend run studies/planar-slider-crank-all-joints.json     (item 5)
+    build/rodend run studies/planar-slider-crank-combined.json       (items 4-5 at once)
     python3 scripts/slider-crank-comparison.py [results]
+
+A study whose results are missing is skipped with a note (the baseline is required).
 
 The measurement and the published Adams simulation are the values of the flap-actuation study
 that quotes the rig (its Table 4; issue 36), crank at 500 rpm.
@@ -82,8 +89,69 @@ def band(results):
                   ", ".join(f"{x.split('.')[-1]} {r[x]}" for x in keys))
 
 
+# the model forms (issue 36 items 4-5): study, its varied keys (short names), what it adds
+MODEL_FORMS = [
+    ("planar-slider-crank-flexible-rod", ["rod_flexibility.section_second_moment"],
+     "flexible rod, first bending mode"),
+    ("planar-slider-crank-guide", ["guide.clearance", "guide.friction_coefficient"],
+     "guide with clearance and friction"),
+    ("planar-slider-crank-motor", ["drive.flywheel_inertia"], "motor curve and flywheel"),
+    ("planar-slider-crank-all-joints", ["joints.ground_crank.clearance"],
+     "clearance at A and B too (same at both)"),
+    ("planar-slider-crank-combined", [], "every form at once, default values"),
+]
+
+
+def peak_cell(r, key, c):
+    v = float(r[key])
+    return f"{v:.1f} ({err(v, MEASURED[c])})"
+
+
+def model_forms(results):
+    """One row per case of the model-form studies' other axes: the median revolution peak and
+    the same after the 1 kHz low-pass at each clearance, the settling flags, the lowest
+    eccentricity ratio, and whether the low-passed median grows with clearance."""
+    print("| model form (study: varied value) | " +
+          " | ".join(f"{c * 1e3:.1f} mm: median; 1 kHz median" for c in sorted(MEASURED)) +
+          " | settled | min abs(e)/c | grows |")
+    print("| --- " * (len(MEASURED) + 4) + "|")
+    print("| measured | " + " | ".join(f"{MEASURED[c]}" for c in sorted(MEASURED)) +
+          " | – | – | yes |")
+    base = {float(r[CLEARANCE]): r for r in rows(results, "planar-slider-crank-clearance")
+            if r["parameters.joints.rod_slider.model"] == "clearance"}
+    print_form_row("baseline (planar-slider-crank-clearance)", base)
+    for study, keys, what in MODEL_FORMS:
+        if not (Path(results) / study / "summary.csv").exists():
+            print(f"| {what}: no results of {study} | " + "– | " * (len(MEASURED) + 3))
+            continue
+        groups = {}
+        for r in rows(results, study):
+            assert r["status"] == "ok", r
+            label = ", ".join(f"{k.split('.')[-1]} {r['parameters.' + k]}" for k in keys)
+            groups.setdefault(label, {})[float(r[CLEARANCE])] = r
+        for label, by_c in groups.items():
+            print_form_row(f"{what} ({study}" + (f": {label})" if label else ")"), by_c)
+
+
+def print_form_row(label, by_c):
+    med, low = "median_revolution_peak_slider_acceleration", \
+        "lowpass_median_revolution_peak_slider_acceleration"
+    cs = sorted(MEASURED)
+    cells = [peak_cell(by_c[c], med, c) + "; " + peak_cell(by_c[c], low, c) for c in cs]
+    settled = "/".join(str(int(float(by_c[c]["slider_response_settled"]))) for c in cs)
+    ecc = min(float(by_c[c]["steady_min_eccentricity_ratio"]) for c in cs)
+    lp = [float(by_c[c][low]) for c in cs]
+    grows = "yes" if all(b > a for a, b in zip(lp, lp[1:])) else "no"
+    print(f"| {label} | " + " | ".join(cells) + f" | {settled} | {ecc:.3f} | {grows} |")
+
+
 if __name__ == "__main__":
     where = sys.argv[1] if len(sys.argv) > 1 else "results"
     baseline(where)
     print()
-    band(where)
+    if (Path(where) / "planar-slider-crank-band" / "summary.csv").exists():
+        band(where)
+    else:
+        print("(no results of planar-slider-crank-band)")
+    print()
+    model_forms(where)

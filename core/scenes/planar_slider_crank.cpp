@@ -18,6 +18,14 @@
 //       sin phi_c = -y_Brod / L,  x_c = x_Brod + L cos phi_c     (loop closure at C, y = 0).
 // The crank angle theta = theta_0 + omega t is prescribed (the motor holds it). With every joint
 // ideal there is no coordinate: the positions are the closed-form slider-crank kinematics.
+// The model forms of issue 36 (planar_slider_crank_options.hpp), each off by default, add:
+//   guide.model clearance: the slider's y across its guide (the loop closes at C through it:
+//     sin phi_c = (y_s - y_Brod) / L), a coordinate after the joints';
+//   rod_flexibility.model first_mode: the rod's mode amplitude eta, the last coordinate; the
+//     mode's points are bodies of the pose (mode_pose()), so its inertia couples through the
+//     same Jacobians;
+//   drive.model motor: theta is solved for with q (its row carries the flywheel and the motor
+//     torque), and theta' is a state.
 //
 // Dynamics (Lagrange's equations in minimal coordinates q, n = 2 x clearance joints):
 //   M(q) q'' = Q(q, q', t) - sum_b [m_b J_b^T c_b + I_b j_b^T c_phi,b]
@@ -32,7 +40,8 @@
 // (inverse dynamics): tau = sum_b (m_b a_b - F_b) . dr_b/dtheta + I_b phi_b'' dphi_b/dtheta
 // - Q_theta(contacts); its power tau omega is the audit's input work.
 //
-// State: crank angle theta [rad] | q (n) | q' (n) | input work [J] | dissipated energy [J].
+// State: crank angle theta [rad] | q (n) | q' (n) | [theta' with the motor] | input work [J] |
+// dissipated energy [J].
 // theta is a state (theta' = omega, integrated exactly by every Runge-Kutta method) so that the
 // contact gaps, which the driver asks for from the state alone, see the crank's position.
 #include <Eigen/Dense>
@@ -44,6 +53,7 @@
 
 #include "core/scene.hpp"
 #include "core/scenes/parts.hpp"
+#include "core/scenes/planar_slider_crank_options.hpp"
 
 namespace rodend {
 namespace {
@@ -58,6 +68,9 @@ Jet operator+(Jet a, Jet b) {
 }
 Jet operator*(double k, Jet a) {
   return {k * a.v, k * a.d, k * a.dd};
+}
+Jet operator*(Jet a, Jet b) {
+  return {a.v * b.v, a.d * b.v + a.v * b.d, a.dd * b.v + 2.0 * a.d * b.d + a.v * b.dd};
 }
 /// g(a) from g, g', g'' at a.v (chain rule to second order).
 Jet chain(Jet a, double g, double g1, double g2) {
@@ -94,7 +107,9 @@ enum Pose : int {
   rod_com_y,
   crank_phi,
   rod_phi,
-  pose_size
+  rod_mode,    // the rod's bending-mode amplitude eta [m] (0 for a rigid rod)
+  rod_points,  // the mode's points: x, y of each deflected point, then of each undeflected one
+  pose_size = rod_points + 4 * RodMode::kPoints
 };
 using PoseJets = std::array<Jet, pose_size>;
 
@@ -124,6 +139,14 @@ constexpr auto kMechanismSignals =
            SignalId::slider_velocity, SignalId::slider_acceleration, SignalId::driving_torque,
            SignalId::joint_normal_forces, SignalId::joint_eccentricities, kEnergyAudit);
 
+/// A body of the dynamics: mass-centre and angle entries of the pose (angle -1: no rotary
+/// inertia), mass and moment of inertia. The flexible rod's mode points are bodies too (point
+/// masses, the undeflected ones with negative mass: see RodMode).
+struct Body {
+  int x, y, phi;
+  double mass, inertia;
+};
+
 struct Link {
   double length = 0.0;   ///< [m]
   double com = 0.0;      ///< distance of the mass centre from the link's first joint [m]
@@ -152,32 +175,8 @@ class PlanarSliderCrankScene final : public Scene {
     if (g.z() != 0.0)
       throw InputError("gravity", "expected a vector in the plane of motion (z component 0)");
     gravity_ = g;
-    int k = 0;
-    for (int j = 0; j < 3; ++j) {
-      const std::string key = kJointKeys[static_cast<std::size_t>(j)];
-      const std::string model = p.text(key + ".model");
-      if (model != "ideal" && model != "clearance")
-        throw InputError(key + ".model", "expected \"ideal\" or \"clearance\"");
-      if (model == "clearance") {
-        const double c = p.number(key + ".clearance");
-        if (!(c > 0.0) || !std::isfinite(c))
-          throw InputError(key + ".clearance",
-                           "expected a clearance > 0 [m] for a joint with model \"clearance\" "
-                           "(model \"ideal\" for none), got " +
-                               format_number(c));
-        ClearanceContactModel m =
-            read_clearance_contact(p, "contact", "friction", key + ".clearance");
-        if (m.clearance >= m.ball_radius)
-          throw InputError(key + ".clearance",
-                           "expected a clearance smaller than the journal "
-                           "radius contact.ball_radius");
-        offset_[j] = k;
-        k += 2;
-        joints_.push_back(j);
-        models_.push_back(std::move(m));
-      }
-    }
-    n_ = k;
+    read_joints(p);
+    read_options(p);
     signals_.assign(kMechanismSignals.begin(), kMechanismSignals.end());
     if (!joints_.empty()) {
       signals_.insert(signals_.end(), kContactSignals.begin(), kContactSignals.end());
@@ -191,27 +190,15 @@ class PlanarSliderCrankScene final : public Scene {
   }
 
   std::string_view name() const override { return "planar-slider-crank"; }
-  int state_size() const override { return 2 * n_ + 3; }
+  int state_size() const override { return 2 * n_ + 3 + (drive_.on() ? 1 : 0); }
   void initial_state(double* x) const override {
-    // every joint concentric, the ideal mechanism's velocities (deviation rates 0)
+    // every joint concentric, the ideal mechanism's velocities (deviation rates 0), the rod
+    // straight, the slider on the guide's centre line, the crank at its (no-load) speed
     for (int i = 0; i < state_size(); ++i) x[i] = 0.0;
     x[kTheta] = theta0_;
+    if (drive_.on()) x[theta_rate_index()] = omega_;
   }
-  void state_scale(double* s) const override {
-    // deviations on the clearance of their joint, their rates on the crank-pin speed
-    const double V = std::abs(omega_) * crank_.length;
-    s[kTheta] = 1.0;
-    for (std::size_t i = 0; i < joints_.size(); ++i) {
-      const int o = kQ + offset_[static_cast<std::size_t>(joints_[i])];
-      const double c = models_[i].clearance;
-      const double angle = joints_[i] == rod_slider ? 1.0 / rod_.length : 1.0;  // rod angle
-      s[o] = c * angle;
-      s[o + 1] = c;
-      s[n_ + o] = V * angle;
-      s[n_ + o + 1] = V;
-    }
-    s[work()] = s[work() + 1] = 1.0;
-  }
+  void state_scale(double* s) const override;
   std::span<const int> audit_offsets() const override { return audit_; }
 
   Features features() const override {
@@ -239,30 +226,32 @@ class PlanarSliderCrankScene final : public Scene {
 
   void derivatives(double, const double* x, const DiscreteState& d, double* dxdt) const override {
     const Solution s = solve(x, d);
-    dxdt[kTheta] = omega_;
+    dxdt[kTheta] = theta_rate(x);
     for (int i = 0; i < n_; ++i) {
       dxdt[kQ + i] = x[kQ + n_ + i];
       dxdt[kQ + n_ + i] = s.qdd[i];
     }
-    dxdt[work()] = s.torque * omega_;
+    if (drive_.on()) dxdt[theta_rate_index()] = s.theta_acceleration;
+    dxdt[work()] = s.torque * theta_rate(x);
     dxdt[work() + 1] = s.dissipation;
   }
 
   std::span<const SignalId> signals() const override { return signals_; }
   EnergyTerms energy(double, const double* x, const DiscreteState& d) const override {
     const PoseJets v = velocity_pose(x);
-    double e = kinetic(v);
-    for (const BodyPose& b : kBodies)
-      e -= mass(b) * (gravity_.x() * v[b.x].v + gravity_.y() * v[b.y].v);
+    double e = kinetic(v, x);
+    for (const Body& b : bodies_) e -= b.mass * (gravity_.x() * v[b.x].v + gravity_.y() * v[b.y].v);
     for (std::size_t i = 0; i < joints_.size(); ++i)
       e += contact(static_cast<int>(i), v, d).potential;
+    const double eta = v[rod_mode].v;
+    e += 0.5 * mode_.stiffness * eta * eta + guide_force(v).potential;
     return {e, x[work()], x[work() + 1]};
   }
   void outputs(double t, const double* x, const DiscreteState& d, SignalFrame& f) const override {
     const Solution s = solve(x, d);
     const PoseJets& v = s.velocity;
     f.set(SignalId::crank_angle, x[kTheta]);
-    f.set(SignalId::surface_rate, omega_);  // the crank's rate
+    f.set(SignalId::surface_rate, theta_rate(x));  // the crank's rate
     f.set(SignalId::slider_position, v[slider_x].v);
     f.set(SignalId::slider_velocity, v[slider_x].d);
     f.set(SignalId::slider_acceleration, s.slider_acceleration);
@@ -281,21 +270,77 @@ class PlanarSliderCrankScene final : public Scene {
                             d.contacts[static_cast<std::size_t>(i)]);
       f.set(SignalId::relative_velocity, Vec3(journal.v_W - bearing.v_W));
     }
-    f.set(SignalId::kinetic_energy, kinetic(v));
+    f.set(SignalId::kinetic_energy, kinetic(v, x));
     write_energy_signals(f, energy(t, x, d), initial_mechanical_);
   }
 
  private:
   static constexpr int kTheta = 0, kQ = 1;
-  int work() const { return kQ + 2 * n_; }  ///< input work; dissipated energy follows
+  static constexpr int kMaxQ = 8;  ///< 2 per clearance joint, the guide's y, the rod's mode
+  /// the crank's rate, a state with the motor (after the coordinates' rates)
+  int theta_rate_index() const { return kQ + 2 * n_; }
+  double theta_rate(const double* x) const { return drive_.on() ? x[theta_rate_index()] : omega_; }
+  /// input work; dissipated energy follows
+  int work() const { return kQ + 2 * n_ + (drive_.on() ? 1 : 0); }
   struct Solution {
     PoseJets velocity;  ///< value, velocity and velocity-product acceleration of each entry
     Eigen::VectorXd qdd;
+    double theta_acceleration = 0.0;      ///< theta'' [rad/s^2] (0 at prescribed speed)
+    Guide::Force guide;                   ///< the guide's force on the slider
     std::array<ContactEval, 3> contacts;  ///< per clearance joint, in joints_ order
-    double torque = 0.0;                  ///< driving torque [N m]
+    double torque = 0.0;                  ///< driving (or motor) torque [N m]
     double dissipation = 0.0;             ///< [W]
     double slider_acceleration = 0.0;     ///< [m/s^2]
   };
+
+  /// The clearance joints: the coordinates they add and their contact models.
+  void read_joints(const ParameterSet& p) {
+    for (int j = 0; j < 3; ++j) {
+      const std::string key = kJointKeys[static_cast<std::size_t>(j)];
+      const std::string model = p.text(key + ".model");
+      if (model != "ideal" && model != "clearance")
+        throw InputError(key + ".model", "expected \"ideal\" or \"clearance\"");
+      if (model == "clearance") {
+        const double c = p.number(key + ".clearance");
+        if (!(c > 0.0) || !std::isfinite(c))
+          throw InputError(key + ".clearance",
+                           "expected a clearance > 0 [m] for a joint with model \"clearance\" "
+                           "(model \"ideal\" for none), got " +
+                               format_number(c));
+        ClearanceContactModel m =
+            read_clearance_contact(p, "contact", "friction", key + ".clearance");
+        if (m.clearance >= m.ball_radius)
+          throw InputError(key + ".clearance",
+                           "expected a clearance smaller than the journal "
+                           "radius contact.ball_radius");
+        offset_[j] = n_;
+        n_ += 2;
+        joints_.push_back(j);
+        models_.push_back(std::move(m));
+      }
+    }
+  }
+
+  /// The model forms of issue 36 item 4 (each off by default: today's model) and the bodies.
+  void read_options(const ParameterSet& p) {
+    mode_ = RodMode::read(p, rod_.length, rod_.mass, rod_.inertia, rod_.com);
+    guide_ = Guide::read(p, slider_mass_);
+    drive_ = Drive::read(p);
+    if (guide_.on()) guide_offset_ = n_++;
+    if (mode_.on()) mode_offset_ = n_++;
+    bodies_ = {{crank_com_x, crank_com_y, crank_phi, crank_.mass, crank_.inertia},
+               {rod_com_x, rod_com_y, rod_phi, rod_.mass, rod_.inertia},
+               {slider_x, slider_y, -1, slider_mass_, 0.0}};
+    for (int k = 0; mode_.on() && k < RodMode::kPoints; ++k) {
+      const double m = mode_.mass[static_cast<std::size_t>(k)];
+      bodies_.push_back({mode_point(k, true), mode_point(k, true) + 1, -1, m, 0.0});
+      bodies_.push_back({mode_point(k, false), mode_point(k, false) + 1, -1, -m, 0.0});
+    }
+  }
+  /// pose entry (x; y follows) of mode point k, deflected or not
+  static int mode_point(int k, bool deflected) {
+    return rod_points + 2 * k + (deflected ? 0 : 2 * RodMode::kPoints);
+  }
 
   static Link read_link(const ParameterSet& p, const std::string& key) {
     Link l;
@@ -311,25 +356,23 @@ class PlanarSliderCrankScene final : public Scene {
     return l;
   }
 
-  double mass(const BodyPose& b) const {
-    return b.phi == crank_phi ? crank_.mass : (b.phi == rod_phi ? rod_.mass : slider_mass_);
-  }
-  double inertia(const BodyPose& b) const {
-    return b.phi == crank_phi ? crank_.inertia : (b.phi == rod_phi ? rod_.inertia : 0.0);
+  /// The guide's force on the slider at the pose (zero for an ideal guide).
+  Guide::Force guide_force(const PoseJets& v) const {
+    return guide_.force(v[slider_y].v, v[slider_y].d, v[slider_x].d);
   }
 
   /// The positions at (q, theta), differentiated along (dq, dtheta): the one description of
   /// the mechanism's geometry (see the header for the coordinates).
   /// Along (dq, dtheta); dq null: zero.
   PoseJets pose(const double* x, const double* dq, double dtheta) const {
-    std::array<Jet, 6> qj{};
+    std::array<Jet, kMaxQ> qj{};
     for (int i = 0; i < n_; ++i)
       qj[static_cast<std::size_t>(i)] = {x[kQ + i], dq ? dq[i] : 0.0, 0.0};
     return pose(qj, Jet{x[kTheta], dtheta, 0.0});
   }
   /// Along the motion (q', omega): values, velocities and velocity-product accelerations.
-  PoseJets velocity_pose(const double* x) const { return pose(x, x + kQ + n_, omega_); }
-  PoseJets pose(const std::array<Jet, 6>& q, Jet theta) const {
+  PoseJets velocity_pose(const double* x) const { return pose(x, x + kQ + n_, theta_rate(x)); }
+  PoseJets pose(const std::array<Jet, kMaxQ>& q, Jet theta) const {
     PoseJets p{};
     auto coord = [&](Joint j, int i) { return q[static_cast<std::size_t>(offset_[j] + i)]; };
     if (offset_[ground_crank] >= 0) {
@@ -348,8 +391,11 @@ class PlanarSliderCrankScene final : public Scene {
       p[rod_b_x] = p[rod_b_x] + coord(crank_rod, 0);
       p[rod_b_y] = p[rod_b_y] + coord(crank_rod, 1);
     }
-    // loop closure at C on the guide y = 0: sin phi = -y_B / L, slider on the +x side
-    Jet phi = asin((-1.0 / rod_.length) * p[rod_b_y]);
+    // loop closure at C on the guide, slider pin at y = y_s (0 for an ideal guide):
+    // sin phi = (y_s - y_B) / L, slider on the +x side
+    const Jet ys = guide_offset_ >= 0 ? q[static_cast<std::size_t>(guide_offset_)] : Jet{};
+    Jet phi = guide_offset_ >= 0 ? asin((1.0 / rod_.length) * (ys + (-1.0) * p[rod_b_y]))
+                                 : asin((-1.0 / rod_.length) * p[rod_b_y]);
     Jet x = p[rod_b_x] + rod_.length * cos(phi);
     if (offset_[rod_slider] >= 0) {
       phi = phi + coord(rod_slider, 0);
@@ -362,17 +408,33 @@ class PlanarSliderCrankScene final : public Scene {
     p[rod_com_x] = p[rod_b_x] + rod_.com * c2;
     p[rod_com_y] = p[rod_b_y] + rod_.com * s2;
     p[slider_x] = x;
-    p[slider_y] = Jet{};
+    p[slider_y] = ys;
+    if (mode_offset_ >= 0) mode_pose(p, q[static_cast<std::size_t>(mode_offset_)], c2, s2);
     return p;
   }
-
-  double kinetic(const PoseJets& v) const {
-    double e = 0.0;
-    for (const BodyPose& b : kBodies) {
-      e += 0.5 * mass(b) * (v[b.x].d * v[b.x].d + v[b.y].d * v[b.y].d);
-      if (b.phi >= 0) e += 0.5 * inertia(b) * v[b.phi].d * v[b.phi].d;
+  /// The rod's mode points, deflected by eta psi_k normal to the chord (c2, s2) and not.
+  void mode_pose(PoseJets& p, Jet eta, Jet c2, Jet s2) const {
+    p[rod_mode] = eta;
+    for (int k = 0; k < RodMode::kPoints; ++k) {
+      const auto u = static_cast<std::size_t>(k);
+      const Jet x = p[rod_b_x] + mode_.s[u] * c2, y = p[rod_b_y] + mode_.s[u] * s2;
+      const int d = mode_point(k, true), r = mode_point(k, false);
+      p[static_cast<std::size_t>(r)] = x;
+      p[static_cast<std::size_t>(r) + 1] = y;
+      p[static_cast<std::size_t>(d)] = x + (-mode_.psi[u]) * (eta * s2);
+      p[static_cast<std::size_t>(d) + 1] = y + mode_.psi[u] * (eta * c2);
     }
-    return e;
+  }
+
+  /// Kinetic energy of the bodies and, with the motor, of the flywheel.
+  double kinetic(const PoseJets& v, const double* x) const {
+    double e = 0.0;
+    for (const Body& b : bodies_) {
+      e += 0.5 * b.mass * (v[b.x].d * v[b.x].d + v[b.y].d * v[b.y].d);
+      if (b.phi >= 0) e += 0.5 * b.inertia * v[b.phi].d * v[b.phi].d;
+    }
+    const double w = theta_rate(x);
+    return e + (drive_.on() ? 0.5 * drive_.flywheel * w * w : 0.0);
   }
 
   /// Journal and bearing of clearance joint i as point kinematics (planar: w along z).
@@ -403,11 +465,16 @@ class PlanarSliderCrankScene final : public Scene {
     return phi >= 0 ? col[static_cast<std::size_t>(phi)].d : 0.0;
   }
   /// generalised applied force along one column: gravity at the mass centres, each contact
-  /// force of `s` at its journal and bearing centres, the friction moments on the bodies' angles
+  /// force of `s` at its journal and bearing centres, the friction moments on the bodies' angles,
+  /// the guide's force on the slider, the rod mode's elastic and damping force, the motor torque
   double applied(const PoseJets& col, const Solution& s) const {
     double Q = 0.0;
-    for (const BodyPose& b : kBodies)
-      Q += mass(b) * (gravity_.x() * col[b.x].d + gravity_.y() * col[b.y].d);
+    for (const Body& b : bodies_)
+      Q += b.mass * (gravity_.x() * col[b.x].d + gravity_.y() * col[b.y].d);
+    Q += s.guide.fx * col[slider_x].d + s.guide.fy * col[slider_y].d;
+    const Jet& eta = s.velocity[rod_mode];
+    Q -= (mode_.stiffness * eta.v + mode_.damping * eta.d) * col[rod_mode].d;
+    if (drive_.on()) Q += s.torque * col[crank_phi].d;
     for (std::size_t i = 0; i < joints_.size(); ++i) {
       const JointPose& jp = kJoints[static_cast<std::size_t>(joints_[i])];
       const ContactEval& c = s.contacts[i];
@@ -424,10 +491,10 @@ class PlanarSliderCrankScene final : public Scene {
   /// inertia products sum_b m_b a.b + I_b a_phi b_phi over two columns (field d or dd of b)
   double inertial(const PoseJets& a, const PoseJets& b, bool second) const {
     double r = 0.0;
-    for (const BodyPose& body : kBodies) {
+    for (const Body& body : bodies_) {
       auto g = [&](int k) { return second ? b[k].dd : b[k].d; };
-      r += mass(body) * (a[body.x].d * g(body.x) + a[body.y].d * g(body.y));
-      if (body.phi >= 0) r += inertia(body) * a[body.phi].d * g(body.phi);
+      r += body.mass * (a[body.x].d * g(body.x) + a[body.y].d * g(body.y));
+      if (body.phi >= 0) r += body.inertia * a[body.phi].d * g(body.phi);
     }
     return r;
   }
@@ -439,11 +506,42 @@ class PlanarSliderCrankScene final : public Scene {
   std::array<int, 3> offset_{-1, -1, -1};  ///< first coordinate of each clearance joint
   std::vector<int> joints_;                ///< the clearance joints, in order A, B, C
   std::vector<ClearanceContactModel> models_;
+  RodMode mode_;
+  Guide guide_;
+  Drive drive_;
+  int guide_offset_ = -1, mode_offset_ = -1;  ///< the slider's y, the rod's mode amplitude
+  std::vector<Body> bodies_;
   int n_ = 0;
   std::vector<SignalId> signals_;
   std::array<int, 2> audit_{};
   double initial_mechanical_ = 0.0;
 };
+
+void PlanarSliderCrankScene::state_scale(double* s) const {
+  // deviations on the clearance of their joint, their rates on the crank-pin speed
+  const double V = std::abs(omega_) * crank_.length;
+  s[kTheta] = 1.0;
+  for (std::size_t i = 0; i < joints_.size(); ++i) {
+    const int o = kQ + offset_[static_cast<std::size_t>(joints_[i])];
+    const double c = models_[i].clearance;
+    const double angle = joints_[i] == rod_slider ? 1.0 / rod_.length : 1.0;  // rod angle
+    s[o] = c * angle;
+    s[o + 1] = c;
+    s[n_ + o] = V * angle;
+    s[n_ + o + 1] = V;
+  }
+  if (guide_offset_ >= 0) {  // the slider's y on the guide's clearance
+    s[kQ + guide_offset_] = guide_.clearance;
+    s[kQ + n_ + guide_offset_] = V;
+  }
+  if (mode_offset_ >= 0) {  // the mode on the rod's deflection under its inertia load m r w^2/2
+    const double eta = 0.5 * rod_.mass * V * std::abs(omega_) / mode_.stiffness;
+    s[kQ + mode_offset_] = eta;
+    s[kQ + n_ + mode_offset_] = eta * mode_.frequency;
+  }
+  if (drive_.on()) s[theta_rate_index()] = std::abs(omega_);
+  s[work()] = s[work() + 1] = 1.0;
+}
 
 PlanarSliderCrankScene::Solution PlanarSliderCrankScene::solve(const double* x,
                                                                const DiscreteState& d) const {
@@ -451,8 +549,8 @@ PlanarSliderCrankScene::Solution PlanarSliderCrankScene::solve(const double* x,
   s.velocity = velocity_pose(x);
   const PoseJets& v = s.velocity;
   // Jacobian columns: d(pose)/dq_j, and d(pose)/dtheta last
-  std::array<PoseJets, 7> cols;
-  std::array<double, 6> e{};
+  std::array<PoseJets, kMaxQ + 1> cols;
+  std::array<double, kMaxQ> e{};
   for (int j = 0; j < n_; ++j) {
     e.fill(0.0);
     e[static_cast<std::size_t>(j)] = 1.0;
@@ -463,27 +561,35 @@ PlanarSliderCrankScene::Solution PlanarSliderCrankScene::solve(const double* x,
     s.contacts[i] = contact(static_cast<int>(i), v, d);
     s.dissipation += s.contacts[i].damping_power + s.contacts[i].friction_power;
   }
-  s.qdd = Eigen::VectorXd::Zero(n_);
-  if (n_ > 0) {
-    Eigen::MatrixXd M(n_, n_);
-    Eigen::VectorXd rhs(n_);
-    for (int i = 0; i < n_; ++i) {
+  s.guide = guide_force(v);
+  s.dissipation += s.guide.dissipation + mode_.damping * v[rod_mode].d * v[rod_mode].d;
+  if (drive_.on()) s.torque = drive_.torque(omega_, theta_rate(x));
+  // the unknowns: q'' and, with the motor, theta'' (the flywheel adds to its diagonal)
+  const int N = n_ + (drive_.on() ? 1 : 0);
+  Eigen::VectorXd sol = Eigen::VectorXd::Zero(N);
+  if (N > 0) {
+    Eigen::MatrixXd M(N, N);
+    Eigen::VectorXd rhs(N);
+    for (int i = 0; i < N; ++i) {
       const PoseJets& ci = cols[static_cast<std::size_t>(i)];
       for (int j = 0; j <= i; ++j)
         M(i, j) = M(j, i) = inertial(ci, cols[static_cast<std::size_t>(j)], false);
       rhs[i] = applied(ci, s) - inertial(ci, v, true);
     }
-    s.qdd = M.ldlt().solve(rhs);
+    if (drive_.on()) M(n_, n_) += drive_.flywheel;
+    sol = M.ldlt().solve(rhs);
   }
-  // accelerations of the pose entries, then the torque that holds theta'' = 0
+  s.qdd = sol.head(n_);
+  if (drive_.on()) s.theta_acceleration = sol[n_];
+  // accelerations of the pose entries; at prescribed speed the torque that holds theta'' = 0
   PoseJets acc = v;
   for (int k = 0; k < pose_size; ++k) {
     double a = v[static_cast<std::size_t>(k)].dd;
-    for (int j = 0; j < n_; ++j)
-      a += cols[static_cast<std::size_t>(j)][static_cast<std::size_t>(k)].d * s.qdd[j];
+    for (int j = 0; j < N; ++j)
+      a += cols[static_cast<std::size_t>(j)][static_cast<std::size_t>(k)].d * sol[j];
     acc[static_cast<std::size_t>(k)].dd = a;
   }
-  s.torque = inertial(col_theta, acc, true) - applied(col_theta, s);
+  if (!drive_.on()) s.torque = inertial(col_theta, acc, true) - applied(col_theta, s);
   s.slider_acceleration = acc[slider_x].dd;
   return s;
 }
