@@ -56,6 +56,7 @@
 // attributes unit and description and had no dimension scales; readers accept both. All string
 // attributes and string datasets are variable-length UTF-8.
 #include "sweep/results.hpp"
+#include "sweep/memory_reserve.hpp"
 #include "sweep/results_dir.hpp"
 
 #include <fcntl.h>
@@ -129,23 +130,18 @@ long long clock_ns(clockid_t clock) {
 }
 
 /// HDF5 does not survive running out of memory: it dereferences unchecked allocations (a
-/// thread's error stack in H5Eset_auto2, datatypes closed in H5Awrite) and then crashes at exit.
-/// So every HDF5 session first makes sure this much memory could be had (and `extra` more:
-/// the in-memory image of a file), and throws std::bad_alloc instead of entering HDF5 if not.
+/// thread's error stack in H5Eset_auto2, a free list's node in H5FL_blk_malloc, datatypes closed
+/// in H5Awrite) and then crashes at exit. So every HDF5 session holds this much memory in
+/// reserve (and build_image the in-memory image's share more), which the rodend executable
+/// serves HDF5's allocations from once the system refuses them (sweep/memory_reserve.hpp); the
+/// session throws std::bad_alloc instead of entering HDF5 if it cannot be had.
 constexpr std::size_t kHdf5Headroom = std::size_t{16} << 20;
-void ensure_memory_for_hdf5(std::size_t extra = 0) {
-  void* probe = std::malloc(kHdf5Headroom + extra);  // address space only: never touched
-  if (probe == nullptr) throw std::bad_alloc();
-  std::free(probe);
-}
 
-/// Holds g_hdf5_mutex; the first one in each thread also silences HDF5's automatic error
-/// printing. Throws std::bad_alloc (ensure_memory_for_hdf5) rather than enter HDF5 short of
-/// memory.
+/// Holds g_hdf5_mutex and kHdf5Headroom in reserve; the first one in each thread also silences
+/// HDF5's automatic error printing. Throws std::bad_alloc rather than enter HDF5 short of memory.
 class Hdf5Lock {
  public:
-  Hdf5Lock() : lock_(g_hdf5_mutex) {
-    ensure_memory_for_hdf5();
+  Hdf5Lock() : lock_(g_hdf5_mutex), reserve_(kHdf5Headroom) {
     // HDF5's error stacks (and so its automatic printing) are per thread in a thread-safe build:
     // each thread that calls HDF5 switches it off once
     thread_local bool silenced = false;
@@ -175,6 +171,7 @@ class Hdf5Lock {
 
  private:
   std::lock_guard<std::mutex> lock_;
+  MemoryReserve reserve_;  // after lock_: released before it
   long long t0_ = 0, cpu0_ = 0;
 };
 
@@ -590,7 +587,7 @@ unsigned char* thread_scratch(ScratchSlot slot, std::size_t size) {
 /// the expected size [bytes] (the core driver's allocation step). Call under Hdf5Lock.
 template <class Build>
 ByteSpan build_image(const Context& cx, hsize_t user_block, std::size_t estimate, Build&& build) {
-  ensure_memory_for_hdf5(2 * estimate);  // the estimate at once, and a case growing meanwhile
+  const MemoryReserve image_share(2 * estimate);  // the estimate at once, and its growth
   const Handle fapl = cx.own(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "cannot create the file");
   cx.ok(H5Pset_fapl_core(fapl.get(), std::max<std::size_t>(estimate, 1 << 16), /*backing=*/0),
         "cannot create the file");
