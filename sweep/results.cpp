@@ -161,6 +161,8 @@ class Hdf5Lock {
     }
   }
   ~Hdf5Lock() {
+    // blocks HDF5 keeps on its free lists would keep a drawn reserve mapped after the session
+    if (reserve_.drawn() > 0) H5garbage_collect();
     if (!g_lock_stats.enabled) return;
     g_lock_stats.held_ns += clock_ns(CLOCK_MONOTONIC) - t0_;
     g_lock_stats.held_cpu_ns += clock_ns(CLOCK_THREAD_CPUTIME_ID) - cpu0_;
