@@ -12,9 +12,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <csignal>
 #include <filesystem>
-#include <mutex>
 #include <sstream>
 
 #include "core/scene.hpp"
@@ -22,6 +20,7 @@
 #include "sweep/results.hpp"
 #include "sweep/runner.hpp"
 #include "sweep/schema.hpp"
+#include "sweep/stop_signals.hpp"
 #include "sweep/study.hpp"
 
 namespace py = pybind11;
@@ -97,36 +96,6 @@ void check_write_path(const std::string& write, const std::string& origin) {
                      origin);
 }
 
-/// SIGINT while run_case runs with the interpreter lock released (Python's own handler would
-/// only set a flag that nothing reads until the case ends): the case stops at its next sample
-/// (case_interrupt) and run_case raises KeyboardInterrupt. Scopes nest across threads; the
-/// first installs the handler, the last restores what it replaced.
-class CaseInterruptScope {
- public:
-  CaseInterruptScope() {
-    const std::lock_guard lock(mutex_);
-    if (active_++ > 0) return;
-    case_interrupt().store(false);
-    struct sigaction sa {};
-    sa.sa_handler = [](int) { case_interrupt().store(true); };
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, &old_);
-  }
-  ~CaseInterruptScope() {
-    const std::lock_guard lock(mutex_);
-    if (--active_ > 0) return;
-    sigaction(SIGINT, &old_, nullptr);
-    case_interrupt().store(false);
-  }
-  CaseInterruptScope(const CaseInterruptScope&) = delete;
-  CaseInterruptScope& operator=(const CaseInterruptScope&) = delete;
-
- private:
-  static inline std::mutex mutex_;
-  static inline int active_ = 0;
-  static inline struct sigaction old_ {};
-};
-
 /// Runs the one case of a study document; histories as numpy arrays. Writes its case file to
 /// `write` when given (the same file `rodend run` writes).
 py::dict py_run_case(const std::string& doc_text, const std::string& origin,
@@ -152,7 +121,10 @@ py::dict py_run_case(const std::string& doc_text, const std::string& origin,
     const CaseSpec& spec = study.cases.front();
     if (!write.empty()) check_write_path(write, origin);
     try {
-      const CaseInterruptScope interrupt;
+      // SIGINT while the case runs with the interpreter lock released (Python's own handler
+      // would only set a flag that nothing reads until the case ends): the case stops at its
+      // next sample and run_case raises KeyboardInterrupt
+      const StopSignalScope interrupt(StopSignalScope::Kind::one_case);
       rec = rodend::run_case(spec, h);
     } catch (const CaseInterrupted&) {
       interrupted = true;  // nothing of the case is kept, nothing written

@@ -74,10 +74,16 @@ void MetricsAccumulator::on_step(const SignalFrame& f) {
     at(v_, MetricId::max_eccentricity) = std::max(at(v_, MetricId::max_eccentricity), ecc);
     at(v_, MetricId::max_penetration) =
         std::max(at(v_, MetricId::max_penetration), f.get(SignalId::penetration));
-    // trapezoids over accepted steps
-    at(v_, MetricId::wear_integral) += 0.5 * (wear + wear_prev_) * dt;
+    // trapezoids over accepted steps; the run's first step too, from t = 0, its end's values
+    // held back over it (no frame at t = 0 is observed)
+    const double h = first_step_ ? t : dt;
+    if (first_step_) {
+      force_prev_ = F;
+      wear_prev_ = wear;
+    }
+    at(v_, MetricId::wear_integral) += 0.5 * (wear + wear_prev_) * h;
     if (F > 0.0 || force_prev_ > 0.0)
-      at(v_, MetricId::contact_time) += (F > 0.0 && force_prev_ > 0.0) ? dt : 0.5 * dt;
+      at(v_, MetricId::contact_time) += (F > 0.0 && force_prev_ > 0.0) ? h : 0.5 * h;
     // contact episodes, from the latched impact speed / force
     const double pen = f.get(SignalId::penetration);
     const bool touching = pen > 0.0;

@@ -23,6 +23,7 @@
 
 #include "core/scene.hpp"
 #include "sweep/case_observer.hpp"
+#include "sweep/stop_signals.hpp"
 #include "sweep/wear_evolution.hpp"
 
 namespace rodend {
@@ -41,50 +42,6 @@ std::string format_duration(double s) {
                   static_cast<int>(s / 60) % 60);
   return buf;
 }
-
-/// SIGINT / SIGTERM during a run: the first stops the run from taking new cases (the cases in
-/// flight finish and are written); a second one ends the process at once (its temporary files
-/// are removed by the next run).
-std::atomic<int> g_stop_signal{0};
-
-extern "C" void on_stop_signal(int sig) {
-  g_stop_signal.store(sig);
-  static const char msg[] =
-      "\nrodend: stopping: no new cases; the cases in flight finish and are written (signal "
-      "again to stop at once)\n";
-  const ssize_t w = ::write(STDERR_FILENO, msg, sizeof msg - 1);
-  (void)w;
-  std::signal(sig, SIG_DFL);
-}
-
-/// Installs the stop handlers for the life of a run. Runs may overlap (two Python threads each
-/// calling run_study): the first to start installs them and keeps the handlers it replaced, the
-/// last to end puts those back, whatever the order in which they end.
-class StopSignals {
- public:
-  StopSignals() {
-    const std::lock_guard lock(mutex_);
-    if (active_++ > 0) return;
-    g_stop_signal.store(0);
-    struct sigaction sa {};
-    sa.sa_handler = on_stop_signal;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, &old_int_);
-    sigaction(SIGTERM, &sa, &old_term_);
-  }
-  ~StopSignals() {
-    const std::lock_guard lock(mutex_);
-    if (--active_ > 0) return;
-    sigaction(SIGINT, &old_int_, nullptr);
-    sigaction(SIGTERM, &old_term_, nullptr);
-  }
-  StopSignals(const StopSignals&) = delete;
-  StopSignals& operator=(const StopSignals&) = delete;
-
- private:
-  static inline std::mutex mutex_;
-  static inline int active_ = 0;
-  static inline struct sigaction old_int_ { }, old_term_{}; };
 
 }  // namespace
 
@@ -486,7 +443,7 @@ struct LoopFailure {
   std::size_t first_case = 0;  ///< its study.cases index (resolving its id allocates)
   std::string first_error;
 
-  bool stopping() const { return out_of_memory || write_failed || g_stop_signal.load() != 0; }
+  bool stopping() const { return out_of_memory || write_failed || stop_signal() != 0; }
   void record(std::size_t i, const char* what) noexcept {
     write_failed.store(true);
     try {
@@ -573,7 +530,7 @@ int run_study(const Study& study, const RunOptions& opt) {
   try {
     prepare_results_io();  // the library, on this thread, before any other thread uses it
     const int threads = start_team(opt, plan);
-    const StopSignals stop_signals;
+    const StopSignalScope stop_signals(StopSignalScope::Kind::batch);
     Progress progress(opt.progress, plan.in_scope,
                       plan.in_scope - static_cast<long>(plan.todo.size()));
     LoopFailure fail;
@@ -586,7 +543,7 @@ int run_study(const Study& study, const RunOptions& opt) {
                                std::to_string(plan.in_scope) + " case(s) complete in " +
                                plan.cases_dir.string() +
                                "; no summary written. Resume with: " + plan.resume);
-    if (const int sig = g_stop_signal.load(); sig != 0) {
+    if (const int sig = stop_signal(); sig != 0) {
       std::fprintf(stderr,
                    "rodend: stopped by %s: %ld of %ld case(s) complete in %s; no summary "
                    "written. Resume with: %s\n",

@@ -29,6 +29,7 @@
 #include <utility>
 #include <vector>
 
+#include "sweep/memory_reserve.hpp"
 #include "sweep/results.hpp"
 
 namespace rodend::results_detail {
@@ -39,14 +40,15 @@ namespace fs = std::filesystem;
 long long clock_ns(clockid_t clock);
 
 /// HDF5 does not survive running out of memory: it dereferences unchecked allocations (a
-/// thread's error stack in H5Eset_auto2, datatypes closed in H5Awrite) and then crashes at exit.
-/// So every HDF5 session first makes sure this much memory could be had (and `extra` more:
-/// the in-memory image of a file), and throws std::bad_alloc instead of entering HDF5 if not.
-void ensure_memory_for_hdf5(std::size_t extra = 0);
+/// thread's error stack in H5Eset_auto2, a free list's node in H5FL_blk_malloc, datatypes closed
+/// in H5Awrite) and then crashes at exit. So every HDF5 session holds this much memory in
+/// reserve (and build_image the in-memory image's share more), which the rodend executable
+/// serves HDF5's allocations from once the system refuses them (sweep/memory_reserve.hpp); the
+/// session throws std::bad_alloc instead of entering HDF5 if it cannot be had.
+constexpr std::size_t kHdf5Headroom = std::size_t{16} << 20;
 
-/// Holds g_hdf5_mutex; the first one in each thread also silences HDF5's automatic error
-/// printing. Throws std::bad_alloc (ensure_memory_for_hdf5) rather than enter HDF5 short of
-/// memory.
+/// Holds g_hdf5_mutex and kHdf5Headroom in reserve; the first one in each thread also silences
+/// HDF5's automatic error printing. Throws std::bad_alloc rather than enter HDF5 short of memory.
 class Hdf5Lock {
  public:
   Hdf5Lock();
@@ -56,6 +58,7 @@ class Hdf5Lock {
 
  private:
   std::lock_guard<std::mutex> lock_;
+  MemoryReserve reserve_;  // after lock_: released before it
   long long t0_ = 0, cpu0_ = 0;
 };
 

@@ -37,20 +37,7 @@ long long clock_ns(clockid_t clock) {
   return static_cast<long long>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
 }
 
-namespace {
-
-constexpr std::size_t kHdf5Headroom = std::size_t{16} << 20;
-
-}  // namespace
-
-void ensure_memory_for_hdf5(std::size_t extra) {
-  void* probe = std::malloc(kHdf5Headroom + extra);  // address space only: never touched
-  if (probe == nullptr) throw std::bad_alloc();
-  std::free(probe);
-}
-
-Hdf5Lock::Hdf5Lock() : lock_(g_hdf5_mutex) {
-  ensure_memory_for_hdf5();
+Hdf5Lock::Hdf5Lock() : lock_(g_hdf5_mutex), reserve_(kHdf5Headroom) {
   // HDF5's error stacks (and so its automatic printing) are per thread in a thread-safe build:
   // each thread that calls HDF5 switches it off once
   thread_local bool silenced = false;
@@ -71,6 +58,8 @@ Hdf5Lock::Hdf5Lock() : lock_(g_hdf5_mutex) {
 }
 
 Hdf5Lock::~Hdf5Lock() {
+  // blocks HDF5 keeps on its free lists would keep a drawn reserve mapped after the session
+  if (reserve_.drawn() > 0) H5garbage_collect();
   if (!g_lock_stats.enabled) return;
   g_lock_stats.held_ns += clock_ns(CLOCK_MONOTONIC) - t0_;
   g_lock_stats.held_cpu_ns += clock_ns(CLOCK_THREAD_CPUTIME_ID) - cpu0_;

@@ -28,7 +28,7 @@ unsigned char* thread_scratch(ScratchSlot slot, std::size_t size);
 /// the expected size [bytes] (the core driver's allocation step). Call under Hdf5Lock.
 template <class Build>
 ByteSpan build_image(const Context& cx, hsize_t user_block, std::size_t estimate, Build&& build) {
-  ensure_memory_for_hdf5(2 * estimate);  // the estimate at once, and a case growing meanwhile
+  const MemoryReserve image_share(2 * estimate);  // the estimate at once, and its growth
   const Handle fapl = cx.own(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "cannot create the file");
   cx.ok(H5Pset_fapl_core(fapl.get(), std::max<std::size_t>(estimate, 1 << 16), /*backing=*/0),
         "cannot create the file");

@@ -6,10 +6,13 @@ the child (as `ulimit` does), each run bounded by a timeout.
   for the shell); no case file holds a failed status, and the resume without the limit runs
   the 4 cases to ok (before: every case stored as internal_error "std::bad_alloc", and the
   resume said "4 of 4 cases already complete");
-- the kinematic clearance sweep (tests/studies/limits-kinematic.json) with -j 2 under address-space limits from 40 to 120 MB (every 5 MB): never
-  killed by a signal (before: SIGSEGV in H5Eset_auto2 or H5Awrite, SIGABRT from std::bad_alloc
-  in the loop's catch handler); it ends 0, or 2 with the count of complete cases and the
-  resume command;
+- the kinematic clearance sweep (tests/studies/limits-kinematic.json) with -j 2 under
+  address-space limits around where it starts to run short (110 to 160 MB, 6 limits twice; the
+  long version, RODEND_LIMITS_SWEEP=1, adds studies/default.json and runs 40 to 200 MB every
+  5 MB): never killed by a signal (before: SIGSEGV in H5Eset_auto2, H5Awrite or
+  H5FL_blk_malloc, SIGABRT from std::bad_alloc in the loop's catch handler); it ends 0 with
+  every case and the summary, or 2 with the count of complete cases and the resume command,
+  and no case file holds a failed status;
 - -j 64 on 64 cases under a 200 MB limit (8 MiB thread stacks): exit 2 naming the thread that
   could not be created, strerror and the resume command (before: exit 1, libgomp's "Thread
   creation failed" only);
@@ -18,6 +21,7 @@ the child (as `ulimit` does), each run bounded by a timeout.
 import glob
 import os
 import resource
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -52,6 +56,55 @@ def statuses(folder):
     return out
 
 
+# Where -j 2 on the kinematic study starts to run short (measured 2026-11-26, this VM: below
+# 130 MB always exit 2, 130-175 MB exit 0 or 2, from 180 MB exit 0); the HDF5 sessions there
+# draw on their reserve (sweep/memory_reserve.hpp). Before it, 120 MB crashed 5 runs in 6.
+CI_LIMITS_KB = (110000, 115000, 120000, 130000, 145000, 160000)
+CI_REPEATS = 2
+
+
+def limits_run(study, out, kb, cases):
+    """One run of STUDY under KB kB of address space with -j 2: exit 0 with every case ok and
+    the summary, or exit 2 with the count of complete cases and the resume command and no case
+    file holding a failed status. Returns the exit code."""
+    rc, err = limited(["run", study, "-q", "-j", "2", "--results-root", out], address_kb=kb)
+    what = f"{os.path.basename(study)} -j 2 under {kb} kB"
+    check(rc in (0, 2), f"{what}: exit {rc}: {err[-400:]}")
+    folder = glob.glob(os.path.join(out, "*"))
+    st = statuses(folder[0]) if len(folder) == 1 else {}
+    bad = {k: v for k, v in st.items() if v != "ok"}
+    check(not bad, f"{what}: cases recorded as failed: {bad}")
+    if rc == 0:
+        check(len(st) == cases and os.path.exists(os.path.join(folder[0], "summary.csv")),
+              f"{what}: exit 0 with {len(st)} of {cases} case files or no summary")
+    if rc == 2:
+        check(f"of {cases} case(s) complete in" in err and "resume with" in err.lower()
+              and "--results-root" in err, f"{what}: message {err[-400:]}")
+    return rc
+
+
+def address_space_sweep(tmp):
+    """CI: the kinematic study at CI_LIMITS_KB, CI_REPEATS times each. RODEND_LIMITS_SWEEP=1:
+    the long version, the kinematic study and the full-system default (studies/default.json)
+    from 40 to 200 MB every 5 MB, RODEND_LIMITS_REPEAT times (default 3); prints the counts."""
+    studies = [(DEFAULT, 5)]
+    limits, repeats = CI_LIMITS_KB, CI_REPEATS
+    if os.environ.get("RODEND_LIMITS_SWEEP") == "1":
+        studies.append((os.path.join(ROOT, "studies", "default.json"), 5))
+        limits = range(40000, 200001, 5000)
+        repeats = int(os.environ.get("RODEND_LIMITS_REPEAT", "3"))
+    for study, cases in studies:
+        counts = {}
+        for r in range(repeats):
+            for kb in limits:
+                out = os.path.join(tmp, f"as-{r}-{kb}")
+                rc = limits_run(study, out, kb, cases)
+                counts[rc] = counts.get(rc, 0) + 1
+                shutil.rmtree(out, ignore_errors=True)
+        print(f"address space, {os.path.basename(study)}, {len(limits)} limits x {repeats}: "
+              + ", ".join(f"exit {k}: {v}" for k, v in sorted(counts.items())))
+
+
 def main():
     with tempfile.TemporaryDirectory(prefix="rodend-limits-") as tmp:
         root = os.path.join(tmp, "res root")  # a space: the resume command quotes it
@@ -77,22 +130,7 @@ def main():
         st = statuses(folder)
         check(len(st) == 4 and set(st.values()) == {"ok"}, f"resume: statuses {st}")
 
-        # The sweep over address-space limits finds a defect that is still open (issue 37): one
-        # run in 3 to 5 near 115-120 MB ends by SIGSEGV (or exit 255) with no message, the full
-        # system's default study and this kinematic one alike (measured on 2026-11-26:
-        # `ulimit -v 120000; rodend run studies/default.json -j 2` crashed 4 times in 12). So it
-        # runs only when asked (RODEND_LIMITS_SWEEP=1), not in the suite CI runs.
-        sweep = range(40000, 120001, 5000) if os.environ.get("RODEND_LIMITS_SWEEP") == "1" else ()
-        if not sweep:
-            print("address-space sweep skipped (RODEND_LIMITS_SWEEP=1 runs it; a defect is open)")
-        for kb in sweep:
-            out = os.path.join(tmp, f"d{kb}")
-            rc, err = limited(["run", DEFAULT, "-q", "-j", "2", "--results-root", out],
-                              address_kb=kb)
-            check(rc in (0, 2), f"default -j 2 under {kb} kB: exit {rc}: {err[-400:]}")
-            if rc == 2:
-                check("complete in" in err and "resume with" in err.lower() and "--results-root" in err,
-                      f"default -j 2 under {kb} kB: message {err[-400:]}")
+        address_space_sweep(tmp)
 
         many = write_study(os.path.join(tmp, "many.json"), {
             "name": "many", "scene": "gravity-drop",

@@ -1,0 +1,30 @@
+// Stop signals (SIGINT, SIGTERM) while rodend runs cases: one process-wide handler, installed
+// by the first scope to open and replaced by what it found when the last one closes, whatever
+// the order in which scopes of different threads (two Python threads, a run_study and a
+// run_case) open and close.
+#pragma once
+
+namespace rodend {
+
+class StopSignalScope {
+ public:
+  /// What a stop signal does while a scope of the kind is open (both, when both are):
+  ///  - batch: a run of cases (run_study, `rodend run`): SIGINT or SIGTERM stops the run from
+  ///    taking new cases (stop_signal(); the cases in flight finish and are written), says so
+  ///    on stderr, and restores the default action, so that a second signal ends the process;
+  ///  - one_case: the Python module's run_case: SIGINT interrupts the case at its next sample
+  ///    (case_interrupt(), sweep/case_observer.hpp), SIGTERM is left alone.
+  enum class Kind { batch, one_case };
+  explicit StopSignalScope(Kind kind);
+  ~StopSignalScope();
+  StopSignalScope(const StopSignalScope&) = delete;
+  StopSignalScope& operator=(const StopSignalScope&) = delete;
+
+ private:
+  Kind kind_;
+};
+
+/// The signal that stopped the batch runs since the first batch scope opened; 0: none.
+int stop_signal();
+
+}  // namespace rodend
