@@ -43,6 +43,15 @@ def configured_python(build_dir):
     return m.group(1).strip() if m else ""
 
 
+def cmake_project_version():
+    """The version of project(rodend VERSION x.y.z ...) in CMakeLists.txt: one source."""
+    with open(os.path.join(HERE, "CMakeLists.txt"), encoding="utf-8") as f:
+        m = re.search(r"^project\(rodend VERSION ([0-9.]+)", f.read(), re.M)
+    if not m:
+        sys.exit("rodend: no project(rodend VERSION ...) in CMakeLists.txt")
+    return m.group(1)
+
+
 class CMakeExtension(Extension):
     def __init__(self, name):
         super().__init__(name, sources=[])
@@ -85,5 +94,5 @@ class CMakeBuild(build_ext):
 # clone's build/ (CMake's) nor its python/ folder
 scratch = os.path.join(cmake_build_dir(), "setuptools")
 os.makedirs(scratch, exist_ok=True)
-setup(ext_modules=[CMakeExtension("rodend._rodend")], cmdclass={"build_ext": CMakeBuild},
+setup(version=cmake_project_version(), ext_modules=[CMakeExtension("rodend._rodend")], cmdclass={"build_ext": CMakeBuild},
       options={"build": {"build_base": scratch}, "egg_info": {"egg_base": scratch}})

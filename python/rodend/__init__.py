@@ -204,6 +204,8 @@ def run_study(study, *, threads=1, results_root="results", set=None, rerun_faile
     overrides = _overrides(set)
     try:
         with _StudyFile(study, root) as path:
+            if isinstance(study, dict):  # the resume hint names the study.json the run keeps
+                reporter.rename = (path, _kept_study_json(study, root))
             rc, folder = _ext.run_study(path, int(threads), root, overrides, bool(rerun_failed),
                                         True, reporter.message, reporter.progress)
     finally:
@@ -212,6 +214,16 @@ def run_study(study, *, threads=1, results_root="results", set=None, rerun_faile
         raise KeyboardInterrupt(f"run_study interrupted; the complete cases are in {folder}: "
                                 "run it again to resume")
     return rc, folder
+
+
+def _kept_study_json(study, root):
+    """Where the run of a study given as a dict keeps it: RESULTS_FOLDER/study.json."""
+    out = study.get("output")
+    folder = out if isinstance(out, str) else \
+        out.get("directory") if isinstance(out, dict) else None
+    if not isinstance(folder, str) or not folder:
+        folder = os.path.join(root, study.get("name", "study"))
+    return os.path.join(folder, "study.json")
 
 
 def _json_default(v):

@@ -103,8 +103,11 @@ class Reporter:
         self.callback = progress if callable(progress) and not isinstance(progress, bool) \
             else None
         self.shown = display(progress)
+        self.rename = None  # (temporary study file, what names it for the user)
 
     def message(self, text):
+        if self.rename:
+            text = text.replace(*self.rename)
         log_message(text)
 
     def progress(self, done, total, failed, elapsed_s, eta_s):

@@ -87,6 +87,11 @@ def main():
         stops = [m for lvl, m in out["records"] if lvl == "WARNING" and "stopped by SIGINT" in m]
         check(len(stops) == 1 and "Resume with: rodend run" in stops[0] and
               "--results-root" in stops[0], f"the stop message in logging: {out['records']}")
+        # a study given as a dict: the hint names the study.json the results folder keeps, not
+        # the temporary file the run read (removed by then)
+        kept = os.path.join(root, "d", "drop", "study.json")
+        check(f"rodend run {kept} " in stops[0] and ".rodend-study-" not in stops[0],
+              f"the resume hint names a file that is gone: {stops[0]}")
         print("callback, tqdm bar, text line, logging and the stop message: ok")
     finish("python_messages")
 
