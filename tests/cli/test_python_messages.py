@@ -57,7 +57,9 @@ def child(what, root):
                            stderr=fd2, text=True, timeout=300)
         fd2.seek(0)
         err = fd2.read()
-    check(r.returncode == 0, f"{what}: the child failed ({r.returncode}): {err[-800:]}")
+    if r.returncode != 0:
+        check(False, f"{what}: the child failed ({r.returncode}): {err[-800:]}")
+        finish("python_messages")
     check(err == "", f"{what}: written on file descriptor 2 (a notebook would not show it): "
           f"{err[-500:]!r}")
     return json.loads(r.stdout.strip().splitlines()[-1])
