@@ -210,7 +210,7 @@ int rodend_main(int argc, char** argv) {
   compare->add_option("A", cmp_a, "reference results folder (results/<study>)")->required();
   compare->add_option("B", cmp_b, "results folder to check")->required();
   compare->add_option("--tolerances", tolerance_file,
-                      "tolerance file (JSON; see README \"Comparing results\")");
+                      "tolerance file (JSON; see docs/results.md \"Comparing results\")");
   compare->add_flag("--summary-only", summary_only,
                     "compare summaries only (a reference kept without its case files)");
 

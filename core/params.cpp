@@ -97,7 +97,8 @@ const Json& ParameterSet::leaf(const std::string& path) const {
   return *l;
 }
 
-void ParameterSet::set(const std::string& path, const Json& value) {
+void ParameterSet::set(const std::string& path, const Json& value, const std::string& source,
+                       const std::string& note) {
   Json* l = find(tree_, path);
   if (!l) throw InputError(path, "unknown parameter (see `rodend params SCENE`)");
   const Json& old = (*l)["value"];
@@ -116,6 +117,13 @@ void ParameterSet::set(const std::string& path, const Json& value) {
   }
   if (value.is_number() && !std::isfinite(value.get<double>()))
     throw InputError(path, "expected a finite number");
+  if (!source.empty()) {
+    if (!l->contains("default"))  // the scene's default, kept through later overrides
+      (*l)["default"] = {
+          {"value", old}, {"source", l->value("source", "")}, {"note", l->value("note", "")}};
+    (*l)["source"] = source;
+    (*l)["note"] = note;
+  }
   (*l)["value"] = value;
 }
 

@@ -31,8 +31,11 @@ class ParameterSet {
   static ParameterSet defaults_for(std::string_view scene);
 
   /// Replaces the value at `path`. Throws InputError (key path `path`) for an unknown key or a
-  /// value of the wrong type or outside the leaf's choices.
-  void set(const std::string& path, const Json& value);
+  /// value of the wrong type or outside the leaf's choices. With a `source` (where the value
+  /// came from: "study", "grid", "design", "set"), the leaf's "source" and "note" become it and
+  /// the note, and the replaced default's value, source and note are kept under "default".
+  void set(const std::string& path, const Json& value, const std::string& source = "",
+           const std::string& note = "");
   bool has(const std::string& path) const;
 
   double number(const std::string& path) const;

@@ -6,7 +6,7 @@ restitution actually achieved is the metric first_impact_restitution: restitutio
 restitutes the 0.5 it is asked for, Lankarani-Nikravesh far more (README "Contact laws"). The
 figure is the force-penetration loop of each: the area inside is the energy lost.
 
-    /usr/bin/python3 examples/compare_laws.py [OUTPUT_DIR]   # default: results/examples
+    .venv/bin/python examples/compare_laws.py [OUTPUT_DIR]   # default: results/examples
 """
 import os
 import sys

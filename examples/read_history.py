@@ -4,7 +4,7 @@ rodend.open_results (the study's histories over its grid axes and time).
 Runs the gravity-drop study with a small clearance sweep (as examples/sweep_to_dataframe.py),
 then plots the eccentricity of the 0.3 mm case over time: the ball falls, bounces and settles.
 
-    /usr/bin/python3 examples/read_history.py [OUTPUT_DIR]   # default: results/examples
+    .venv/bin/python examples/read_history.py [OUTPUT_DIR]   # default: results/examples
 """
 import os
 import sys

@@ -5,7 +5,7 @@ socket centre), run with rodend.run_study, read back with rodend.open_results as
 DataFrame, and the first-impact peak force plotted over the clearance. The ball falls the
 clearance c before it hits, so the impact speed is sqrt(2 g c) and the peak force grows with c.
 
-    /usr/bin/python3 examples/sweep_to_dataframe.py [OUTPUT_DIR]   # default: results/examples
+    .venv/bin/python examples/sweep_to_dataframe.py [OUTPUT_DIR]   # default: results/examples
 """
 import json
 import os

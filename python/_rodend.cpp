@@ -13,6 +13,8 @@
 #include <pybind11/stl.h>
 
 #include <filesystem>
+#include <memory>
+#include <mutex>
 #include <sstream>
 
 #include "core/scene.hpp"
@@ -194,20 +196,60 @@ py::dict py_load_study(const std::string& path, const std::string& results_root,
   return d;
 }
 
+/// A run's messages and progress handed to Python callables (RunEvents), called with the
+/// interpreter lock taken, from the worker threads too. The first exception a callable raises
+/// stops the calls; run_study raises it when the run has ended.
+class PyEvents {
+ public:
+  PyEvents(py::object message, py::object progress)
+      : message_(std::move(message)), progress_(std::move(progress)) {}
+
+  RunEvents events() {
+    RunEvents e;
+    if (!message_.is_none()) e.message = [this](const std::string& text) { call(message_, text); };
+    if (!progress_.is_none())
+      e.progress = [this](long done, long total, long failed, double elapsed, double eta) {
+        call(progress_, done, total, failed, elapsed, eta);
+      };
+    return e;
+  }
+  /// After the run, with the lock held: the callable's exception, if one raised.
+  void raise_if_failed() {
+    if (error_) throw *error_;
+  }
+
+ private:
+  template <class... Args>
+  void call(const py::object& f, Args... args) {
+    const py::gil_scoped_acquire gil;
+    if (error_) return;
+    try {
+      f(args...);
+    } catch (py::error_already_set& e) {
+      error_ = std::make_unique<py::error_already_set>(std::move(e));
+    }
+  }
+  py::object message_, progress_;
+  std::unique_ptr<py::error_already_set> error_;  // guarded by the interpreter lock
+};
+
 /// Runs a study as `rodend run` does (resume, results files); returns (exit code, results dir).
+/// on_message(text) and on_progress(done, total, failed, elapsed_s, eta_s): None for stderr.
 py::tuple py_run_study(const std::string& path, int threads, const std::string& results_root,
-                       const std::vector<std::string>& overrides, bool rerun_failed,
-                       bool progress) {
+                       const std::vector<std::string>& overrides, bool rerun_failed, bool progress,
+                       py::object on_message, py::object on_progress) {
   // as --threads (CLI::Range(1, 4096)): libgomp crashes on a team of 100,000
   if (threads < 1 || threads > 4096)
     throw InputError(
         "threads",
         "expected an integer from 1 to 4096 (as --threads), got " + std::to_string(threads), path);
+  PyEvents callbacks(std::move(on_message), std::move(on_progress));
   RunOptions opt;
   opt.threads = threads;
   opt.rerun_failed = rerun_failed;
   opt.progress = progress;
   opt.overrides = overrides;
+  opt.events = callbacks.events();
   int rc = 0;
   std::string folder;
   {
@@ -216,6 +258,7 @@ py::tuple py_run_study(const std::string& path, int threads, const std::string& 
     folder = study.output_dir.string();
     rc = rodend::run_study(study, opt);
   }
+  callbacks.raise_if_failed();
   return py::make_tuple(rc, folder);
 }
 
@@ -244,7 +287,8 @@ PYBIND11_MODULE(_rodend, m) {
   m.def("load_study", &py_load_study, py::arg("path"), py::arg("results_root") = "results",
         py::arg("overrides") = std::vector<std::string>{});
   m.def("run_study", &py_run_study, py::arg("path"), py::arg("threads"), py::arg("results_root"),
-        py::arg("overrides"), py::arg("rerun_failed"), py::arg("progress"));
+        py::arg("overrides"), py::arg("rerun_failed"), py::arg("progress"),
+        py::arg("on_message") = py::none(), py::arg("on_progress") = py::none());
   m.def("schema", [] { return study_schema().dump(); });
   m.def("scenes", [] {
     std::vector<std::string> names;

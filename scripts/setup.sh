@@ -15,6 +15,8 @@ packages=(
   python3 python3-numpy python3-h5py python3-matplotlib
   python3-pandas python3-xarray python3-h5netcdf python3-jsonschema pybind11-dev python3-pybind11
   python3-openturns
+  python3-pip python3-venv python3-setuptools python3-wheel
+  python3-tqdm python3-nbclient python3-nbformat python3-ipykernel
 )
 
 missing=()
@@ -43,19 +45,30 @@ targets=()
 for t in ${RODEND_BUILD_TARGETS:-}; do targets+=(--target "$t"); done
 cmake --build "$build_dir" -j"$(nproc)" "${targets[@]}"
 
-# The Python module (README "Python"): `import rodend` under /usr/bin/python3 finds the package
-# python/rodend of this clone through a .pth file in site-packages (as root the system's
-# /usr/local one, else the user's), and the package finds the compiled part in build/python/.
-# Set RODEND_PYTHON_PTH=0 to skip; the tests never rely on it (they set PYTHONPATH).
-if [ "${RODEND_PYTHON_PTH:-1}" = 1 ] && [ "$build_dir" = build ] && [ -x /usr/bin/python3 ]; then
-  if [ "$(id -u)" -eq 0 ]; then
-    site=$(/usr/bin/python3 -c 'import site; print(site.getsitepackages()[0])')
-  else
-    site=$(/usr/bin/python3 -m site --user-site)
+# The Python package (docs/python.md "Installing"): rodend installed with pip into a virtual
+# environment of this clone, .venv/ (its own copy: nothing is written into the system's Python,
+# and another clone has its own), which sees Debian's numpy, h5py, pandas and xarray
+# (--system-site-packages). The extension is the one just built (build/ is configured for
+# /usr/bin/python3, the venv's interpreter: setup.py reuses it, no second compilation); no
+# package index is asked. Then `.venv/bin/python` (or, after `. .venv/bin/activate`, `python`)
+# imports rodend. Set RODEND_PYTHON_VENV=0 to skip; the tests never rely on it.
+# Earlier versions of this script wrote rodend.pth into /usr/bin/python3's site-packages, naming
+# one clone's python/ folder for every user of that Python: removed when found.
+for site in $(/usr/bin/python3 -c 'import site; print(*site.getsitepackages(), site.getusersitepackages())'); do
+  if [ -f "$site/rodend.pth" ] && grep -qx '/.*/python' "$site/rodend.pth" && [ -w "$site" ]; then
+    rm -f "$site/rodend.pth" && echo "setup: removed $site/rodend.pth (an earlier set-up's)" >&2
   fi
-  if mkdir -p "$site" 2>/dev/null && printf '%s\n' "$(pwd)/python" > "$site/rodend.pth" 2>/dev/null; then
-    echo "setup: /usr/bin/python3 imports rodend from $(pwd)/python ($site/rodend.pth)" >&2
+done
+if [ "${RODEND_PYTHON_VENV:-1}" = 1 ] && [ "$build_dir" = build ] && [ -z "${RODEND_BUILD_TARGETS:-}" ] &&
+  compgen -G "build/python/_rodend*.so" >/dev/null; then
+  if [ ! -x .venv/bin/python ]; then
+    /usr/bin/python3 -m venv --system-site-packages .venv
+  fi
+  if RODEND_PIP_BUILD_DIR="$(pwd)/build" .venv/bin/python -m pip install --no-index --no-cache-dir \
+    --no-build-isolation --quiet . >.venv/rodend-install.log 2>&1; then
+    echo "setup: rodend installed into $(pwd)/.venv (.venv/bin/python -c 'import rodend')" >&2
   else
-    echo "setup: could not write $site/rodend.pth: use PYTHONPATH=$(pwd)/python" >&2
+    echo "setup: pip install into .venv failed (see .venv/rodend-install.log); use" \
+      "PYTHONPATH=$(pwd)/python" >&2
   fi
 fi

@@ -45,16 +45,25 @@ std::string format_duration(double s) {
 
 }  // namespace
 
-Progress::Progress(bool enabled, long total, long already)
-    : enabled_(enabled),
+void run_message(const RunEvents& events, const std::string& text) {
+  if (events.message)
+    events.message(text);
+  else
+    std::fprintf(stderr, "rodend: %s\n", text.c_str());
+}
+
+Progress::Progress(bool enabled, long total, long already, const RunEvents& events)
+    : events_(events),
+      enabled_(enabled),
       tty_(isatty(fileno(stderr)) != 0),
       total_(total),
       done_(already),
       start_(std::chrono::steady_clock::now()),
       already_(already) {
   if (enabled_ && already > 0)
-    std::fprintf(stderr, "rodend: %ld of %ld cases already complete, %ld to run\n", already, total,
-                 total - already);
+    run_message(events_, std::to_string(already) + " of " + std::to_string(total) +
+                             " cases already complete, " + std::to_string(total - already) +
+                             " to run");
 }
 
 void Progress::case_done(bool failed) {
@@ -67,7 +76,9 @@ void Progress::case_done(bool failed) {
   const long ran = done_ - already_;
   const double eta =
       ran > 0 ? elapsed / static_cast<double>(ran) * static_cast<double>(total_ - done_) : 0.0;
-  if (tty_) {
+  if (events_.progress) {
+    events_.progress(done_, total_, failed_, elapsed, eta);
+  } else if (tty_) {
     std::fprintf(stderr, "\r[%ld/%ld] %ld failed, elapsed %s, ETA %s   ", done_, total_, failed_,
                  format_duration(elapsed).c_str(), format_duration(eta).c_str());
     if (done_ == total_) std::fprintf(stderr, "\n");
@@ -296,7 +307,8 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
   const int stale =
       plan.lock->stale_removed() + (plan.study_lock ? plan.study_lock->stale_removed() : 0);
   if (stale > 0 && opt.progress)
-    std::fprintf(stderr, "rodend: removed %d temporary file(s) left by interrupted runs\n", stale);
+    run_message(opt.events,
+                "removed " + std::to_string(stale) + " temporary file(s) left by interrupted runs");
   std::error_code ec;
   fs::create_directories(plan.cases_dir, ec);
   if (ec)
@@ -335,13 +347,12 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
   // (the run rewrites both at its end; this keeps the pair consistent until then)
   try {
     if (repair_summary_csv(plan.summary_dir) && opt.progress)
-      std::fprintf(stderr,
-                   "rodend: %s did not match summary.h5 (a run was stopped between writing the "
-                   "two); rewritten from summary.h5\n",
-                   (plan.summary_dir / "summary.csv").c_str());
+      run_message(opt.events, (plan.summary_dir / "summary.csv").string() +
+                                  " did not match summary.h5 (a run was stopped between writing "
+                                  "the two); rewritten from summary.h5");
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "rodend: warning: %s (the run rewrites both summaries at its end)\n",
-                 e.what());
+    run_message(opt.events, std::string("warning: ") + e.what() +
+                                " (the run rewrites both summaries at its end)");
   }
 
   // what is complete already (resume): a case file under its final name is complete once its
@@ -363,8 +374,8 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
         throw std::runtime_error(path.string() + " holds case " + rec->id + ", not " + c.id);
     } catch (const CorruptCaseFile& e) {
       const fs::path aside = move_aside(path);
-      std::fprintf(stderr, "rodend: %s; moved to %s, the case runs again\n", e.what(),
-                   aside.c_str());
+      run_message(opt.events,
+                  std::string(e.what()) + "; moved to " + aside.string() + ", the case runs again");
       plan.todo.push_back(i);
       continue;
     } catch (const std::exception& e) {
@@ -530,9 +541,10 @@ int run_study(const Study& study, const RunOptions& opt) {
   try {
     prepare_results_io();  // the library, on this thread, before any other thread uses it
     const int threads = start_team(opt, plan);
-    const StopSignalScope stop_signals(StopSignalScope::Kind::batch);
+    const StopSignalScope stop_signals(StopSignalScope::Kind::batch,
+                                       /*quiet_notice=*/static_cast<bool>(opt.events.message));
     Progress progress(opt.progress, plan.in_scope,
-                      plan.in_scope - static_cast<long>(plan.todo.size()));
+                      plan.in_scope - static_cast<long>(plan.todo.size()), opt.events);
     LoopFailure fail;
     run_cases(study, plan, threads, progress, fail);
     if (fail.out_of_memory)
@@ -544,11 +556,11 @@ int run_study(const Study& study, const RunOptions& opt) {
                                plan.cases_dir.string() +
                                "; no summary written. Resume with: " + plan.resume);
     if (const int sig = stop_signal(); sig != 0) {
-      std::fprintf(stderr,
-                   "rodend: stopped by %s: %ld of %ld case(s) complete in %s; no summary "
-                   "written. Resume with: %s\n",
-                   sig == SIGINT ? "SIGINT" : "SIGTERM", complete(), plan.in_scope,
-                   plan.cases_dir.c_str(), plan.resume.c_str());
+      run_message(opt.events, std::string("stopped by ") + (sig == SIGINT ? "SIGINT" : "SIGTERM") +
+                                  ": " + std::to_string(complete()) + " of " +
+                                  std::to_string(plan.in_scope) + " case(s) complete in " +
+                                  plan.cases_dir.string() +
+                                  "; no summary written. Resume with: " + plan.resume);
       return 128 + sig;
     }
     return write_run_summary(study, plan);

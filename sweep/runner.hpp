@@ -12,6 +12,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <iosfwd>
 #include <memory>
 #include <mutex>
@@ -24,6 +25,20 @@
 
 namespace rodend {
 
+/// Where a run's messages and progress go: empty, on stderr (the command line); the Python
+/// module sets both (Python's logging, a progress bar or the caller's callback). Called from the
+/// worker threads too (one call at a time).
+struct RunEvents {
+  /// one message, as the command line prints it after "rodend: " (no newline)
+  std::function<void(const std::string& text)> message;
+  /// after each case: cases complete (those of earlier runs included), of total, failed, the
+  /// seconds since the start and the estimated seconds left
+  std::function<void(long done, long total, long failed, double elapsed_s, double eta_s)> progress;
+};
+
+/// A run's message: to events.message when set, else "rodend: TEXT" on stderr.
+void run_message(const RunEvents& events, const std::string& text);
+
 struct RunOptions {
   int threads = 1;            ///< OpenMP threads over cases (per rank under MPI)
   bool rerun_failed = false;  ///< rerun cases whose stored status is a failure
@@ -32,6 +47,7 @@ struct RunOptions {
   int shard_count = 1;
   bool wait = false;  ///< wait for another run of the same study instead of refusing
   std::vector<std::string> overrides;  ///< --set key=value, applied to the study (MPI ranks)
+  RunEvents events;                    ///< messages and progress (default: stderr)
 };
 
 /// Runs one case in memory: builds the scene, integrates, records histories and metrics.
@@ -109,14 +125,15 @@ CaseRecord run_and_write_case(const Study& study, const RunPlan& plan, std::size
 /// Returns 0 when every row is ok, 1 otherwise.
 int write_run_summary(const Study& study, const RunPlan& plan);
 
-/// Progress on stderr: one updating line on a terminal, periodic plain lines otherwise.
-/// Thread-safe.
+/// Progress on stderr: one updating line on a terminal, periodic plain lines otherwise; or to
+/// `events` when they are set. Thread-safe.
 class Progress {
  public:
-  Progress(bool enabled, long total, long already);
+  Progress(bool enabled, long total, long already, const RunEvents& events = {});
   void case_done(bool failed);
 
  private:
+  RunEvents events_;
   bool enabled_, tty_;
   long total_, done_, failed_ = 0;
   std::chrono::steady_clock::time_point start_;

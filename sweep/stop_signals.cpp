@@ -14,6 +14,9 @@ namespace {
 std::atomic<int> g_stop_signal{0};
 // open scopes of each kind; read by the handler (lock-free), written under g_mutex
 std::atomic<int> g_batches{0}, g_cases{0};
+// open batch scopes whose messages go elsewhere (Python's logging): the handler's notice on file
+// descriptor 2 is written only while some batch scope is not quiet
+std::atomic<int> g_quiet_batches{0};
 static_assert(std::atomic<int>::is_always_lock_free);
 std::mutex g_mutex;
 struct sigaction g_old_int {
@@ -26,8 +29,10 @@ extern "C" void on_stop_signal(int sig) {
   static const char msg[] =
       "\nrodend: stopping: no new cases; the cases in flight finish and are written (signal "
       "again to stop at once)\n";
-  const ssize_t w = ::write(STDERR_FILENO, msg, sizeof msg - 1);
-  (void)w;
+  if (g_batches.load() > g_quiet_batches.load()) {
+    const ssize_t w = ::write(STDERR_FILENO, msg, sizeof msg - 1);
+    (void)w;
+  }
   std::signal(sig, SIG_DFL);
 }
 
@@ -40,8 +45,10 @@ void install(int sig, struct sigaction* old) {
 
 }  // namespace
 
-StopSignalScope::StopSignalScope(Kind kind) : kind_(kind) {
+StopSignalScope::StopSignalScope(Kind kind, bool quiet_notice)
+    : kind_(kind), quiet_(kind == Kind::batch && quiet_notice) {
   const std::lock_guard lock(g_mutex);
+  if (quiet_) g_quiet_batches.fetch_add(1);
   const bool first = g_batches.load() + g_cases.load() == 0;
   if (kind == Kind::batch && g_batches.load() == 0) {
     g_stop_signal.store(0);
@@ -55,6 +62,7 @@ StopSignalScope::StopSignalScope(Kind kind) : kind_(kind) {
 StopSignalScope::~StopSignalScope() {
   const std::lock_guard lock(g_mutex);
   const int left = (kind_ == Kind::batch ? g_batches : g_cases).fetch_sub(1) - 1;
+  if (quiet_) g_quiet_batches.fetch_sub(1);
   if (kind_ == Kind::batch && left == 0) sigaction(SIGTERM, &g_old_term, nullptr);
   if (kind_ == Kind::one_case && left == 0) case_interrupt().store(false);
   if (g_batches.load() + g_cases.load() == 0) sigaction(SIGINT, &g_old_int, nullptr);

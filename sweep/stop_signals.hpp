@@ -15,13 +15,16 @@ class StopSignalScope {
   ///  - one_case: the Python module's run_case: SIGINT interrupts the case at its next sample
   ///    (case_interrupt(), sweep/case_observer.hpp), SIGTERM is left alone.
   enum class Kind { batch, one_case };
-  explicit StopSignalScope(Kind kind);
+  /// `quiet_notice` (batch only): the run's messages go elsewhere (Python's logging), so the
+  /// handler's "stopping" notice is not written on file descriptor 2 for it.
+  explicit StopSignalScope(Kind kind, bool quiet_notice = false);
   ~StopSignalScope();
   StopSignalScope(const StopSignalScope&) = delete;
   StopSignalScope& operator=(const StopSignalScope&) = delete;
 
  private:
   Kind kind_;
+  bool quiet_;
 };
 
 /// The signal that stopped the batch runs since the first batch scope opened; 0: none.

@@ -132,6 +132,33 @@ struct Draft {
   bool skip_absent_parameters = false;
 };
 
+/// Where a study's values came from, for the parameters' provenance (ParameterSet::set): the
+/// study file and the key paths --set gave (each with its "key=value" text; the last wins).
+struct Origins {
+  std::string file;
+  std::vector<std::pair<std::string, std::string>> set;
+
+  /// The --set text that gave `key` or a section holding it ("parameters", "grid"), or "".
+  std::string set_text(const std::string& key) const {
+    for (auto it = set.rbegin(); it != set.rend(); ++it)
+      if (key == it->first || key.rfind(it->first + ".", 0) == 0) return it->second;
+    return "";
+  }
+  /// A study-level value at `key` ("parameters.contact.clearance").
+  std::pair<std::string, std::string> of_study(const std::string& key) const {
+    const std::string by_set = set_text(key);
+    if (!by_set.empty()) return {"set", "--set " + by_set};
+    return {"study", key + " in " + file};
+  }
+  /// A grid or design value at `key`, from the axis at `where` ("grid[0]", "design.factors[1]").
+  std::pair<std::string, std::string> of_axis(const std::string& where) const {
+    const std::string section = where.substr(0, where.find_first_of(".["));
+    const std::string by_set = set_text(section);
+    return {section == "design" ? "design" : "grid",
+            where + " in " + file + (by_set.empty() ? "" : " (as --set " + by_set + ")")};
+  }
+};
+
 // --- the settings of the sections: sweep/settings.def ------------------------------------
 
 /// What a setting's value must be beyond its JSON type (the `check` column of settings.def).
@@ -405,8 +432,10 @@ void parse_output(const Json& v, Study& study) {
 }
 
 /// Applies one setting addressed by a full key path (parameters.*, or a section of
-/// settings.def but output). Throws InputError with that key path.
-void apply(Draft& d, const std::string& key, const Json& v) {
+/// settings.def but output). Throws InputError with that key path. `from`: where the value
+/// came from (source, note), recorded in a parameter's provenance.
+void apply(Draft& d, const std::string& key, const Json& v,
+           const std::pair<std::string, std::string>& from = {}) {
   const auto dot = key.find('.');
   const std::string section = key.substr(0, dot);
   const std::string field = dot == std::string::npos ? "" : key.substr(dot + 1);
@@ -415,7 +444,7 @@ void apply(Draft& d, const std::string& key, const Json& v) {
   if (section == "parameters") {
     if (d.skip_absent_parameters && !d.parameters.has(field)) return;
     try {
-      d.parameters.set(field, v);
+      d.parameters.set(field, v, from.first, from.second);
     } catch (const InputError& e) {
       throw e.located("", "parameters");
     }
@@ -473,7 +502,7 @@ void flatten(const Json& node, const std::string& prefix,
 }
 
 /// Applies a section object ("integrator": {...}) as settings under that section.
-void apply_section(Draft& d, const Json& doc, const std::string& section) {
+void apply_section(Draft& d, const Json& doc, const std::string& section, const Origins& origins) {
   if (!doc.contains(section)) return;
   const Json& obj = need_object(doc[section], section);
   std::vector<std::pair<std::string, Json>> flat;
@@ -491,7 +520,7 @@ void apply_section(Draft& d, const Json& doc, const std::string& section) {
   // a preset sets every integrator field: apply it first, so the keys beside it override it
   std::stable_partition(flat.begin(), flat.end(),
                         [](const auto& kv) { return kv.first == "integrator.preset"; });
-  for (const auto& [k, v] : flat) apply(d, k, v);
+  for (const auto& [k, v] : flat) apply(d, k, v, origins.of_study(k));
 }
 
 struct Axis {
@@ -878,14 +907,14 @@ std::vector<SignalId> scene_signals(const Scene& scene, SignalSelection& sel, co
 }
 
 /// The base draft of one scene: its defaults and balanced preset, then the study's sections.
-Draft base_draft(const std::string& name, const Json& doc, bool several) {
+Draft base_draft(const std::string& name, const Json& doc, bool several, const Origins& origins) {
   Draft base;
   base.scene = name;
   base.skip_absent_parameters = several;
   base.parameters = ParameterSet::defaults_for(name);        // unknown scene -> key "scene"
   base.integrator = *preset_settings(name, kDefaultPreset);  // overridden below
   try {
-    for (const std::string& section : case_sections()) apply_section(base, doc, section);
+    for (const std::string& section : case_sections()) apply_section(base, doc, section, origins);
   } catch (const InputError& e) {
     rethrow_for_scene(e, name, several);
   }
@@ -905,6 +934,7 @@ struct Grid {
   std::vector<std::vector<SignalId>> scene_signals;
   OutputSettings output;
   std::vector<std::uint64_t> ids;  // filled by the validation pass
+  Origins origins;                 // the parameters' provenance
 };
 
 /// Each scene's base draft and recorded signals; a scene's own error names it when the study
@@ -912,7 +942,7 @@ struct Grid {
 void build_bases(Grid& grid, const Study& study, const Json& doc, bool several) {
   SignalSelection sel = read_signal_selection(doc);
   for (const std::string& name : study.scenes) {
-    Draft base = base_draft(name, doc, several);
+    Draft base = base_draft(name, doc, several, grid.origins);
     std::unique_ptr<Scene> scene;  // the scene's signal list needs a built scene
     try {
       scene = build_checked(name, base.parameters);
@@ -1021,7 +1051,7 @@ CaseSpec resolve_case(const Grid& g, std::size_t index, bool check) {
         if (key == "design.sample")
           c.design_sample = v.get<long>();
         else
-          apply(d, key, v);
+          apply(d, key, v, g.origins.of_axis(g.axes[a].wheres[k]));
       }
     if (check) check_case(d, g.scene_signals[which]);
   } catch (const InputError& e) {
@@ -1097,12 +1127,16 @@ CaseList index_cases(std::shared_ptr<Grid> grid, std::size_t total) {
 
 }  // namespace
 
-Study parse_study(const Json& doc, const fs::path& file, const fs::path& results_root) {
+Study parse_study(const Json& doc, const fs::path& file, const fs::path& results_root,
+                  const std::vector<std::string>& overrides) {
   try {
     check_document(doc);
     Study study;
     read_identity(study, doc, file, results_root);
     auto grid = std::make_shared<Grid>();
+    grid->origins.file = file.string();
+    for (const std::string& o : overrides)
+      grid->origins.set.emplace_back(o.substr(0, o.find('=')), o);
     grid->axes = read_axes(study, doc);
     grid->scene_axis = find_scene_axis(grid->axes);
     read_scenes(study, doc, grid->axes, grid->scene_axis);
@@ -1423,7 +1457,8 @@ Study parse_study_text(const std::string& text, const fs::path& file, const fs::
                      file.string());
   }
   if (overrides.empty()) return parse_study(doc, file, results_root);
-  Study study = parse_study(apply_overrides(std::move(doc), overrides, file), file, results_root);
+  Study study =
+      parse_study(apply_overrides(std::move(doc), overrides, file), file, results_root, overrides);
   study.overrides = overrides;
   return study;
 }

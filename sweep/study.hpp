@@ -226,7 +226,10 @@ Study parse_study_text(const std::string& text, const std::filesystem::path& fil
                        const std::filesystem::path& results_root = "results",
                        const std::vector<std::string>& overrides = {});
 /// The same from an already parsed document; `file` is used in messages and for the name.
+/// `overrides`: the --set texts already applied to `doc`, named in the provenance of the
+/// parameters they set (their source "set"; the study's own "study", "grid", "design").
 Study parse_study(const Json& doc, const std::filesystem::path& file,
-                  const std::filesystem::path& results_root = "results");
+                  const std::filesystem::path& results_root = "results",
+                  const std::vector<std::string>& overrides = {});
 
 }  // namespace rodend

@@ -38,7 +38,7 @@ from .naming import UnknownName
 
 __all__ = ["InputError", "run_case", "run_study", "load_study", "open_results", "Case",
            "Results", "CorruptFile", "UnknownName", "schema", "scenes", "parameters",
-           "signal_catalogue", "analyze"]
+           "signal_catalogue", "analyze", "Progress"]
 
 
 def _load_extension():
@@ -187,23 +187,43 @@ def run_study(study, *, threads=1, results_root="results", set=None, rerun_faile
     folder): 0 when every case is ok, 1 when one failed. `study` is a study file's path or the
     study itself as a dict (written to a temporary file in the results root for the run, then
     removed; the results folder's study.json keeps it). `set` is {key.path: value} or a list
-    of "key.path=value" strings, as `--set`; values may be numpy scalars and arrays. Raises
-    InputError for a bad study, TypeError naming the argument of a wrong type."""
+    of "key.path=value" strings, as `--set`; values may be numpy scalars and arrays. Messages go
+    to the logger "rodend"; `progress`: False, True (a tqdm bar where tqdm is installed, else
+    the progress line, on sys.stderr) or a callable taking a rodend.Progress after each case
+    (rodend/progress.py). Raises InputError for a bad study, TypeError naming the argument of a
+    wrong type, KeyboardInterrupt on Ctrl-C once the cases in flight are written."""
     if isinstance(threads, bool) or not isinstance(threads, numbers.Integral):
         raise TypeError(f"threads: expected an integer >= 1, got {type(threads).__name__} "
                         f"{threads!r}")
-    for name, flag in (("rerun_failed", rerun_failed), ("progress", progress)):
-        if not isinstance(flag, bool) and type(flag).__name__ != "bool_":
-            raise TypeError(f"{name}: expected True or False, got {type(flag).__name__} {flag!r}")
+    if not isinstance(rerun_failed, bool) and type(rerun_failed).__name__ != "bool_":
+        raise TypeError(f"rerun_failed: expected True or False, got "
+                        f"{type(rerun_failed).__name__} {rerun_failed!r}")
+    from .progress import Reporter
+    reporter = Reporter(bool(progress) if type(progress).__name__ == "bool_" else progress)
     root = _path_arg("results_root", results_root)
     overrides = _overrides(set)
-    with _StudyFile(study, root) as path:
-        rc, folder = _ext.run_study(path, int(threads), root, overrides, bool(rerun_failed),
-                                    bool(progress))
+    try:
+        with _StudyFile(study, root) as path:
+            if isinstance(study, dict):  # the resume hint names the study.json the run keeps
+                reporter.rename = (path, _kept_study_json(study, root))
+            rc, folder = _ext.run_study(path, int(threads), root, overrides, bool(rerun_failed),
+                                        True, reporter.message, reporter.progress)
+    finally:
+        reporter.close()
     if rc == 128 + signal.SIGINT:  # Ctrl-C: the cases in flight were finished and written
         raise KeyboardInterrupt(f"run_study interrupted; the complete cases are in {folder}: "
                                 "run it again to resume")
     return rc, folder
+
+
+def _kept_study_json(study, root):
+    """Where the run of a study given as a dict keeps it: RESULTS_FOLDER/study.json."""
+    out = study.get("output")
+    folder = out if isinstance(out, str) else \
+        out.get("directory") if isinstance(out, dict) else None
+    if not isinstance(folder, str) or not folder:
+        folder = os.path.join(root, study.get("name", "study"))
+    return os.path.join(folder, "study.json")
 
 
 def _json_default(v):
@@ -310,6 +330,9 @@ def __getattr__(name):
     if name in ("Results", "CorruptFile"):
         from . import results
         return getattr(results, name)
+    if name == "Progress":
+        from .progress import Progress
+        return Progress
     if name == "analyze":
         # the analysis of a designed study (issue 30; rodend/analysis/run.py), imported on first
         # use: it needs openturns and matplotlib, which nothing else of the module does

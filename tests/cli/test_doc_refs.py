@@ -30,8 +30,12 @@ What is checked, and how a piece of documentation opts out:
   `text`, `console-example`, `python`, `cmake`: examples of user input or output, and
   non-runnable code: not checked (their paths neither). A block without an info string is an
   error: say what it is.
+- The pointers of `rodend --help` and of every subcommand's `--help` (issue 35 item 8): paths
+  as above, `README.md#anchor` / `docs/x.md#anchor` and `README "Section"` / `docs/x.md
+  "Section"` must name a heading of that document.
 Before checking the documents, the checker is run on a document with one fault of each kind and
-must report every one, so this test can fail.
+on a help text with a dangling pointer of each kind, and must report every one, so this test
+can fail.
 """
 import glob
 import json
@@ -56,6 +60,8 @@ SKIP_FIRST = {"results", "fuzz-work"}
 FENCE = re.compile(r"^( {0,3})(`{3,}|~{3,})(.*)$")
 SPAN = re.compile(r"(?<!`)(`+)(?!`)(.+?)(?<!`)\1(?!`)", re.S)
 LINK = re.compile(r"\[([^\]]*)\]\(([^)\s]+)\)")
+# a help text's pointer into a document: README "Section", docs/x.md#anchor
+SECTION_POINTER = re.compile(r'\b(README(?:\.md)?|docs/[\w.-]+\.md)(?:#([\w-]+)|\s+"([^"]+)")')
 
 
 class Checker:
@@ -237,6 +243,34 @@ class Checker:
                 if not re.search(rf"(^|[\s,]){re.escape(opt)}([\s,=]|$)", helptext, re.M):
                     problems.append(f"{where}: `rodend {sub}` has no option {opt}")
 
+    def check_help_text(self, text, where, problems, anchors_of):
+        """One help text: its paths exist, its section pointers name headings."""
+        for w in text.split():
+            self.check_path(w, where, problems)
+        for m in SECTION_POINTER.finditer(text):
+            doc = "README.md" if m.group(1).startswith("README") else m.group(1)
+            full = os.path.join(self.repo, doc)
+            anchor = m.group(2) or slug(m.group(3))
+            self.links += 1
+            if os.path.isfile(full) and anchor not in anchors_of(full):
+                problems.append(f"{where}: `{m.group(0)}`: {doc} has no heading #{anchor}")
+
+    def check_help_texts(self, anchors_of):
+        """`rodend --help` and every subcommand's --help."""
+        exe, problems = rodend_path(), []
+        top = self.help_text([exe]) or ""
+        check(top, "rodend --help failed")
+        self.check_help_text(top, "rodend --help", problems, anchors_of)
+        subs = re.findall(r"^  ([a-z][a-z-]*)  ", top.split("Subcommands:")[-1], re.M)
+        check(len(subs) >= 10, f"only {subs} found as subcommands in rodend --help")
+        for sub in subs:
+            text = self.help_text([exe, sub])
+            if text is None:
+                problems.append(f"rodend {sub} --help failed")
+                continue
+            self.check_help_text(text, f"rodend {sub} --help", problems, anchors_of)
+        return problems
+
     def check_study_block(self, code, where, problems):
         path = os.path.join(self.work, "doc-study.json")
         with open(path, "w", encoding="utf-8") as f:
@@ -387,8 +421,20 @@ def self_test(checker, repo):
              "rodend run MY.json\n```\n")
     false_alarms = checker.check_text(doc, clean, make_anchors_of({doc: {"clean"}}))
     check(not false_alarms, "the checker reports correct references:\n" + "\n".join(false_alarms))
-    print(f"self-test: all {len(faults)} planted faults reported ({len(problems)} problems), "
-          f"none on the correct document")
+    help_faults = {"docs/no-such.md": "details in docs/no-such.md.",
+                   "no heading #comparing-results": 'see README "Comparing results"',
+                   "no heading #nowhere": "see docs/results.md#nowhere"}
+    problems = []
+    checker.check_help_text("\n".join(help_faults.values()), "help", problems, make_anchors_of())
+    for what in help_faults:
+        check(any(what in p for p in problems),
+              f"the help checker misses a fault ({what}); it reported:\n" + "\n".join(problems))
+    problems = []
+    checker.check_help_text('see docs/results.md "Comparing results", README.md#quick-start, '
+                            "plots/plot_study.py", "help", problems, make_anchors_of())
+    check(not problems, "the help checker reports correct pointers:\n" + "\n".join(problems))
+    print(f"self-test: all {len(faults)} planted faults reported, none on the correct document; "
+          f"all {len(help_faults)} dangling help pointers reported")
 
 
 def main():
@@ -405,6 +451,9 @@ def main():
                 found = checker.check_text(doc, f.read(), anchors_of)
             print(f"{os.path.relpath(doc, repo)}: {len(found)} problem(s)")
             problems += found
+        found = checker.check_help_texts(anchors_of)
+        print(f"rodend's help texts: {len(found)} problem(s)")
+        problems += found
         check(not problems, f"{len(problems)} dangling paths, links or failing commands:\n"
                             + "\n".join(problems))
         check(checker.commands >= 20 and checker.paths >= 200 and checker.links >= 50,

@@ -1,32 +1,20 @@
-"""examples/*.py run (issue 22): each one under /usr/bin/python3, output into a temporary
-folder, must exit 0 (each asserts its own physics) and write its figure.
+"""examples/ run (issue 22; the notebook: issue 35 item 10): each script under /usr/bin/python3,
+output into a temporary folder, must exit 0 (each asserts its own physics) and write its
+figure; each notebook (examples/*.ipynb: a study run, its summary as a grid-shaped Dataset, a
+history plotted with .plot(), an interrupted and resumed run) is executed cell by cell and must
+draw its figures (tests/cli/examples_runner.py).
 
     test_examples.py EXAMPLES_DIR
 """
-import glob
-import os
-import shutil
-import subprocess
 import sys
-import tempfile
 
 from common import check, finish
+from examples_runner import run_examples
 
 
 def main():
-    scripts = sorted(glob.glob(os.path.join(sys.argv[1], "*.py")))
-    check(len(scripts) >= 3, f"expected at least 3 examples, found {scripts}")
-    for script in scripts:
-        out = tempfile.mkdtemp(prefix="rodend-example-")
-        try:
-            r = subprocess.run(["/usr/bin/python3", script, out], capture_output=True, text=True,
-                               timeout=300)
-            check(r.returncode == 0,
-                  f"{os.path.basename(script)} failed ({r.returncode}):\n{r.stdout}\n{r.stderr}")
-            check(glob.glob(os.path.join(out, "*.png")), f"{os.path.basename(script)}: no figure")
-            print(f"{os.path.basename(script)}: ok\n{r.stdout}")
-        finally:
-            shutil.rmtree(out, ignore_errors=True)
+    problems = run_examples("/usr/bin/python3", sys.argv[1])
+    check(not problems, "\n".join(problems))
     finish("examples")
 
 
