@@ -183,7 +183,7 @@ void work_remote(int rank, const Study& study, const RunPlan& plan) {
     if (i < 0) return;
     try {
       const CaseRecord rec = run_and_write_case(study, plan, static_cast<std::size_t>(i));
-      last = rec.status == "ok" ? kOk : kFailed;
+      last = run_status_from_name(rec.status) == RunStatus::ok ? kOk : kFailed;
     } catch (const std::bad_alloc&) {
       fatal_out_of_memory(rank);
     } catch (const std::exception& e) {
@@ -202,7 +202,7 @@ void work_local(const Study& study, const RunPlan& plan, WorkQueue& queue, Progr
   for (int i = queue.take(0); i >= 0; i = queue.take(0)) {
     try {
       const CaseRecord rec = run_and_write_case(study, plan, static_cast<std::size_t>(i));
-      progress.case_done(rec.status != "ok");
+      progress.case_done(run_status_from_name(rec.status) != RunStatus::ok);
     } catch (const std::bad_alloc&) {
       fatal_out_of_memory(0);
     } catch (const std::exception& e) {

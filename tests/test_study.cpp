@@ -231,7 +231,7 @@ TEST_CASE("a scene axis: overrides apply where the scene has the key, presets pe
     REQUIRE(own);
     CHECK(s.cases[c].integrator.method == own->method);
     CHECK(s.cases[c].integrator.rel_tol == own->rel_tol);
-    CHECK(s.cases[c].integrator.method == "cvode_bdf");
+    CHECK(s.cases[c].integrator.method == IntegratorMethod::cvode_bdf);
   }
 }
 
