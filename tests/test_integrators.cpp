@@ -15,7 +15,7 @@ namespace {
 /// state (1e-10 is two decades above what the controllers can still honour on O(1) states).
 IntegratorSettings tight(const std::string& method) {
   IntegratorSettings s;
-  s.method = method_named(method);
+  s.method = test::method_named(method);
   s.abs_tol = s.rel_tol = 1e-10;
   s.step = method == "rk4" ? 1e-6 : 1e-5;
   s.max_step = 1e-3;
