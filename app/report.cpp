@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/integrator.hpp"
 #include "sweep/results.hpp"
 
 namespace rodend {
@@ -70,37 +71,17 @@ std::string read_file(const fs::path& p) {
   return ss.str();
 }
 
-}  // namespace
-
-fs::path write_report(const fs::path& dir, const fs::path& out_arg) {
-  const SummaryTable t = read_summary(dir);
-  const fs::path out = out_arg.empty() ? dir / "report.html" : out_arg;
-  Json study = Json::object();
-  if (fs::is_regular_file(dir / "study.json"))
-    study = Json::parse(read_file(dir / "study.json"), nullptr, false);
-  const std::string name = study.is_object() && study.contains("name") && study["name"].is_string()
-                               ? study["name"].get<std::string>()
-                               : fs::absolute(dir).lexically_normal().filename().string();
+/// The cases that ended ok, from the summary's status column.
+std::size_t count_ok(const SummaryTable& t) {
   std::size_t ok = 0;
   if (t.texts.count("status"))
-    ok = static_cast<std::size_t>(
-        std::count(t.texts.at("status").begin(), t.texts.at("status").end(), "ok"));
+    for (const std::string& s : t.texts.at("status"))
+      if (run_status_from_name(s) == RunStatus::ok) ++ok;
+  return ok;
+}
 
-  std::ostringstream h;
-  h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>rodend: "
-    << escape(name)
-    << "</title>\n<style>body{font-family:sans-serif;margin:2em;max-width:80em}"
-       "table{border-collapse:collapse;font-size:small}td,th{border:1px solid #ccc;padding:"
-       "2px 6px;text-align:right}th{background:#eee}td.t{text-align:left}"
-       "pre{background:#f6f6f6;padding:1em;overflow:auto}img{max-width:100%}"
-       "figure{margin:1em 0}</style></head><body>\n";
-  h << "<h1>Study " << escape(name) << "</h1>\n";
-  if (study.is_object() && study.contains("description") && study["description"].is_string())
-    h << "<p>" << escape(study["description"].get<std::string>()) << "</p>\n";
-  h << "<p>" << t.rows << " case(s): " << ok << " ok, " << t.rows - ok
-    << " failed. Results in <code>" << escape(fs::absolute(dir).lexically_normal().string())
-    << "</code>.</p>\n";
-
+/// The figures of plots/ (PNG files), inlined in the page.
+void write_figures(std::ostream& h, const fs::path& dir) {
   h << "<h2>Figures</h2>\n";
   std::vector<fs::path> pngs;
   if (fs::is_directory(dir / "plots"))
@@ -114,7 +95,10 @@ fs::path write_report(const fs::path& dir, const fs::path& out_arg) {
     h << "<figure><img alt=\"" << escape(p.stem().string()) << "\" src=\"data:image/png;base64,"
       << base64(read_file(p)) << "\"><figcaption>" << escape(p.filename().string())
       << "</figcaption></figure>\n";
+}
 
+/// The summary as a table, a column per metric, a row per case.
+void write_summary_table(std::ostream& h, const SummaryTable& t) {
   h << "<h2>Summary</h2>\n<table><tr>";
   for (const std::string& c : t.columns) {
     const auto u = t.units.find(c);
@@ -134,12 +118,45 @@ fs::path write_report(const fs::path& dir, const fs::path& out_arg) {
     h << "</tr>\n";
   }
   h << "</table>\n";
+}
 
+/// The page's head, title, the study's description and the count of cases.
+void write_heading(std::ostream& h, const fs::path& dir, const SummaryTable& t, const Json& study) {
+  const std::string name = study.is_object() && study.contains("name") && study["name"].is_string()
+                               ? study["name"].get<std::string>()
+                               : fs::absolute(dir).lexically_normal().filename().string();
+  const std::size_t ok = count_ok(t);
+  h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>rodend: "
+    << escape(name)
+    << "</title>\n<style>body{font-family:sans-serif;margin:2em;max-width:80em}"
+       "table{border-collapse:collapse;font-size:small}td,th{border:1px solid #ccc;padding:"
+       "2px 6px;text-align:right}th{background:#eee}td.t{text-align:left}"
+       "pre{background:#f6f6f6;padding:1em;overflow:auto}img{max-width:100%}"
+       "figure{margin:1em 0}</style></head><body>\n";
+  h << "<h1>Study " << escape(name) << "</h1>\n";
+  if (study.is_object() && study.contains("description") && study["description"].is_string())
+    h << "<p>" << escape(study["description"].get<std::string>()) << "</p>\n";
+  h << "<p>" << t.rows << " case(s): " << ok << " ok, " << t.rows - ok
+    << " failed. Results in <code>" << escape(fs::absolute(dir).lexically_normal().string())
+    << "</code>.</p>\n";
+}
+
+}  // namespace
+
+fs::path write_report(const fs::path& dir, const fs::path& out_arg) {
+  const SummaryTable t = read_summary(dir);
+  const fs::path out = out_arg.empty() ? dir / "report.html" : out_arg;
+  Json study = Json::object();
+  if (fs::is_regular_file(dir / "study.json"))
+    study = Json::parse(read_file(dir / "study.json"), nullptr, false);
+  std::ostringstream h;
+  write_heading(h, dir, t, study);
+  write_figures(h, dir);
+  write_summary_table(h, t);
   h << "<h2>Provenance</h2>\n<pre>" << escape(t.provenance.dump(2)) << "</pre>\n";
   h << "<h2>The study as run (study.json)</h2>\n<pre>"
     << escape(study.is_discarded() ? std::string("(unreadable)") : study.dump(2)) << "</pre>\n";
   h << "</body></html>\n";
-
   // a fresh file under an unpredictable name, then renamed: never written through a link
   write_text_file_atomically(out, "report", h.str(), /*durable=*/false);
   return out;

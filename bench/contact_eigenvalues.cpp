@@ -54,7 +54,7 @@ int breakaway(const std::string& law) {
   const auto scene = make_scene("rod-end-actuator", p);
   const double t = 0.6049;
   IntegratorSettings s;
-  s.method = "cvode_bdf";
+  s.method = IntegratorMethod::cvode_bdf;
   s.abs_tol = s.rel_tol = 1e-8;
   s.max_step = 1e-3;
   RunObserver none;
@@ -109,7 +109,7 @@ int main(int argc, char** argv) {
     scene->state_scale(scale.data());
     for (const double t : {0.05, 0.2, 0.4, 0.6, 0.8, 1.0, 1.4, 1.8, 2.2}) {
       IntegratorSettings s;
-      s.method = "dopri5";
+      s.method = IntegratorMethod::dopri5;
       s.abs_tol = s.rel_tol = 1e-10;
       RunObserver none;
       const RunResult r = simulate(*scene, s, TimeSettings{t, t}, none);

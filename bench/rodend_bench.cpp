@@ -212,13 +212,14 @@ IntegratorSettings preset_for(const Scene& scene, const std::string& name) {
 constexpr const char* kPresetSource = "rodend::preset_settings(scene, preset) (core/presets.hpp)";
 
 json settings_json(const IntegratorSettings& s) {
-  return {{"method", s.method}, {"abs_tol", s.abs_tol},   {"rel_tol", s.rel_tol},
-          {"step", s.step},     {"max_step", s.max_step}, {"contact_onset", s.contact_onset}};
+  return {{"method", to_string(s.method)}, {"abs_tol", s.abs_tol},
+          {"rel_tol", s.rel_tol},          {"step", s.step},
+          {"max_step", s.max_step},        {"contact_onset", to_string(s.contact_onset)}};
 }
 
 std::string settings_string(const IntegratorSettings& s) {
   char buf[128];
-  std::snprintf(buf, sizeof buf, "%s %.0e", s.method.c_str(), s.rel_tol);
+  std::snprintf(buf, sizeof buf, "%s %.0e", std::string(to_string(s.method)).c_str(), s.rel_tol);
   return buf;
 }
 
@@ -238,6 +239,59 @@ struct RhsResult {
   double ns_wall_min = kNaN, ns_wall_max = kNaN;
 };
 
+/// The states the right-hand side is timed at: up to 256, evenly through a short run; for a
+/// contact scene, only states with the contact active (latched episode and penetration > 0),
+/// if the run has any.
+struct SampledStates {
+  std::vector<double> t, x;
+  std::vector<DiscreteState> d;
+  std::size_t count = 0;
+};
+
+SampledStates sample_states(const Scene& scene, const std::string& name, RhsResult& r) {
+  const int n = r.states;
+  // a short run that records the states the integrator calls the right-hand side at
+  IntegratorSettings is;  // dopri5 1e-6
+  const double end = sampling_run_end(name);
+  const TimeSettings ts{end, end / 100};
+  NullObserver null;
+  long long calls = 0;
+  {
+    RecordingScene count(scene, 1ll << 62);
+    calls = simulate(count, is, ts, null).stats.rhs_calls;
+  }
+  const long long stride = std::max(1ll, calls / 20000);
+  RecordingScene rec(scene, stride);
+  simulate(rec, is, ts, null);
+  const std::size_t m = rec.times.size();
+  std::vector<std::size_t> candidates;
+  for (std::size_t i = 0; i < m; ++i) {
+    bool ok = true;
+    if (r.contacts > 0) {
+      const double* x = rec.states.data() + i * static_cast<std::size_t>(n);
+      ok = rec.discrete[i].contacts[0].in_contact && scene.contact_gap(0, x).penetration > 0.0;
+    }
+    if (ok) candidates.push_back(i);
+  }
+  if (candidates.empty())
+    for (std::size_t i = 0; i < m; ++i) candidates.push_back(i);
+  const std::size_t k = std::min<std::size_t>(256, candidates.size());
+  SampledStates out{std::vector<double>(k), std::vector<double>(k * static_cast<std::size_t>(n)),
+                    std::vector<DiscreteState>(k), k};
+  for (std::size_t j = 0; j < k; ++j) {
+    const std::size_t i = candidates[j * candidates.size() / k];
+    out.t[j] = rec.times[i];
+    std::copy_n(rec.states.data() + i * static_cast<std::size_t>(n), n,
+                out.x.data() + j * static_cast<std::size_t>(n));
+    out.d[j] = rec.discrete[i];
+    if (r.contacts > 0 && out.d[j].contacts[0].in_contact &&
+        scene.contact_gap(0, out.x.data() + j * static_cast<std::size_t>(n)).penetration > 0.0)
+      ++r.in_contact;
+  }
+  r.sampled = static_cast<int>(k);
+  return out;
+}
+
 RhsResult bench_rhs(const std::string& name, int reps, int calls_per_rep) {
   RhsResult r;
   r.scene = name;
@@ -246,58 +300,16 @@ RhsResult bench_rhs(const std::string& name, int reps, int calls_per_rep) {
   r.states = n;
   r.audit = static_cast<int>(scene->audit_offsets().size());
   r.contacts = scene->contact_count();
-
-  // a short run that records the states the integrator calls the right-hand side at
-  IntegratorSettings is;  // dopri5 1e-6
-  const double end = sampling_run_end(name);
-  const TimeSettings ts{end, end / 100};
-  NullObserver null;
-  long long calls = 0;
-  {
-    RecordingScene count(*scene, 1ll << 62);
-    calls = simulate(count, is, ts, null).stats.rhs_calls;
-  }
-  const long long stride = std::max(1ll, calls / 20000);
-  RecordingScene rec(*scene, stride);
-  simulate(rec, is, ts, null);
-
-  // pick up to 256 states evenly through the run; for a contact scene, only states with the
-  // contact active (latched episode and penetration > 0), if the run has any
-  const std::size_t m = rec.times.size();
-  std::vector<std::size_t> candidates;
-  for (std::size_t i = 0; i < m; ++i) {
-    bool ok = true;
-    if (r.contacts > 0) {
-      const double* x = rec.states.data() + i * static_cast<std::size_t>(n);
-      ok = rec.discrete[i].contacts[0].in_contact && scene->contact_gap(0, x).penetration > 0.0;
-    }
-    if (ok) candidates.push_back(i);
-  }
-  if (candidates.empty())
-    for (std::size_t i = 0; i < m; ++i) candidates.push_back(i);
-  const std::size_t k = std::min<std::size_t>(256, candidates.size());
-  std::vector<double> t(k), x(k * static_cast<std::size_t>(n));
-  std::vector<DiscreteState> d(k);
-  for (std::size_t j = 0; j < k; ++j) {
-    const std::size_t i = candidates[j * candidates.size() / k];
-    t[j] = rec.times[i];
-    std::copy_n(rec.states.data() + i * static_cast<std::size_t>(n), n,
-                x.data() + j * static_cast<std::size_t>(n));
-    d[j] = rec.discrete[i];
-    if (r.contacts > 0 && d[j].contacts[0].in_contact &&
-        scene->contact_gap(0, x.data() + j * static_cast<std::size_t>(n)).penetration > 0.0)
-      ++r.in_contact;
-  }
-  r.sampled = static_cast<int>(k);
-
+  const SampledStates st = sample_states(*scene, name, r);
   std::vector<double> dx(static_cast<std::size_t>(n));
   double acc = 0.0;
   auto one_rep = [&]() {
     std::size_t j = 0;
     for (int c = 0; c < calls_per_rep; ++c) {
-      scene->derivatives(t[j], x.data() + j * static_cast<std::size_t>(n), d[j], dx.data());
+      scene->derivatives(st.t[j], st.x.data() + j * static_cast<std::size_t>(n), st.d[j],
+                         dx.data());
       acc += dx[static_cast<std::size_t>(c % n)];
-      if (++j == k) j = 0;
+      if (++j == st.count) j = 0;
     }
   };
   one_rep();  // warm-up: caches, branch predictors, lazy statics
@@ -504,19 +516,20 @@ void rule(int width) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  const Options opt = parse(argc, argv);
-  json out;
+namespace {
+
+/// The machine and build, printed and as JSON.
+json machine_header(const Options& opt) {
   char host[256] = "unknown";
   gethostname(host, sizeof host - 1);
-  out["machine"] = {{"host", host},
-                    {"hardware_threads", std::thread::hardware_concurrency()},
-                    {"load_average_start", load_average()},
-                    {"compiler", __VERSION__},
-                    {"build_type", RODEND_BENCH_BUILD_TYPE},
-                    {"bench_flags", RODEND_BENCH_CXX_FLAGS},
-                    {"git_revision", RODEND_GIT_REVISION},
-                    {"quick", opt.quick}};
+  json machine = {{"host", host},
+                  {"hardware_threads", std::thread::hardware_concurrency()},
+                  {"load_average_start", load_average()},
+                  {"compiler", __VERSION__},
+                  {"build_type", RODEND_BENCH_BUILD_TYPE},
+                  {"bench_flags", RODEND_BENCH_CXX_FLAGS},
+                  {"git_revision", RODEND_GIT_REVISION},
+                  {"quick", opt.quick}};
   std::printf("rodend-bench%s  (git %s, %s build, bench flags: %s)\n", opt.quick ? " --quick" : "",
               RODEND_GIT_REVISION, RODEND_BENCH_BUILD_TYPE, RODEND_BENCH_CXX_FLAGS);
   std::printf("host %s, %u hardware threads, load average %s (1, 5, 15 min) at start\n", host,
@@ -524,369 +537,444 @@ int main(int argc, char** argv) {
   std::printf(
       "wall = std::chrono::steady_clock; cpu = this thread's CPU clock (wall/cpu > 1: the "
       "machine was busy)\n");
-  const auto t_start = now();
+  return machine;
+}
 
-  std::map<std::string, double> rhs_ns_cpu;  // part 1's cpu cost per call, per scene
-  // ---------------------------------------------------------------------------------------------
-  if (opt.rhs) {
-    const int reps = opt.quick ? 5 : 15, calls = opt.quick ? 5000 : 20000;
-    std::fprintf(stderr, "rodend-bench: right-hand-side cost...\n");
-    std::vector<RhsResult> rows;
-    for (const SceneEntry& e : scene_catalogue())
-      rows.push_back(bench_rhs(std::string(e.name), reps, calls));
-    auto find = [&](const char* n) -> const RhsResult* {
-      for (const auto& r : rows)
-        if (r.scene == n) return &r;
-      return nullptr;
-    };
-    const RhsResult* kin = find("rod-end-kinematic");
-    std::printf(
-        "\n1. Right-hand-side cost per scene: median of %d repetitions of %d calls, cycling "
-        "through states sampled from a short run (contact active where the scene has one);\n"
-        "   ratio = cost / rod-end-kinematic's\n",
-        reps, calls);
-    rule(108);
-    std::printf("%-18s %7s %7s %9s %12s %12s %10s %10s %14s\n", "scene", "states", "(audit)",
-                "contact", "ns/call wall", "ns/call cpu", "ratio wall", "ratio cpu",
-                "ns/state cpu");
-    rule(108);
-    json jr = json::array();
-    for (const auto& r : rows) {
-      rhs_ns_cpu[r.scene] = r.ns_cpu;
-      const double ratio = kin ? r.ns_wall / kin->ns_wall : kNaN;
-      const double ratio_cpu = kin ? r.ns_cpu / kin->ns_cpu : kNaN;
-      const std::string contact =
-          r.contacts ? std::to_string(r.in_contact) + "/" + std::to_string(r.sampled) : "-";
-      std::printf("%-18s %7d %7d %9s %12s %12s %10s %10s %14s\n", r.scene.c_str(), r.states,
-                  r.audit, contact.c_str(), fmt("%.0f", r.ns_wall).c_str(),
-                  fmt("%.0f", r.ns_cpu).c_str(), fmt("%.3f", ratio).c_str(),
-                  fmt("%.3f", ratio_cpu).c_str(), fmt("%.1f", r.ns_cpu / r.states).c_str());
-      jr.push_back({{"scene", r.scene},
-                    {"state_size", r.states},
-                    {"audit_states", r.audit},
-                    {"contacts", r.contacts},
-                    {"states_timed", r.sampled},
-                    {"states_in_contact", r.in_contact},
-                    {"ns_per_call_wall_median", r.ns_wall},
-                    {"ns_per_call_wall_min", r.ns_wall_min},
-                    {"ns_per_call_wall_max", r.ns_wall_max},
-                    {"ns_per_call_cpu_median", r.ns_cpu},
-                    {"ratio_to_rod_end_kinematic_wall", ratio},
-                    {"ratio_to_rod_end_kinematic_cpu", ratio_cpu}});
-    }
-    rule(108);
-    json checks;
-    const RhsResult* act = find("rod-end-actuator");
-    const RhsResult* servo = find("servo-actuator");
-    const RhsResult* drop = find("gravity-drop");
-    if (kin && act) {
-      const double extra = act->ns_cpu - kin->ns_cpu;
-      std::printf(
-          "rod-end-actuator / rod-end-kinematic = %.2f (cpu %.2f): the actuator adds %.0f ns "
-          "cpu per call",
-          act->ns_wall / kin->ns_wall, act->ns_cpu / kin->ns_cpu, extra);
-      if (servo)
-        std::printf("; servo-actuator alone (actuator + equivalent mass) costs %.0f ns",
-                    servo->ns_cpu);
-      std::printf("\n");
-      checks["actuator_over_kinematic_wall"] = act->ns_wall / kin->ns_wall;
-      checks["actuator_over_kinematic_cpu"] = act->ns_cpu / kin->ns_cpu;
-      checks["actuator_extra_ns_cpu"] = extra;
-      if (servo) checks["servo_actuator_alone_ns_cpu"] = servo->ns_cpu;
-    }
-    if (kin && drop) {
-      std::printf(
-          "gravity-drop / rod-end-kinematic = %.3f (cpu %.3f): one body and the contact, "
-          "without the mechanism's second body, springs and slider-crank\n",
-          drop->ns_wall / kin->ns_wall, drop->ns_cpu / kin->ns_cpu);
-      checks["gravity_drop_over_kinematic_wall"] = drop->ns_wall / kin->ns_wall;
-      checks["gravity_drop_over_kinematic_cpu"] = drop->ns_cpu / kin->ns_cpu;
-    }
-    std::printf("load average after part 1: %s\n", load_string().c_str());
-    out["rhs"] = {{"repetitions", reps},
-                  {"calls_per_repetition", calls},
-                  {"scenes", jr},
-                  {"ratios", checks},
-                  {"load_average_after", load_average()}};
+const RhsResult* find_rhs(const std::vector<RhsResult>& rows, const char* n) {
+  for (const auto& r : rows)
+    if (r.scene == n) return &r;
+  return nullptr;
+}
+
+/// Part 1's table, a row per scene; `kin` is rod-end-kinematic's row (the ratios' base).
+json print_rhs_rows(const std::vector<RhsResult>& rows, const RhsResult* kin) {
+  json jr = json::array();
+  for (const auto& r : rows) {
+    const double ratio = kin ? r.ns_wall / kin->ns_wall : kNaN;
+    const double ratio_cpu = kin ? r.ns_cpu / kin->ns_cpu : kNaN;
+    const std::string contact =
+        r.contacts ? std::to_string(r.in_contact) + "/" + std::to_string(r.sampled) : "-";
+    std::printf("%-18s %7d %7d %9s %12s %12s %10s %10s %14s\n", r.scene.c_str(), r.states, r.audit,
+                contact.c_str(), fmt("%.0f", r.ns_wall).c_str(), fmt("%.0f", r.ns_cpu).c_str(),
+                fmt("%.3f", ratio).c_str(), fmt("%.3f", ratio_cpu).c_str(),
+                fmt("%.1f", r.ns_cpu / r.states).c_str());
+    jr.push_back({{"scene", r.scene},
+                  {"state_size", r.states},
+                  {"audit_states", r.audit},
+                  {"contacts", r.contacts},
+                  {"states_timed", r.sampled},
+                  {"states_in_contact", r.in_contact},
+                  {"ns_per_call_wall_median", r.ns_wall},
+                  {"ns_per_call_wall_min", r.ns_wall_min},
+                  {"ns_per_call_wall_max", r.ns_wall_max},
+                  {"ns_per_call_cpu_median", r.ns_cpu},
+                  {"ratio_to_rod_end_kinematic_wall", ratio},
+                  {"ratio_to_rod_end_kinematic_cpu", ratio_cpu}});
   }
+  return jr;
+}
 
-  // ---------------------------------------------------------------------------------------------
-  const std::vector<std::string> mech_scenes = {"rod-end-kinematic", "rod-end-actuator"};
+/// Part 1's ratios: the actuator's and the gravity drop's cost against rod-end-kinematic's.
+json print_rhs_ratios(const std::vector<RhsResult>& rows, const RhsResult* kin) {
+  json checks;
+  const RhsResult* act = find_rhs(rows, "rod-end-actuator");
+  const RhsResult* servo = find_rhs(rows, "servo-actuator");
+  const RhsResult* drop = find_rhs(rows, "gravity-drop");
+  if (kin && act) {
+    const double extra = act->ns_cpu - kin->ns_cpu;
+    std::printf(
+        "rod-end-actuator / rod-end-kinematic = %.2f (cpu %.2f): the actuator adds %.0f ns "
+        "cpu per call",
+        act->ns_wall / kin->ns_wall, act->ns_cpu / kin->ns_cpu, extra);
+    if (servo)
+      std::printf("; servo-actuator alone (actuator + equivalent mass) costs %.0f ns",
+                  servo->ns_cpu);
+    std::printf("\n");
+    checks["actuator_over_kinematic_wall"] = act->ns_wall / kin->ns_wall;
+    checks["actuator_over_kinematic_cpu"] = act->ns_cpu / kin->ns_cpu;
+    checks["actuator_extra_ns_cpu"] = extra;
+    if (servo) checks["servo_actuator_alone_ns_cpu"] = servo->ns_cpu;
+  }
+  if (kin && drop) {
+    std::printf(
+        "gravity-drop / rod-end-kinematic = %.3f (cpu %.3f): one body and the contact, "
+        "without the mechanism's second body, springs and slider-crank\n",
+        drop->ns_wall / kin->ns_wall, drop->ns_cpu / kin->ns_cpu);
+    checks["gravity_drop_over_kinematic_wall"] = drop->ns_wall / kin->ns_wall;
+    checks["gravity_drop_over_kinematic_cpu"] = drop->ns_cpu / kin->ns_cpu;
+  }
+  return checks;
+}
+
+/// 1. Right-hand-side cost per scene; returns each scene's cpu cost per call [ns].
+std::map<std::string, double> part_rhs(const Options& opt, json& out) {
+  std::map<std::string, double> rhs_ns_cpu;
+  const int reps = opt.quick ? 5 : 15, calls = opt.quick ? 5000 : 20000;
+  std::fprintf(stderr, "rodend-bench: right-hand-side cost...\n");
+  std::vector<RhsResult> rows;
+  for (const SceneEntry& e : scene_catalogue())
+    rows.push_back(bench_rhs(std::string(e.name), reps, calls));
+  const RhsResult* kin = find_rhs(rows, "rod-end-kinematic");
+  std::printf(
+      "\n1. Right-hand-side cost per scene: median of %d repetitions of %d calls, cycling "
+      "through states sampled from a short run (contact active where the scene has one);\n"
+      "   ratio = cost / rod-end-kinematic's\n",
+      reps, calls);
+  rule(108);
+  std::printf("%-18s %7s %7s %9s %12s %12s %10s %10s %14s\n", "scene", "states", "(audit)",
+              "contact", "ns/call wall", "ns/call cpu", "ratio wall", "ratio cpu", "ns/state cpu");
+  rule(108);
+  for (const auto& r : rows) rhs_ns_cpu[r.scene] = r.ns_cpu;
+  const json jr = print_rhs_rows(rows, kin);
+  rule(108);
+  const json checks = print_rhs_ratios(rows, kin);
+  std::printf("load average after part 1: %s\n", load_string().c_str());
+  out["rhs"] = {{"repetitions", reps},
+                {"calls_per_repetition", calls},
+                {"scenes", jr},
+                {"ratios", checks},
+                {"load_average_after", load_average()}};
+  return rhs_ns_cpu;
+}
+
+const std::vector<std::string> kMechScenes = {"rod-end-kinematic", "rod-end-actuator"};
+
+/// Part 2's runs: each mechanism scene under each preset, with and without the metrics.
+std::vector<ThroughputRow> measure_throughput(int reps) {
   std::vector<std::string> presets;
   for (std::string_view p : preset_names()) presets.emplace_back(p);
   std::vector<ThroughputRow> tp;
-  if (opt.throughput) {
-    const int reps = opt.quick ? 1 : 5;
-    std::fprintf(stderr, "rodend-bench: throughput...\n");
-    for (const auto& name : mech_scenes) {
-      const auto scene = build(name);
-      for (const auto& p : presets) {
-        ThroughputRow row{name, p, {}, {}};
-        row.rep.settings = row.bare.settings = preset_for(*scene, p);
-        // the runs of one scene are interleaved over presets so a change of load hits them alike
-        tp.push_back(std::move(row));
-      }
-      for (int r = 0; r < reps; ++r)
-        for (auto& row : tp)
-          if (row.scene == name) {
-            row.rep.add(run_once(*scene, row.rep.settings, kCycle));
-            row.bare.add(run_once(*scene, row.bare.settings, kCycle, false));
-          }
+  for (const auto& name : kMechScenes) {
+    const auto scene = build(name);
+    for (const auto& p : presets) {
+      ThroughputRow row{name, p, {}, {}};
+      row.rep.settings = row.bare.settings = preset_for(*scene, p);
+      // the runs of one scene are interleaved over presets so a change of load hits them alike
+      tp.push_back(std::move(row));
     }
-    std::printf(
-        "\n2. Throughput over one extension-retraction cycle (%.1f s simulated), median of %d "
-        "run%s;\n   the summary metrics computed on every step as in a study case (\"bare\": "
-        "nothing observing the steps); \"rhs share\": rhs calls x part 1's cpu cost per call "
-        "/ cpu time\n",
-        kCycle, reps, reps > 1 ? "s" : "");
-    std::printf("   presets: %s\n", kPresetSource);
-    rule(144);
-    std::printf("%-18s %-10s %-16s %7s %9s %9s %13s %13s %12s %9s %8s %10s\n", "scene", "preset",
-                "settings", "status", "wall [s]", "cpu [s]", "sim s/wall s", "sim s/cpu s",
-                "bare s/cpu s", "rhs", "steps", "rhs share");
-    rule(144);
-    json jt = json::array();
-    for (const auto& row : tp) {
-      const auto& st = row.rep.first.result.stats;
-      const double ns = rhs_ns_cpu.count(row.scene) ? rhs_ns_cpu.at(row.scene) : kNaN;
-      const double share = static_cast<double>(st.rhs_calls) * ns * 1e-9 / row.rep.cpu();
-      std::printf("%-18s %-10s %-16s %7s %9s %9s %13s %13s %12s %9lld %8lld %10s\n",
-                  row.scene.c_str(), row.preset.c_str(), settings_string(row.rep.settings).c_str(),
-                  std::string(to_string(row.rep.first.result.status)).c_str(),
-                  fmt("%.3f", row.rep.wall()).c_str(), fmt("%.3f", row.rep.cpu()).c_str(),
-                  fmt("%.2f", kCycle / row.rep.wall()).c_str(),
-                  fmt("%.2f", kCycle / row.rep.cpu()).c_str(),
-                  fmt("%.2f", kCycle / row.bare.cpu()).c_str(), st.rhs_calls,
-                  st.steps_accepted + st.steps_rejected, fmt("%.0f%%", 100.0 * share).c_str());
-      jt.push_back({{"scene", row.scene},
-                    {"preset", row.preset},
-                    {"settings", settings_json(row.rep.settings)},
-                    {"status", to_string(row.rep.first.result.status)},
-                    {"runs", row.rep.walls.size()},
-                    {"wall_s_median", row.rep.wall()},
-                    {"cpu_s_median", row.rep.cpu()},
-                    {"wall_s_all", row.rep.walls},
-                    {"sim_s_per_wall_s", kCycle / row.rep.wall()},
-                    {"sim_s_per_cpu_s", kCycle / row.rep.cpu()},
-                    {"bare_wall_s_median", row.bare.wall()},
-                    {"bare_cpu_s_median", row.bare.cpu()},
-                    {"bare_sim_s_per_wall_s", kCycle / row.bare.wall()},
-                    {"bare_sim_s_per_cpu_s", kCycle / row.bare.cpu()},
-                    {"rhs_share_of_cpu", std::isfinite(share) ? json(share) : json()},
-                    {"rhs_calls", st.rhs_calls},
-                    {"steps_accepted", st.steps_accepted},
-                    {"steps_rejected", st.steps_rejected},
-                    {"contact_onsets", st.contact_onsets}});
-    }
-    rule(144);
-    std::printf("load average after part 2: %s\n", load_string().c_str());
-    out["throughput"] = {{"simulated_s", kCycle},
-                         {"preset_source", kPresetSource},
-                         {"rows", jt},
-                         {"load_average_after", load_average()}};
+    for (int r = 0; r < reps; ++r)
+      for (auto& row : tp)
+        if (row.scene == name) {
+          row.rep.add(run_once(*scene, row.rep.settings, kCycle));
+          row.bare.add(run_once(*scene, row.bare.settings, kCycle, false));
+        }
   }
+  return tp;
+}
 
-  // ---------------------------------------------------------------------------------------------
-  if (opt.cvode) {
-    const int reps = opt.quick ? 1 : 3;
-    const std::vector<double> tols =
-        opt.quick
-            ? std::vector<double>{1e-5, 1e-6, 1e-7, 1e-8, 1e-9}
-            : std::vector<double>{1e-4, 3e-5, 1e-5, 3e-6, 1e-6, 3e-7, 1e-7, 3e-8, 1e-8, 3e-9, 1e-9};
-    const std::vector<std::string> methods = {"cvode_bdf", "cvode_adams"};
-    json jc = json::array();
-    std::printf("\n3. CVODE against the default preset (%s) at equal achieved error\n",
-                std::string(rodend::kDefaultPreset).c_str());
-    std::printf(
-        "   error of a run = largest relative error over {first_contact_time, "
-        "first_impact_peak_force, max_contact_force, max_eccentricity, final_surface_angle}\n"
-        "   against a reference run (scales: |reference value|; the final surface angle on the "
-        "surface's angular range).\n"
-        "   CVODE's cost at the default's error: log-log interpolation along the work-precision "
-        "front of its tolerance ladder; wall and cpu times median of %d run%s\n",
-        reps, reps > 1 ? "s" : "");
-    for (const auto& name : mech_scenes) {
-      std::fprintf(stderr, "rodend-bench: CVODE ladder, %s...\n", name.c_str());
-      const auto scene = build(name);
-      const IntegratorSettings def = preset_for(*scene, std::string(rodend::kDefaultPreset));
-      // reference: dopri5 at 1e-12 (dense output, so the impact peaks are refined on an
-      // interpolant as accurate as the method); fehlberg78 is not used: without dense output its
-      // long steps miss force peaks that fall before the step where the penetration turns
-      IntegratorSettings ref_s = def;
-      ref_s.method = "dopri5";
-      ref_s.abs_tol = ref_s.rel_tol = 1e-12;
-      const RunMeasure ref = run_once(*scene, ref_s, kCycle);
-      if (ref.result.status != RunStatus::ok) {
-        std::printf("%s: reference run failed (%s)\n", name.c_str(), ref.result.message.c_str());
-        continue;
-      }
-      const auto scale = error_scales(ref.metrics);
-      // the reference's own error: how far the next looser run (1e-11) is from it
-      IntegratorSettings check_s = ref_s;
-      check_s.abs_tol = check_s.rel_tol = 1e-11;
-      const RunMeasure chk = run_once(*scene, check_s, kCycle);
-      const double floor_err = chk.result.status == RunStatus::ok
-                                   ? run_error(chk.metrics, ref.metrics, scale).max
-                                   : kNaN;
+/// One row of part 2's table, printed and as JSON.
+json print_throughput_row(const ThroughputRow& row, const std::map<std::string, double>& rhs_ns) {
+  const auto& st = row.rep.first.result.stats;
+  const double ns = rhs_ns.count(row.scene) ? rhs_ns.at(row.scene) : kNaN;
+  const double share = static_cast<double>(st.rhs_calls) * ns * 1e-9 / row.rep.cpu();
+  std::printf("%-18s %-10s %-16s %7s %9s %9s %13s %13s %12s %9lld %8lld %10s\n", row.scene.c_str(),
+              row.preset.c_str(), settings_string(row.rep.settings).c_str(),
+              std::string(to_string(row.rep.first.result.status)).c_str(),
+              fmt("%.3f", row.rep.wall()).c_str(), fmt("%.3f", row.rep.cpu()).c_str(),
+              fmt("%.2f", kCycle / row.rep.wall()).c_str(),
+              fmt("%.2f", kCycle / row.rep.cpu()).c_str(),
+              fmt("%.2f", kCycle / row.bare.cpu()).c_str(), st.rhs_calls,
+              st.steps_accepted + st.steps_rejected, fmt("%.0f%%", 100.0 * share).c_str());
+  return {{"scene", row.scene},
+          {"preset", row.preset},
+          {"settings", settings_json(row.rep.settings)},
+          {"status", to_string(row.rep.first.result.status)},
+          {"runs", row.rep.walls.size()},
+          {"wall_s_median", row.rep.wall()},
+          {"cpu_s_median", row.rep.cpu()},
+          {"wall_s_all", row.rep.walls},
+          {"sim_s_per_wall_s", kCycle / row.rep.wall()},
+          {"sim_s_per_cpu_s", kCycle / row.rep.cpu()},
+          {"bare_wall_s_median", row.bare.wall()},
+          {"bare_cpu_s_median", row.bare.cpu()},
+          {"bare_sim_s_per_wall_s", kCycle / row.bare.wall()},
+          {"bare_sim_s_per_cpu_s", kCycle / row.bare.cpu()},
+          {"rhs_share_of_cpu", std::isfinite(share) ? json(share) : json()},
+          {"rhs_calls", st.rhs_calls},
+          {"steps_accepted", st.steps_accepted},
+          {"steps_rejected", st.steps_rejected},
+          {"contact_onsets", st.contact_onsets}};
+}
 
-      // configurations: the default, then each method's ladder; measured in rounds so that a
-      // change of the machine's load hits all of them alike
-      std::vector<Repeated> cfg;
-      cfg.push_back({def, std::string(rodend::kDefaultPreset), {}, {}, {}, false});
-      for (const auto& m : methods)
-        for (double tol : tols) {
-          IntegratorSettings s = def;
-          s.method = m;
-          s.abs_tol = s.rel_tol = tol;
-          cfg.push_back({s, "ladder", {}, {}, {}, false});
-        }
-      for (int r = 0; r < reps; ++r)
-        for (auto& c : cfg) c.add(run_once(*scene, c.settings, kCycle));
+/// 2. Throughput over one cycle per mechanism scene and preset.
+std::vector<ThroughputRow> part_throughput(const Options& opt,
+                                           const std::map<std::string, double>& rhs_ns_cpu,
+                                           json& out) {
+  const int reps = opt.quick ? 1 : 5;
+  std::fprintf(stderr, "rodend-bench: throughput...\n");
+  std::vector<ThroughputRow> tp = measure_throughput(reps);
+  std::printf(
+      "\n2. Throughput over one extension-retraction cycle (%.1f s simulated), median of %d "
+      "run%s;\n   the summary metrics computed on every step as in a study case (\"bare\": "
+      "nothing observing the steps); \"rhs share\": rhs calls x part 1's cpu cost per call "
+      "/ cpu time\n",
+      kCycle, reps, reps > 1 ? "s" : "");
+  std::printf("   presets: %s\n", kPresetSource);
+  rule(144);
+  std::printf("%-18s %-10s %-16s %7s %9s %9s %13s %13s %12s %9s %8s %10s\n", "scene", "preset",
+              "settings", "status", "wall [s]", "cpu [s]", "sim s/wall s", "sim s/cpu s",
+              "bare s/cpu s", "rhs", "steps", "rhs share");
+  rule(144);
+  json jt = json::array();
+  for (const auto& row : tp) jt.push_back(print_throughput_row(row, rhs_ns_cpu));
+  rule(144);
+  std::printf("load average after part 2: %s\n", load_string().c_str());
+  out["throughput"] = {{"simulated_s", kCycle},
+                       {"preset_source", kPresetSource},
+                       {"rows", jt},
+                       {"load_average_after", load_average()}};
+  return tp;
+}
 
-      const Repeated& d = cfg[0];
-      const ErrorBreakdown de = run_error(d.first.metrics, ref.metrics, scale);
-      std::printf("\n%s: reference %s (%lld rhs calls); dopri5 1e-11 differs from it by %s\n",
-                  name.c_str(), settings_string(ref_s).c_str(), ref.result.stats.rhs_calls,
-                  fmt("%.1e", floor_err).c_str());
-      rule(150);
-      std::printf("%-9s %-12s %6s %-22s %9s %9s %9s %8s %7s  %s\n", "run", "method", "tol",
-                  "status", "error", "wall [s]", "cpu [s]", "rhs", "steps",
-                  "error per metric: contact t, 1st peak, max F, max ecc, final angle");
-      rule(150);
-      json ladder = json::array();
-      auto print_row = [&](const Repeated& c, const ErrorBreakdown& e) {
-        std::string each;
-        for (double v : e.each) each += fmt("%.1e", v) + " ";
-        const auto& st = c.first.result.stats;
-        std::printf("%-9s %-12s %6s %-22s %9s %9s %9s %8lld %7lld  %s\n", c.label.c_str(),
-                    c.settings.method.c_str(), fmt("%.0e", c.settings.rel_tol).c_str(),
-                    std::string(to_string(c.first.result.status)).c_str(),
-                    fmt("%.2e", e.max).c_str(), fmt("%.3f", c.wall()).c_str(),
-                    fmt("%.3f", c.cpu()).c_str(), st.rhs_calls,
-                    st.steps_accepted + st.steps_rejected, each.c_str());
-        ladder.push_back({{"label", c.label},
-                          {"settings", settings_json(c.settings)},
-                          {"status", to_string(c.first.result.status)},
-                          {"message", c.first.result.message},
-                          {"error", e.max},
-                          {"errors_per_metric", e.each},
-                          {"wall_s_median", c.wall()},
-                          {"cpu_s_median", c.cpu()},
-                          {"wall_s_all", c.walls},
-                          {"rhs_calls", st.rhs_calls},
-                          {"steps_accepted", st.steps_accepted},
-                          {"steps_rejected", st.steps_rejected}});
-      };
-      print_row(d, de);
-      std::vector<ErrorBreakdown> errs;
-      for (std::size_t i = 1; i < cfg.size(); ++i) {
-        ErrorBreakdown e;
-        if (cfg[i].ok()) {
-          e = run_error(cfg[i].first.metrics, ref.metrics, scale);
-        } else {
-          e.max = std::numeric_limits<double>::infinity();
-          e.each.assign(kErrorMetricCount, kNaN);
-        }
-        errs.push_back(e);
-        print_row(cfg[i], e);
-      }
-      rule(150);
-      // the presets' achieved errors, from part 2's runs
-      json preset_errors;
-      std::string preset_line;
-      for (const auto& row : tp)
-        if (row.scene == name && row.rep.ok()) {
-          const double e = run_error(row.rep.first.metrics, ref.metrics, scale).max;
-          preset_errors[row.preset] = e;
-          preset_line += "  " + row.preset + " " + fmt("%.2e", e);
-        }
-      if (!preset_line.empty())
-        std::printf("achieved error of the presets:%s\n", preset_line.c_str());
+const std::vector<IntegratorMethod> kCvodeMethods = {IntegratorMethod::cvode_bdf,
+                                                     IntegratorMethod::cvode_adams};
 
-      json jm = json::array();
-      for (const auto& m : methods) {
-        std::vector<double> e, wall, cpu, rhs, tol;
-        for (std::size_t i = 1; i < cfg.size(); ++i)
-          if (cfg[i].settings.method == m) {
-            e.push_back(errs[i - 1].max);
-            wall.push_back(cfg[i].wall());
-            cpu.push_back(cfg[i].cpu());
-            rhs.push_back(cfg[i].rhs());
-            tol.push_back(cfg[i].settings.rel_tol);
-          }
-        const Interpolated iw = cost_at_error(e, wall, de.max);
-        const Interpolated ic = cost_at_error(e, cpu, de.max);
-        const Interpolated ir = cost_at_error(e, rhs, de.max);
-        const double rw = iw.value / d.wall(), rc = ic.value / d.cpu(), rr = ir.value / d.rhs();
-        auto shown = [&](const Interpolated& in, double ratio) {
-          std::string v = fmt("%.2f", ratio);
-          if (in.bound) v = "<= " + v;
-          if (in.extrapolated) v += " (extrapolated)";
-          return v;
-        };
-        auto rungs = [&](const Interpolated& in) {
-          if (in.lo < 0) return std::string("-");
-          std::string r = fmt("%.0e", tol[static_cast<std::size_t>(in.lo)]);
-          if (in.hi != in.lo) r += ".." + fmt("%.0e", tol[static_cast<std::size_t>(in.hi)]);
-          return r;
-        };
-        std::printf(
-            "%-12s cost / default at error %.2e: wall %s, cpu %s, rhs calls %s   "
-            "(front rungs used: wall %s, cpu %s, rhs %s)\n",
-            m.c_str(), de.max, shown(iw, rw).c_str(), shown(ic, rc).c_str(), shown(ir, rr).c_str(),
-            rungs(iw).c_str(), rungs(ic).c_str(), rungs(ir).c_str());
-        auto front_tols = [&](const Interpolated& in) {
-          std::vector<double> v;
-          for (int i : in.front) v.push_back(tol[static_cast<std::size_t>(i)]);
-          return v;
-        };
-        jm.push_back({{"method", m},
-                      {"wall_s_at_default_error", iw.value},
-                      {"cpu_s_at_default_error", ic.value},
-                      {"rhs_calls_at_default_error", ir.value},
-                      {"ratio_wall", rw},
-                      {"ratio_cpu", rc},
-                      {"ratio_rhs_calls", rr},
-                      {"wall",
-                       {{"extrapolated", iw.extrapolated},
-                        {"upper_bound", iw.bound},
-                        {"front_tolerances", front_tols(iw)}}},
-                      {"cpu",
-                       {{"extrapolated", ic.extrapolated},
-                        {"upper_bound", ic.bound},
-                        {"front_tolerances", front_tols(ic)}}},
-                      {"rhs_calls",
-                       {{"extrapolated", ir.extrapolated},
-                        {"upper_bound", ir.bound},
-                        {"front_tolerances", front_tols(ir)}}}});
-      }
-      std::printf("load average: %s\n", load_string().c_str());
-      std::vector<std::string> metric_names;
-      for (const auto& em : kErrorMetrics) metric_names.emplace_back(em.name);
-      json ref_values;
-      for (const auto& em : kErrorMetrics) ref_values[em.name] = metric(ref.metrics, em.id);
-      jc.push_back(
-          {{"scene", name},
-           {"reference", settings_json(ref_s)},
-           {"reference_rhs_calls", ref.result.stats.rhs_calls},
-           {"reference_metrics", ref_values},
-           {"error_scales", scale},
-           {"metrics", metric_names},
-           {"reference_error_estimate", std::isfinite(floor_err) ? json(floor_err) : json()},
-           {"default_settings", settings_json(def)},
-           {"default_error", de.max},
-           {"default_errors_per_metric", de.each},
-           {"preset_errors", preset_errors},
-           {"runs", ladder},
-           {"cvode_over_default", jm},
-           {"load_average_after", load_average()}});
-    }
-    out["cvode"] = {{"default_preset", std::string(rodend::kDefaultPreset)},
-                    {"repetitions", reps},
-                    {"tolerances", tols},
-                    {"scenes", jc}};
+/// Part 3's reference run of a scene: dopri5 at 1e-12 (dense output, so the impact peaks are
+/// refined on an interpolant as accurate as the method); fehlberg78 is not used: without dense
+/// output its long steps miss force peaks that fall before the step where the penetration turns.
+struct Reference {
+  IntegratorSettings settings;
+  RunMeasure run;
+  std::vector<double> scale;
+  double floor_err = kNaN;  ///< the reference's own error: the next looser run (1e-11) from it
+};
+
+std::optional<Reference> reference_run(const Scene& scene, const std::string& name,
+                                       const IntegratorSettings& def) {
+  Reference r;
+  r.settings = def;
+  r.settings.method = IntegratorMethod::dopri5;
+  r.settings.abs_tol = r.settings.rel_tol = 1e-12;
+  r.run = run_once(scene, r.settings, kCycle);
+  if (r.run.result.status != RunStatus::ok) {
+    std::printf("%s: reference run failed (%s)\n", name.c_str(), r.run.result.message.c_str());
+    return std::nullopt;
   }
+  r.scale = error_scales(r.run.metrics);
+  IntegratorSettings check_s = r.settings;
+  check_s.abs_tol = check_s.rel_tol = 1e-11;
+  const RunMeasure chk = run_once(scene, check_s, kCycle);
+  if (chk.result.status == RunStatus::ok)
+    r.floor_err = run_error(chk.metrics, r.run.metrics, r.scale).max;
+  return r;
+}
 
+/// One row of part 3's ladder table, printed and as JSON.
+json print_ladder_row(const Repeated& c, const ErrorBreakdown& e) {
+  std::string each;
+  for (double v : e.each) each += fmt("%.1e", v) + " ";
+  const auto& st = c.first.result.stats;
+  std::printf("%-9s %-12s %6s %-22s %9s %9s %9s %8lld %7lld  %s\n", c.label.c_str(),
+              std::string(to_string(c.settings.method)).c_str(),
+              fmt("%.0e", c.settings.rel_tol).c_str(),
+              std::string(to_string(c.first.result.status)).c_str(), fmt("%.2e", e.max).c_str(),
+              fmt("%.3f", c.wall()).c_str(), fmt("%.3f", c.cpu()).c_str(), st.rhs_calls,
+              st.steps_accepted + st.steps_rejected, each.c_str());
+  return {{"label", c.label},
+          {"settings", settings_json(c.settings)},
+          {"status", to_string(c.first.result.status)},
+          {"message", c.first.result.message},
+          {"error", e.max},
+          {"errors_per_metric", e.each},
+          {"wall_s_median", c.wall()},
+          {"cpu_s_median", c.cpu()},
+          {"wall_s_all", c.walls},
+          {"rhs_calls", st.rhs_calls},
+          {"steps_accepted", st.steps_accepted},
+          {"steps_rejected", st.steps_rejected}};
+}
+
+/// The ladder's rows after the default's (cfg[0]): their errors, printed; `ladder` gets them.
+std::vector<ErrorBreakdown> print_ladder(const std::vector<Repeated>& cfg, const Reference& ref,
+                                         json& ladder) {
+  std::vector<ErrorBreakdown> errs;
+  for (std::size_t i = 1; i < cfg.size(); ++i) {
+    ErrorBreakdown e;
+    if (cfg[i].ok()) {
+      e = run_error(cfg[i].first.metrics, ref.run.metrics, ref.scale);
+    } else {
+      e.max = std::numeric_limits<double>::infinity();
+      e.each.assign(kErrorMetricCount, kNaN);
+    }
+    errs.push_back(e);
+    ladder.push_back(print_ladder_row(cfg[i], e));
+  }
+  return errs;
+}
+
+/// The presets' achieved errors, from part 2's runs.
+json preset_errors(const std::vector<ThroughputRow>& tp, const std::string& name,
+                   const Reference& ref) {
+  json errors;
+  std::string line;
+  for (const auto& row : tp)
+    if (row.scene == name && row.rep.ok()) {
+      const double e = run_error(row.rep.first.metrics, ref.run.metrics, ref.scale).max;
+      errors[row.preset] = e;
+      line += "  " + row.preset + " " + fmt("%.2e", e);
+    }
+  if (!line.empty()) std::printf("achieved error of the presets:%s\n", line.c_str());
+  return errors;
+}
+
+json interpolation_json(const Interpolated& in, const std::vector<double>& tol) {
+  std::vector<double> v;
+  for (int i : in.front) v.push_back(tol[static_cast<std::size_t>(i)]);
+  return {{"extrapolated", in.extrapolated}, {"upper_bound", in.bound}, {"front_tolerances", v}};
+}
+
+/// A CVODE method's cost at the default's error, against the default's (d), printed and as JSON.
+json method_cost(IntegratorMethod m, const std::vector<Repeated>& cfg,
+                 const std::vector<ErrorBreakdown>& errs, const Repeated& d, double target) {
+  std::vector<double> e, wall, cpu, rhs, tol;
+  for (std::size_t i = 1; i < cfg.size(); ++i)
+    if (cfg[i].settings.method == m) {
+      e.push_back(errs[i - 1].max);
+      wall.push_back(cfg[i].wall());
+      cpu.push_back(cfg[i].cpu());
+      rhs.push_back(cfg[i].rhs());
+      tol.push_back(cfg[i].settings.rel_tol);
+    }
+  const Interpolated iw = cost_at_error(e, wall, target);
+  const Interpolated ic = cost_at_error(e, cpu, target);
+  const Interpolated ir = cost_at_error(e, rhs, target);
+  const double rw = iw.value / d.wall(), rc = ic.value / d.cpu(), rr = ir.value / d.rhs();
+  auto shown = [&](const Interpolated& in, double ratio) {
+    std::string v = fmt("%.2f", ratio);
+    if (in.bound) v = "<= " + v;
+    if (in.extrapolated) v += " (extrapolated)";
+    return v;
+  };
+  auto rungs = [&](const Interpolated& in) {
+    if (in.lo < 0) return std::string("-");
+    std::string r = fmt("%.0e", tol[static_cast<std::size_t>(in.lo)]);
+    if (in.hi != in.lo) r += ".." + fmt("%.0e", tol[static_cast<std::size_t>(in.hi)]);
+    return r;
+  };
+  const std::string name(to_string(m));
+  std::printf(
+      "%-12s cost / default at error %.2e: wall %s, cpu %s, rhs calls %s   "
+      "(front rungs used: wall %s, cpu %s, rhs %s)\n",
+      name.c_str(), target, shown(iw, rw).c_str(), shown(ic, rc).c_str(), shown(ir, rr).c_str(),
+      rungs(iw).c_str(), rungs(ic).c_str(), rungs(ir).c_str());
+  return {{"method", name},
+          {"wall_s_at_default_error", iw.value},
+          {"cpu_s_at_default_error", ic.value},
+          {"rhs_calls_at_default_error", ir.value},
+          {"ratio_wall", rw},
+          {"ratio_cpu", rc},
+          {"ratio_rhs_calls", rr},
+          {"wall", interpolation_json(iw, tol)},
+          {"cpu", interpolation_json(ic, tol)},
+          {"rhs_calls", interpolation_json(ir, tol)}};
+}
+
+/// The configurations of a scene's ladder: the default, then each method's tolerances,
+/// measured in rounds so that a change of the machine's load hits all of them alike.
+std::vector<Repeated> run_ladder(const Scene& scene, const IntegratorSettings& def,
+                                 const std::vector<double>& tols, int reps) {
+  std::vector<Repeated> cfg;
+  cfg.push_back({def, std::string(rodend::kDefaultPreset), {}, {}, {}, false});
+  for (const IntegratorMethod m : kCvodeMethods)
+    for (double tol : tols) {
+      IntegratorSettings s = def;
+      s.method = m;
+      s.abs_tol = s.rel_tol = tol;
+      cfg.push_back({s, "ladder", {}, {}, {}, false});
+    }
+  for (int r = 0; r < reps; ++r)
+    for (auto& c : cfg) c.add(run_once(scene, c.settings, kCycle));
+  return cfg;
+}
+
+/// Part 3 for one scene; null when its reference run failed.
+json cvode_scene(const std::string& name, int reps, const std::vector<double>& tols,
+                 const std::vector<ThroughputRow>& tp) {
+  std::fprintf(stderr, "rodend-bench: CVODE ladder, %s...\n", name.c_str());
+  const auto scene = build(name);
+  const IntegratorSettings def = preset_for(*scene, std::string(rodend::kDefaultPreset));
+  const std::optional<Reference> ref = reference_run(*scene, name, def);
+  if (!ref) return json();
+  const std::vector<Repeated> cfg = run_ladder(*scene, def, tols, reps);
+  const Repeated& d = cfg[0];
+  const ErrorBreakdown de = run_error(d.first.metrics, ref->run.metrics, ref->scale);
+  std::printf("\n%s: reference %s (%lld rhs calls); dopri5 1e-11 differs from it by %s\n",
+              name.c_str(), settings_string(ref->settings).c_str(), ref->run.result.stats.rhs_calls,
+              fmt("%.1e", ref->floor_err).c_str());
+  rule(150);
+  std::printf("%-9s %-12s %6s %-22s %9s %9s %9s %8s %7s  %s\n", "run", "method", "tol", "status",
+              "error", "wall [s]", "cpu [s]", "rhs", "steps",
+              "error per metric: contact t, 1st peak, max F, max ecc, final angle");
+  rule(150);
+  json ladder = json::array();
+  ladder.push_back(print_ladder_row(d, de));
+  const std::vector<ErrorBreakdown> errs = print_ladder(cfg, *ref, ladder);
+  rule(150);
+  const json presets = preset_errors(tp, name, *ref);
+  json jm = json::array();
+  for (const IntegratorMethod m : kCvodeMethods) jm.push_back(method_cost(m, cfg, errs, d, de.max));
+  std::printf("load average: %s\n", load_string().c_str());
+  std::vector<std::string> metric_names;
+  json ref_values;
+  for (const auto& em : kErrorMetrics) {
+    metric_names.emplace_back(em.name);
+    ref_values[em.name] = metric(ref->run.metrics, em.id);
+  }
+  return {
+      {"scene", name},
+      {"reference", settings_json(ref->settings)},
+      {"reference_rhs_calls", ref->run.result.stats.rhs_calls},
+      {"reference_metrics", ref_values},
+      {"error_scales", ref->scale},
+      {"metrics", metric_names},
+      {"reference_error_estimate", std::isfinite(ref->floor_err) ? json(ref->floor_err) : json()},
+      {"default_settings", settings_json(def)},
+      {"default_error", de.max},
+      {"default_errors_per_metric", de.each},
+      {"preset_errors", presets},
+      {"runs", ladder},
+      {"cvode_over_default", jm},
+      {"load_average_after", load_average()}};
+}
+
+/// 3. CVODE against the default preset at equal achieved error.
+void part_cvode(const Options& opt, const std::vector<ThroughputRow>& tp, json& out) {
+  const int reps = opt.quick ? 1 : 3;
+  const std::vector<double> tols =
+      opt.quick
+          ? std::vector<double>{1e-5, 1e-6, 1e-7, 1e-8, 1e-9}
+          : std::vector<double>{1e-4, 3e-5, 1e-5, 3e-6, 1e-6, 3e-7, 1e-7, 3e-8, 1e-8, 3e-9, 1e-9};
+  json jc = json::array();
+  std::printf("\n3. CVODE against the default preset (%s) at equal achieved error\n",
+              std::string(rodend::kDefaultPreset).c_str());
+  std::printf(
+      "   error of a run = largest relative error over {first_contact_time, "
+      "first_impact_peak_force, max_contact_force, max_eccentricity, final_surface_angle}\n"
+      "   against a reference run (scales: |reference value|; the final surface angle on the "
+      "surface's angular range).\n"
+      "   CVODE's cost at the default's error: log-log interpolation along the work-precision "
+      "front of its tolerance ladder; wall and cpu times median of %d run%s\n",
+      reps, reps > 1 ? "s" : "");
+  for (const auto& name : kMechScenes)
+    if (json scene = cvode_scene(name, reps, tols, tp); !scene.is_null()) jc.push_back(scene);
+  out["cvode"] = {{"default_preset", std::string(rodend::kDefaultPreset)},
+                  {"repetitions", reps},
+                  {"tolerances", tols},
+                  {"scenes", jc}};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Options opt = parse(argc, argv);
+  json out;
+  out["machine"] = machine_header(opt);
+  const auto t_start = now();
+  std::map<std::string, double> rhs_ns_cpu;  // part 1's cpu cost per call, per scene
+  if (opt.rhs) rhs_ns_cpu = part_rhs(opt, out);
+  std::vector<ThroughputRow> tp;
+  if (opt.throughput) tp = part_throughput(opt, rhs_ns_cpu, out);
+  if (opt.cvode) part_cvode(opt, tp, out);
   const auto t_end = now();
   out["machine"]["load_average_end"] = load_average();
   out["machine"]["total_wall_s"] = t_end.wall - t_start.wall;

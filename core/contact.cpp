@@ -9,28 +9,40 @@
 
 namespace rodend {
 
-namespace {
-constexpr std::array<std::string_view, 2> kGeometryNames{"sphere", "cylinder"};
-constexpr std::array<std::string_view, 2> kDampingCapNames{"none", "elastic"};
-}  // namespace
-
-std::string_view to_string(ContactGeometry g) {
-  const auto i = static_cast<std::size_t>(g);
-  return i < kGeometryNames.size() ? kGeometryNames[i] : "unknown";
+std::span<const std::string_view> choice_names(ContactGeometry) {
+  static constexpr std::string_view kNames[] = {
+#define RODEND_CONTACT_GEOMETRY(name, description) #name,
+#include "core/contact_geometries.def"
+#undef RODEND_CONTACT_GEOMETRY
+  };
+  return kNames;
 }
 
-std::span<const std::string_view> contact_geometry_names() {
-  return kGeometryNames;
+std::span<const std::string_view> choice_descriptions(ContactGeometry) {
+  static constexpr std::string_view kDescriptions[] = {
+#define RODEND_CONTACT_GEOMETRY(name, description) description,
+#include "core/contact_geometries.def"
+#undef RODEND_CONTACT_GEOMETRY
+  };
+  return kDescriptions;
 }
 
-std::span<const std::string_view> damping_cap_names() {
-  return kDampingCapNames;
+std::span<const std::string_view> choice_names(DampingCap) {
+  static constexpr std::string_view kNames[] = {
+#define RODEND_DAMPING_CAP(name, description) #name,
+#include "core/damping_caps.def"
+#undef RODEND_DAMPING_CAP
+  };
+  return kNames;
 }
 
-DampingCap damping_cap_from_name(std::string_view name) {
-  for (std::size_t i = 0; i < kDampingCapNames.size(); ++i)
-    if (kDampingCapNames[i] == name) return static_cast<DampingCap>(i);
-  throw std::invalid_argument("unknown damping cap '" + std::string(name) + "'");
+std::span<const std::string_view> choice_descriptions(DampingCap) {
+  static constexpr std::string_view kDescriptions[] = {
+#define RODEND_DAMPING_CAP(name, description) description,
+#include "core/damping_caps.def"
+#undef RODEND_DAMPING_CAP
+  };
+  return kDescriptions;
 }
 
 double effective_modulus(double Eb, double nub, double Es, double nus) {

@@ -29,6 +29,7 @@
 #include <string>
 #include <string_view>
 
+#include "core/choice.hpp"
 #include "core/math.hpp"
 #include "core/rigid_body.hpp"
 #include "core/wear.hpp"
@@ -73,37 +74,54 @@ class FrictionLaw {
   virtual double coefficient(double slip_speed) const = 0;
 };
 
+/// The friction laws (friction.law), from core/laws/friction_laws.def.
+enum class FrictionLawKind {
+#define RODEND_FRICTION_LAW(name, maker, ordered_speeds, description) name,
+#include "core/laws/friction_laws.def"
+#undef RODEND_FRICTION_LAW
+};
+std::span<const std::string_view> choice_names(FrictionLawKind);
+std::span<const std::string_view> choice_descriptions(FrictionLawKind);
+/// Whether the law needs dynamic_speed > static_speed (its catalogue line).
+bool needs_ordered_speeds(FrictionLawKind law);
+
 /// Parameters shared by the friction laws (each uses the ones it needs).
 struct FrictionParams {
-  std::string law = "thesis";        ///< thesis | ambrosio | coulomb | none
-  double static_coefficient = 0.0;   ///< mu_st [-] (thesis 3.9)
+  FrictionLawKind law = FrictionLawKind::thesis;  ///< the catalogue's law
+  double static_coefficient = 0.0;                ///< mu_st [-] (thesis 3.9)
   double dynamic_coefficient = 0.0;  ///< mu_dyn [-] (thesis 3.9); c_f of Ambrosio; mu of Coulomb
   double static_speed = 1e-3;        ///< v_st [m/s] (thesis 3.9); v0 of Ambrosio; v_eps of Coulomb
   double dynamic_speed = 1e-2;       ///< v_dyn [m/s] (thesis 3.9); v1 of Ambrosio
   double viscous_coefficient = 0.0;  ///< mu_v [s/m] (thesis 3.9)
 };
+/// The law `p.law` with its parameters; null for "none" (frictionless).
 std::unique_ptr<FrictionLaw> make_friction_law(const FrictionParams& p);
-std::span<const std::string_view> friction_law_names();
 
 /// Cubic blend of thesis eq. 3.10.
 double smooth_step(double x, double x0, double f0, double x1, double f1);
 
-/// Upper limit on the hysteresis damping term (thesis eq. 3.14), in the order of
-/// damping_cap_names(): none (eq. 3.6-3.8 as written), elastic (damping <= F_el, eq. 3.14).
-enum class DampingCap { none, elastic };
-/// The catalogue of damping caps: the allowed values of contact.damping_cap, in enum order.
-std::span<const std::string_view> damping_cap_names();
-/// The cap named `name`; throws std::invalid_argument for an unknown name.
-DampingCap damping_cap_from_name(std::string_view name);
-
-/// Shape of the contacting surfaces: it alone decides the elastic force F_el(delta).
-enum class ContactGeometry {
-  sphere,    ///< ball in a conformal socket: F_el = K delta^n (Hertz)
-  cylinder,  ///< pin in a bearing (revolute joint): F_el = K delta^n (2 (c + delta))^(-1/2)
+/// Upper limit on the hysteresis damping term (thesis eq. 3.14), contact.damping_cap, from
+/// core/damping_caps.def: none (eq. 3.6-3.8 as written), elastic (damping <= F_el, eq. 3.14).
+enum class DampingCap {
+#define RODEND_DAMPING_CAP(name, description) name,
+#include "core/damping_caps.def"
+#undef RODEND_DAMPING_CAP
 };
-std::string_view to_string(ContactGeometry g);
-/// The catalogue of geometries: the allowed values of contact.geometry, in enum order.
-std::span<const std::string_view> contact_geometry_names();
+std::span<const std::string_view> choice_names(DampingCap);
+std::span<const std::string_view> choice_descriptions(DampingCap);
+
+/// Shape of the contacting surfaces (contact.geometry), from core/contact_geometries.def: it
+/// alone decides the elastic force F_el(delta).
+enum class ContactGeometry {
+#define RODEND_CONTACT_GEOMETRY(name, description) name,
+#include "core/contact_geometries.def"
+#undef RODEND_CONTACT_GEOMETRY
+};
+std::span<const std::string_view> choice_names(ContactGeometry);
+std::span<const std::string_view> choice_descriptions(ContactGeometry);
+inline std::string_view to_string(ContactGeometry g) {
+  return choice_name(g);
+}
 
 /// Immutable model of one clearance contact (sphere in sphere, or cylinder in cylinder).
 struct ClearanceContactModel {

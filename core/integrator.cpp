@@ -19,47 +19,71 @@ using detail::ScaledSystem;
 using detail::state_t;
 using detail::Stepper;
 
-std::vector<std::string_view> integrator_methods() {
-  return {"rk4",         "dopri5",    "cash_karp54", "fehlberg78", "bulirsch_stoer",
-          "rosenbrock4", "cvode_bdf", "cvode_adams"};
+std::span<const std::string_view> choice_names(IntegratorMethod) {
+  static constexpr std::string_view kNames[] = {
+#define RODEND_INTEGRATOR_METHOD(name, fixed_step, description) #name,
+#include "core/integrator_methods.def"
+#undef RODEND_INTEGRATOR_METHOD
+  };
+  return kNames;
 }
 
-std::vector<std::string_view> contact_onset_modes() {
-  return {"locate", "step-end"};
+std::span<const std::string_view> choice_descriptions(IntegratorMethod) {
+  static constexpr std::string_view kDescriptions[] = {
+#define RODEND_INTEGRATOR_METHOD(name, fixed_step, description) description,
+#include "core/integrator_methods.def"
+#undef RODEND_INTEGRATOR_METHOD
+  };
+  return kDescriptions;
 }
 
-std::string_view to_string(RunStatus s) {
-  switch (s) {
-    case RunStatus::ok:
-      return "ok";
-    case RunStatus::step_budget_exhausted:
-      return "step_budget_exhausted";
-    case RunStatus::rhs_budget_exhausted:
-      return "rhs_budget_exhausted";
-    case RunStatus::step_size_underflow:
-      return "step_size_underflow";
-    case RunStatus::non_finite_state:
-      return "non_finite_state";
-    case RunStatus::penetration_limit:
-      return "penetration_limit";
-    case RunStatus::energy_residual_limit:
-      return "energy_residual_limit";
-    case RunStatus::actuator_saturation:
-      return "actuator_saturation";
-    case RunStatus::internal_error:
-      return "internal_error";
-  }
-  return "unknown";
+bool fixed_step(IntegratorMethod m) {
+  static constexpr bool kFixed[] = {
+#define RODEND_INTEGRATOR_METHOD(name, fixed_step, description) fixed_step,
+#include "core/integrator_methods.def"
+#undef RODEND_INTEGRATOR_METHOD
+  };
+  return kFixed[static_cast<std::size_t>(m)];
+}
+
+std::span<const std::string_view> choice_names(ContactOnset) {
+  static constexpr std::string_view kNames[] = {
+#define RODEND_CONTACT_ONSET(id, name, description) name,
+#include "core/contact_onsets.def"
+#undef RODEND_CONTACT_ONSET
+  };
+  return kNames;
+}
+
+std::span<const std::string_view> choice_descriptions(ContactOnset) {
+  static constexpr std::string_view kDescriptions[] = {
+#define RODEND_CONTACT_ONSET(id, name, description) description,
+#include "core/contact_onsets.def"
+#undef RODEND_CONTACT_ONSET
+  };
+  return kDescriptions;
+}
+
+std::span<const std::string_view> choice_names(RunStatus) {
+  static constexpr std::string_view kNames[] = {
+#define RODEND_RUN_STATUS(name, description) #name,
+#include "core/run_statuses.def"
+#undef RODEND_RUN_STATUS
+  };
+  return kNames;
+}
+
+std::span<const std::string_view> choice_descriptions(RunStatus) {
+  static constexpr std::string_view kDescriptions[] = {
+#define RODEND_RUN_STATUS(name, description) description,
+#include "core/run_statuses.def"
+#undef RODEND_RUN_STATUS
+  };
+  return kDescriptions;
 }
 
 void validate(const IntegratorSettings& s) {
-  const auto methods = integrator_methods();
-  if (std::find(methods.begin(), methods.end(), s.method) == methods.end()) {
-    std::string list;
-    for (auto m : methods) list += (list.empty() ? "" : ", ") + std::string(m);
-    throw InputError("integrator.method",
-                     "unknown method '" + s.method + "'; expected one of: " + list);
-  }
+  // the method and the onset mode are enums: read from their names by the loader
   auto positive = [](double v, const char* key) {
     if (!(v > 0.0) || !std::isfinite(v)) throw InputError(key, "expected a finite number > 0");
   };
@@ -73,9 +97,6 @@ void validate(const IntegratorSettings& s) {
                      "larger than integrator.max_step; expected min_step <= max_step");
   if (s.max_steps <= 0) throw InputError("integrator.max_steps", "expected an integer > 0");
   if (s.max_rhs_calls <= 0) throw InputError("integrator.max_rhs_calls", "expected an integer > 0");
-  const auto modes = contact_onset_modes();
-  if (std::find(modes.begin(), modes.end(), s.contact_onset) == modes.end())
-    throw InputError("integrator.contact_onset", "expected \"locate\" or \"step-end\"");
 }
 
 void validate(const TimeSettings& s) {
@@ -102,7 +123,7 @@ void validate(const TimeSettings& s) {
 std::string budget_shortfall(const IntegratorSettings& s, const TimeSettings& t) {
   // the fewest steps the run can take: a runaway end time ends at once, instead of running into
   // the step budget after minutes
-  const bool fixed = s.method == "rk4";
+  const bool fixed = fixed_step(s.method);
   const double largest = fixed ? s.step : s.max_step;
   const double fewest = t.end / largest;
   if (!(fewest > static_cast<double>(s.max_steps))) return {};
@@ -435,7 +456,8 @@ class Driver {
       ev.from_method = true;
       return ev;
     }
-    if (settings_.contact_onset != "locate" || std::exchange(locate_suspended_, false)) return ev;
+    if (settings_.contact_onset != ContactOnset::locate || std::exchange(locate_suspended_, false))
+      return ev;
     for (int c = 0; c < scene_.contact_count(); ++c) {
       const double t = change_time(c);
       if (t < ev.t) ev.contacts.clear();
@@ -784,7 +806,7 @@ class Driver {
   void arm_stage_watch() {
     watch_.earliest = std::numeric_limits<double>::infinity();
     watch_.armed = false;
-    if (settings_.contact_onset != "locate") return;
+    if (settings_.contact_onset != ContactOnset::locate) return;
     for (int c = 0; c < scene_.contact_count(); ++c) watch_.armed |= !latched(c);
   }
 

@@ -8,14 +8,41 @@
 #include <string_view>
 #include <vector>
 
+#include "core/choice.hpp"
 #include "core/scene.hpp"
 #include "core/signals.hpp"
 
 namespace rodend {
 
+/// The integration methods (README "The integrator menu"), from core/integrator_methods.def.
+enum class IntegratorMethod {
+#define RODEND_INTEGRATOR_METHOD(name, fixed_step, description) name,
+#include "core/integrator_methods.def"
+#undef RODEND_INTEGRATOR_METHOD
+};
+std::span<const std::string_view> choice_names(IntegratorMethod);
+std::span<const std::string_view> choice_descriptions(IntegratorMethod);
+inline std::string_view to_string(IntegratorMethod m) {
+  return choice_name(m);
+}
+/// Whether the method takes integrator.step throughout (no error control).
+bool fixed_step(IntegratorMethod m);
+
+/// How contact onset is latched (integrator.contact_onset), from core/contact_onsets.def.
+enum class ContactOnset {
+#define RODEND_CONTACT_ONSET(id, name, description) id,
+#include "core/contact_onsets.def"
+#undef RODEND_CONTACT_ONSET
+};
+std::span<const std::string_view> choice_names(ContactOnset);
+std::span<const std::string_view> choice_descriptions(ContactOnset);
+inline std::string_view to_string(ContactOnset o) {
+  return choice_name(o);
+}
+
 /// Integrator settings (a plain struct: one field per setting, with its unit).
 struct IntegratorSettings {
-  std::string method = "dopri5";          ///< rk4 (fixed step) | dopri5 (adaptive, dense output)
+  IntegratorMethod method = IntegratorMethod::dopri5;  ///< the integrator menu
   double abs_tol = 1e-6;                  ///< absolute tolerance on the scaled state [-]
   double rel_tol = 1e-6;                  ///< relative tolerance [-]
   double step = 1e-5;                     ///< fixed step (rk4) or first trial step (adaptive) [s]
@@ -25,7 +52,7 @@ struct IntegratorSettings {
   long long max_rhs_calls = 200'000'000;  ///< budget on right-hand-side calls [-]
   /// How contact onset is latched: "locate" finds the onset time on the step's interpolant by
   /// bisection and restarts there; "step-end" latches at the end of the step that crossed it.
-  std::string contact_onset = "locate";
+  ContactOnset contact_onset = ContactOnset::locate;
 };
 
 /// Time settings of a run.
@@ -70,24 +97,21 @@ inline double energy_audit_scale(double input_work, double dissipated, double ki
   return std::max({std::abs(input_work), std::abs(dissipated), kinetic});
 }
 
-std::vector<std::string_view> integrator_methods();
-/// The values of IntegratorSettings::contact_onset.
-std::vector<std::string_view> contact_onset_modes();
-
+/// How a run ended, from core/run_statuses.def (descriptions there).
 enum class RunStatus {
-  ok,
-  step_budget_exhausted,
-  rhs_budget_exhausted,
-  step_size_underflow,
-  non_finite_state,
-  penetration_limit,
-  energy_residual_limit,  ///< energy-audit residual beyond health.max_energy_residual
-  actuator_saturation,    ///< actuator tracking error beyond health.max_tracking_error too long
-  /// not a numerical failure: an exception from the scene, an observer or the library (a bug,
-  /// or memory the run could not get); the message carries the exception's
-  internal_error,
+#define RODEND_RUN_STATUS(name, description) name,
+#include "core/run_statuses.def"
+#undef RODEND_RUN_STATUS
 };
-std::string_view to_string(RunStatus s);
+std::span<const std::string_view> choice_names(RunStatus);
+std::span<const std::string_view> choice_descriptions(RunStatus);
+inline std::string_view to_string(RunStatus s) {
+  return choice_name(s);
+}
+/// The status a stored record names (results files, summaries); nullopt for another name.
+inline std::optional<RunStatus> run_status_from_name(std::string_view name) {
+  return choice_from_name<RunStatus>(name);
+}
 
 struct RunStats {
   long long steps_accepted = 0;

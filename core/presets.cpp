@@ -6,9 +6,9 @@
 namespace rodend {
 namespace {
 
-IntegratorSettings adaptive(std::string method, double tol, double max_step = 1e-3) {
+IntegratorSettings adaptive(IntegratorMethod method, double tol, double max_step = 1e-3) {
   IntegratorSettings s;
-  s.method = std::move(method);
+  s.method = method;
   s.abs_tol = s.rel_tol = tol;
   s.max_step = max_step;
   return s;
@@ -29,14 +29,14 @@ const std::array<Entry, 12>& table() {
       // audit at 0.1 mm). balanced: explicit, because cvode_bdf's free flight misses the 1e-6
       // agreement of cli.thesis_trends_scenes; 1e-7 is the dopri5 tolerance of fewest
       // instructions. Checked by the [presets] test.
-      {"rod-end-kinematic", "fast", adaptive("cvode_bdf", 1e-6)},
-      {"rod-end-kinematic", "balanced", adaptive("dopri5", 1e-7)},
-      {"rod-end-kinematic", "reference", adaptive("dopri5", 1e-10)},
+      {"rod-end-kinematic", "fast", adaptive(IntegratorMethod::cvode_bdf, 1e-6)},
+      {"rod-end-kinematic", "balanced", adaptive(IntegratorMethod::dopri5, 1e-7)},
+      {"rod-end-kinematic", "reference", adaptive(IntegratorMethod::dopri5, 1e-10)},
       // Measured again on 2026-11-25 (docs/performance.md "Speed and accuracy") and kept:
       // fast is the least wall time within 1 %, balanced the cheapest dopri5.
-      {"rod-end-actuator", "fast", adaptive("cvode_bdf", 1e-5)},
-      {"rod-end-actuator", "balanced", adaptive("dopri5", 1e-8)},
-      {"rod-end-actuator", "reference", adaptive("dopri5", 1e-10)},
+      {"rod-end-actuator", "fast", adaptive(IntegratorMethod::cvode_bdf, 1e-5)},
+      {"rod-end-actuator", "balanced", adaptive(IntegratorMethod::dopri5, 1e-8)},
+      {"rod-end-actuator", "reference", adaptive(IntegratorMethod::dopri5, 1e-10)},
       // measured (issue 21; docs/planar-slider-crank.md "Integrator presets"): the rod-slider
       // clearance at 0.1, 0.3 and 0.5 mm, 10 revolutions, dopri5 at 1e-5 ... 1e-12; error of
       // peak_slider_acceleration and peak_contact_force against 1e-12, largest over the three.
@@ -44,12 +44,12 @@ const std::array<Entry, 12>& table() {
       // 0.11 % / 0.10 %, 4.1e5 (1e-6 is within 0.3 % too, 0.26 %, but with little margin: the
       // error of the 0.5 mm case, whose impacts come every few turns, is not monotonic in the
       // tolerance, 0.28 % at 1e-8). reference: 1e-10, 8.9e-5 / 2e-6, 1.5e6 (1e-12: 3.7e6).
-      {"planar-slider-crank", "fast", adaptive("dopri5", 1e-5)},
-      {"planar-slider-crank", "balanced", adaptive("dopri5", 1e-7)},
-      {"planar-slider-crank", "reference", adaptive("dopri5", 1e-10)},
-      {"*", "fast", adaptive("dopri5", 1e-6)},
-      {"*", "balanced", adaptive("dopri5", 1e-8)},
-      {"*", "reference", adaptive("dopri5", 1e-11)},
+      {"planar-slider-crank", "fast", adaptive(IntegratorMethod::dopri5, 1e-5)},
+      {"planar-slider-crank", "balanced", adaptive(IntegratorMethod::dopri5, 1e-7)},
+      {"planar-slider-crank", "reference", adaptive(IntegratorMethod::dopri5, 1e-10)},
+      {"*", "fast", adaptive(IntegratorMethod::dopri5, 1e-6)},
+      {"*", "balanced", adaptive(IntegratorMethod::dopri5, 1e-8)},
+      {"*", "reference", adaptive(IntegratorMethod::dopri5, 1e-11)},
   }};
   return t;
 }

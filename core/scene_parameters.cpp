@@ -203,9 +203,10 @@ const Catalogue kCatalogues[] = {
        for (const NormalLaw* l : normal_laws()) v.emplace_back(l->name());
        return v;
      }},
-    {"friction_laws", [] { return strings(friction_law_names()); }},
-    {"damping_caps", [] { return strings(damping_cap_names()); }},
-    {"contact_geometries", [] { return strings(contact_geometry_names()); }},
+    {"friction_laws", &choice_strings<FrictionLawKind>},
+    {"damping_caps", &choice_strings<DampingCap>},
+    {"contact_geometries", &choice_strings<ContactGeometry>},
+    {"wear_models", &choice_strings<WearModelKind>},
     {"torque_motors", [] { return strings(torque_motor_names()); }},
     {"motion_shapes", [] { return strings(motion_shape_names()); }},
     {"hinge_moments", [] { return strings(hinge_moment_names()); }},

@@ -74,7 +74,7 @@ class CvodeStepper final : public Stepper {
     if (SUNContext_Create(nullptr, &ctx_) != 0) fail("cannot create a SUNDIALS context");
     y_ = N_VNew_Serial(n_, ctx_);
     tmp_ = N_VNew_Serial(n_, ctx_);
-    const bool bdf = s.method == "cvode_bdf";
+    const bool bdf = s.method == IntegratorMethod::cvode_bdf;
     mem_ = CVodeCreate(bdf ? CV_BDF : CV_ADAMS, ctx_);
     if (!y_ || !tmp_ || !mem_) throw std::bad_alloc();  // only an allocation fails here
     z_buf_.resize(static_cast<std::size_t>(n_));

@@ -414,27 +414,37 @@ class Rosenbrock4Stepper final : public Stepper {
 }  // namespace
 
 std::unique_ptr<Stepper> make_odeint_stepper(ScaledSystem& sys, const IntegratorSettings& s) {
-  if (s.method == "rk4") return std::make_unique<Rk4Stepper>(sys, s.step);
-  if (s.method == "dopri5") return std::make_unique<Dopri5Stepper>(sys, s);
-  if (s.method == "cash_karp54")
-    return std::make_unique<ControlledStepper<odeint::runge_kutta_cash_karp54<state_t>>>(sys, s);
-  if (s.method == "fehlberg78")
-    return std::make_unique<ControlledStepper<odeint::runge_kutta_fehlberg78<state_t>>>(sys, s);
-  if (s.method == "bulirsch_stoer") {
-    using BS = odeint::bulirsch_stoer_dense_out<state_t>;
-    BS bs(s.abs_tol, s.rel_tol, 1.0, 1.0, s.max_step);
-    auto sysref = std::ref(sys);
-    return std::make_unique<DenseOutputStepper<BS, state_t, decltype(sysref)>>(bs, sysref);
+  switch (s.method) {
+    case IntegratorMethod::rk4:
+      return std::make_unique<Rk4Stepper>(sys, s.step);
+    case IntegratorMethod::dopri5:
+      return std::make_unique<Dopri5Stepper>(sys, s);
+    case IntegratorMethod::cash_karp54:
+      return std::make_unique<ControlledStepper<odeint::runge_kutta_cash_karp54<state_t>>>(sys, s);
+    case IntegratorMethod::fehlberg78:
+      return std::make_unique<ControlledStepper<odeint::runge_kutta_fehlberg78<state_t>>>(sys, s);
+    case IntegratorMethod::bulirsch_stoer: {
+      using BS = odeint::bulirsch_stoer_dense_out<state_t>;
+      BS bs(s.abs_tol, s.rel_tol, 1.0, 1.0, s.max_step);
+      auto sysref = std::ref(sys);
+      return std::make_unique<DenseOutputStepper<BS, state_t, decltype(sysref)>>(bs, sysref);
+    }
+    case IntegratorMethod::rosenbrock4:
+      return std::make_unique<Rosenbrock4Stepper>(sys, s);
+    case IntegratorMethod::cvode_bdf:
+    case IntegratorMethod::cvode_adams:
+      return nullptr;  // make_cvode_stepper
   }
-  if (s.method == "rosenbrock4") return std::make_unique<Rosenbrock4Stepper>(sys, s);
   return nullptr;
 }
 
 std::unique_ptr<Stepper> make_stepper(ScaledSystem& sys, const Scene& scene,
                                       const IntegratorSettings& s) {
-  if (s.method.rfind("cvode", 0) == 0) return make_cvode_stepper(sys, scene, s);
+  if (s.method == IntegratorMethod::cvode_bdf || s.method == IntegratorMethod::cvode_adams)
+    return make_cvode_stepper(sys, scene, s);
   if (auto st = make_odeint_stepper(sys, s)) return st;
-  throw InputError("integrator.method", "unknown method '" + s.method + "'");
+  throw InputError("integrator.method",
+                   "unknown method '" + std::string(to_string(s.method)) + "'");
 }
 
 }  // namespace rodend::detail

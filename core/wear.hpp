@@ -28,6 +28,7 @@
 #include <memory>
 #include <vector>
 
+#include "core/choice.hpp"
 #include "core/math.hpp"
 
 namespace rodend {
@@ -102,6 +103,15 @@ struct WornSurfaces {
 };
 
 /// Wear model of a clearance contact (immutable).
+/// The wear models (wear.model), from core/wear_models.def.
+enum class WearModelKind {
+#define RODEND_WEAR_MODEL(name, description) name,
+#include "core/wear_models.def"
+#undef RODEND_WEAR_MODEL
+};
+std::span<const std::string_view> choice_names(WearModelKind);
+std::span<const std::string_view> choice_descriptions(WearModelKind);
+
 struct WearModel {
   WearMaterial ball, socket;
   double ball_radius = 0.0, socket_radius = 0.0;  ///< radii of the worn spheres [m]

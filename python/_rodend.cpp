@@ -98,6 +98,35 @@ void check_write_path(const std::string& write, const std::string& origin) {
                      origin);
 }
 
+/// The histories of a case run, into run_case's dictionary: the signals as numpy arrays (no
+/// copy) with their units and long names, and the other arrays by "group/name".
+void add_histories(py::dict& out, History& h) {
+  py::dict signals, units, names;
+  for (std::size_t i = 0; i < h.signals.size(); ++i) {
+    const SignalSpec& s = signal_spec(h.signals[i]);
+    std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(h.samples)};
+    if (s.width > 1) shape.push_back(s.width);
+    const py::str name(std::string(s.name));
+    signals[name] = to_numpy(std::move(h.values[i]), shape);
+    units[name] = std::string(s.unit);
+    names[name] = std::string(s.description);
+  }
+  py::dict arrays;
+  for (CaseArray& a : h.arrays) {
+    std::vector<py::ssize_t> shape(a.dims.begin(), a.dims.end());
+    py::dict entry;
+    entry["values"] = to_numpy(std::move(a.values), shape);
+    entry["units"] = a.unit;
+    entry["long_name"] = a.description;
+    entry["dims"] = a.dim_names;
+    arrays[py::str(a.group + "/" + a.name)] = entry;
+  }
+  out["signals"] = signals;
+  out["units"] = units;
+  out["long_names"] = names;
+  out["arrays"] = arrays;
+}
+
 /// Runs the one case of a study document; histories as numpy arrays. Writes its case file to
 /// `write` when given (the same file `rodend run` writes).
 py::dict py_run_case(const std::string& doc_text, const std::string& origin,
@@ -140,30 +169,7 @@ py::dict py_run_case(const std::string& doc_text, const std::string& origin,
     throw py::error_already_set();
   }
   py::dict out = record_dict(rec);
-  py::dict signals, units, names;
-  for (std::size_t i = 0; i < h.signals.size(); ++i) {
-    const SignalSpec& s = signal_spec(h.signals[i]);
-    std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(h.samples)};
-    if (s.width > 1) shape.push_back(s.width);
-    const py::str name(std::string(s.name));
-    signals[name] = to_numpy(std::move(h.values[i]), shape);
-    units[name] = std::string(s.unit);
-    names[name] = std::string(s.description);
-  }
-  py::dict arrays;
-  for (CaseArray& a : h.arrays) {
-    std::vector<py::ssize_t> shape(a.dims.begin(), a.dims.end());
-    py::dict entry;
-    entry["values"] = to_numpy(std::move(a.values), shape);
-    entry["units"] = a.unit;
-    entry["long_name"] = a.description;
-    entry["dims"] = a.dim_names;
-    arrays[py::str(a.group + "/" + a.name)] = entry;
-  }
-  out["signals"] = signals;
-  out["units"] = units;
-  out["long_names"] = names;
-  out["arrays"] = arrays;
+  add_histories(out, h);
   out["parameters"] = from_json(parameters);
   out["case"] = from_json(canonical);
   return out;

@@ -204,23 +204,22 @@ CompareSettings load_tolerances(const fs::path& file) {
   return s;
 }
 
-int compare_studies(const fs::path& a, const fs::path& b, const CompareSettings& s,
-                    std::ostream& out) {
-  const SummaryTable ra = read_summary(a), rb = read_summary(b);
-  Report rep(out, s.max_lines_per_case);
-  out << "compare " << b.string() << " against reference " << a.string() << "\n";
-  if (s.summary_only) out << "  (summaries only: histories are not compared)\n";
-  const auto ia = rows_by_id(ra), ib = rows_by_id(rb);
+namespace {
 
-  // Cases are paired by id. A case whose id changed but that sits at the same grid point
-  // (same case_index and coordinates) is paired with its counterpart and compared, with a note:
-  // the id hashes every resolved parameter, so a parameter added to a scene since the
-  // reference (whose default keeps the old behaviour) changes every id and nothing else.
-  // Whether the results moved is then for the metrics to say.
-  struct Pair {
-    std::string id_a, id_b;
-    std::size_t i, j;
-  };
+/// A case of the reference (row i of A) and its counterpart (row j of B).
+struct Pair {
+  std::string id_a, id_b;
+  std::size_t i, j;
+};
+
+/// Cases are paired by id. A case whose id changed but that sits at the same grid point
+/// (same case_index and coordinates) is paired with its counterpart and compared, with a note:
+/// the id hashes every resolved parameter, so a parameter added to a scene since the
+/// reference (whose default keeps the old behaviour) changes every id and nothing else.
+/// Whether the results moved is then for the metrics to say.
+std::vector<Pair> pair_cases(const SummaryTable& ra, const SummaryTable& rb, std::ostream& out,
+                             Report& rep) {
+  const auto ia = rows_by_id(ra), ib = rows_by_id(rb);
   std::vector<Pair> pairs;
   std::set<std::string> paired_b;
   for (const auto& [id, i] : ia)
@@ -244,73 +243,92 @@ int compare_studies(const fs::path& a, const fs::path& b, const CompareSettings&
   }
   for (const auto& [id, row] : ib)
     if (!paired_b.count(id)) rep.diff("case " + id, "extra (absent from the reference)");
+  return pairs;
+}
 
-  // metric columns: every catalogue metric of the reference; one the reference lacks is newer
-  // than it and has nothing to be compared with (noted once)
-  const auto cat = metric_catalogue();
-  for (const MetricSpec& m : cat) {
+/// The status and the metric columns of a pair: every catalogue metric of the reference.
+void compare_metrics(const SummaryTable& ra, const SummaryTable& rb, const Pair& p,
+                     const CompareSettings& s, Report& rep) {
+  const std::size_t i = p.i, j = p.j;
+  const std::string where = "case " + p.id_a;
+  const std::string sa = ra.texts.at("status")[i], sb = rb.texts.at("status")[j];
+  if (sa != sb) rep.diff(where, "status " + sb + ", reference " + sa);
+  for (const MetricSpec& m : metric_catalogue()) {
+    const std::string name(m.name);
+    const bool in_a = ra.numbers.count(name), in_b = rb.numbers.count(name);
+    if (!in_a && in_b) continue;  // newer than the reference (noted once)
+    if (!in_a || !in_b) {
+      rep.diff(where, "metric " + name + (in_a ? " missing" : " extra"));
+      continue;
+    }
+    const double va = ra.numbers.at(name)[i], vb = rb.numbers.at(name)[j];
+    const auto t = s.metric.count(name) ? s.metric.at(name) : s.metric_default;
+    if (!close_enough(va, vb, t, std::max(std::abs(va), std::abs(vb))))
+      rep.diff(where, "metric " + name + " = " + fmt(vb) + " [" + std::string(m.unit) +
+                          "], reference " + fmt(va) + " (rel " + fmt(t.rel) + ", abs " +
+                          fmt(t.abs) + ")");
+  }
+}
+
+/// The histories of a pair: the case files intact and their own, the same signals and sample
+/// times, each signal within tolerance.
+void compare_histories(const fs::path& a, const fs::path& b, const SummaryTable& ra, const Pair& p,
+                       const CompareSettings& s, Report& rep) {
+  const std::string where = "case " + p.id_a;
+  const fs::path fa = a / "cases" / (p.id_a + ".h5"), fb = b / "cases" / (p.id_b + ".h5");
+  if (!fs::exists(fa) || !fs::exists(fb)) {
+    rep.diff(where,
+             std::string("case file missing in ") + (fs::exists(fa) ? "B" : "the reference"));
+    return;
+  }
+  // each file intact and its case's own (not another case's file copied over it)
+  for (const fs::path& f : {fa, fb}) read_case_record_strict(f);
+  const auto sig_a = list_signals(fa), sig_b = list_signals(fb);
+  const std::set<std::string> set_a(sig_a.begin(), sig_a.end()), set_b(sig_b.begin(), sig_b.end());
+  for (const auto& n : set_a)
+    if (!set_b.count(n)) rep.diff(where, "signal " + n + " missing");
+  for (const auto& n : set_b)
+    if (!set_a.count(n)) rep.diff(where, "signal " + n + " extra");
+  if (!set_a.count("time") || !set_b.count("time")) {
+    rep.diff(where, "no time signal");
+    return;
+  }
+  const SignalData ta = read_signal(fa, "time"), tb = read_signal(fb, "time");
+  if (ta.values != tb.values) {
+    rep.diff(where, "different sample times");
+    return;
+  }
+  double t_event = INFINITY;
+  if (ra.numbers.count("first_contact_time") &&
+      std::isfinite(ra.numbers.at("first_contact_time")[p.i]))
+    t_event = ra.numbers.at("first_contact_time")[p.i];
+  for (const auto& n : sig_a) {
+    if (n == "time" || !set_b.count(n)) continue;
+    compare_signal(where, n, read_signal(fa, n), read_signal(fb, n), ta, t_event, s, rep);
+  }
+}
+
+}  // namespace
+
+int compare_studies(const fs::path& a, const fs::path& b, const CompareSettings& s,
+                    std::ostream& out) {
+  const SummaryTable ra = read_summary(a), rb = read_summary(b);
+  Report rep(out, s.max_lines_per_case);
+  out << "compare " << b.string() << " against reference " << a.string() << "\n";
+  if (s.summary_only) out << "  (summaries only: histories are not compared)\n";
+  const std::vector<Pair> pairs = pair_cases(ra, rb, out, rep);
+  // a metric the reference lacks is newer than it and has nothing to be compared with
+  for (const MetricSpec& m : metric_catalogue()) {
     const std::string name(m.name);
     if (!ra.numbers.count(name) && rb.numbers.count(name))
       out << "  NOTE metric " << name << " is not in the reference (newer than it): not compared\n";
   }
   for (const Pair& p : pairs) {
-    const std::size_t i = p.i, j = p.j;
-    const std::string where = "case " + p.id_a;
-    const std::string sa = ra.texts.at("status")[i], sb = rb.texts.at("status")[j];
-    if (sa != sb) rep.diff(where, "status " + sb + ", reference " + sa);
-    for (const MetricSpec& m : cat) {
-      const std::string name(m.name);
-      const bool in_a = ra.numbers.count(name), in_b = rb.numbers.count(name);
-      if (!in_a && in_b) continue;  // newer than the reference (noted above)
-      if (!in_a || !in_b) {
-        rep.diff(where, "metric " + name + (in_a ? " missing" : " extra"));
-        continue;
-      }
-      const double va = ra.numbers.at(name)[i], vb = rb.numbers.at(name)[j];
-      const auto t = s.metric.count(name) ? s.metric.at(name) : s.metric_default;
-      if (!close_enough(va, vb, t, std::max(std::abs(va), std::abs(vb))))
-        rep.diff(where, "metric " + name + " = " + fmt(vb) + " [" + std::string(m.unit) +
-                            "], reference " + fmt(va) + " (rel " + fmt(t.rel) + ", abs " +
-                            fmt(t.abs) + ")");
-    }
-    if (s.summary_only) continue;
-
-    // histories
-    const fs::path fa = a / "cases" / (p.id_a + ".h5"), fb = b / "cases" / (p.id_b + ".h5");
-    if (!fs::exists(fa) || !fs::exists(fb)) {
-      rep.diff(where,
-               std::string("case file missing in ") + (fs::exists(fa) ? "B" : "the reference"));
-      continue;
-    }
-    // each file intact and its case's own (not another case's file copied over it)
-    for (const fs::path& f : {fa, fb}) read_case_record_strict(f);
-    const auto sig_a = list_signals(fa), sig_b = list_signals(fb);
-    const std::set<std::string> set_a(sig_a.begin(), sig_a.end()),
-        set_b(sig_b.begin(), sig_b.end());
-    for (const auto& n : set_a)
-      if (!set_b.count(n)) rep.diff(where, "signal " + n + " missing");
-    for (const auto& n : set_b)
-      if (!set_a.count(n)) rep.diff(where, "signal " + n + " extra");
-    if (!set_a.count("time") || !set_b.count("time")) {
-      rep.diff(where, "no time signal");
-      continue;
-    }
-    const SignalData ta = read_signal(fa, "time"), tb = read_signal(fb, "time");
-    if (ta.values != tb.values) {
-      rep.diff(where, "different sample times");
-      continue;
-    }
-    double t_event = INFINITY;
-    if (ra.numbers.count("first_contact_time") &&
-        std::isfinite(ra.numbers.at("first_contact_time")[i]))
-      t_event = ra.numbers.at("first_contact_time")[i];
-    for (const auto& n : sig_a) {
-      if (n == "time" || !set_b.count(n)) continue;
-      compare_signal(where, n, read_signal(fa, n), read_signal(fb, n), ta, t_event, s, rep);
-    }
+    compare_metrics(ra, rb, p, s, rep);
+    if (!s.summary_only) compare_histories(a, b, ra, p, s, rep);
   }
   if (rep.count() == 0) {
-    out << "equal within tolerance: " << ia.size() << " case(s)\n";
+    out << "equal within tolerance: " << rows_by_id(ra).size() << " case(s)\n";
     return 0;
   }
   out << rep.count() << " difference(s)\n";

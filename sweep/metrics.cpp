@@ -66,163 +66,178 @@ MetricsAccumulator::MetricsAccumulator(const Scene& scene, const MetricsSettings
 void MetricsAccumulator::on_step(const SignalFrame& f) {
   const double t = f.get(SignalId::time);
   const double dt = first_step_ ? 0.0 : t - t_prev_;
-  if (has_contact_) {
-    const double F = f.get(SignalId::contact_force);
-    const double ecc = f.get(SignalId::eccentricity);
-    const double wear = f.get(SignalId::wear_indicator);
-    at(v_, MetricId::max_contact_force) = std::max(at(v_, MetricId::max_contact_force), F);
-    at(v_, MetricId::max_eccentricity) = std::max(at(v_, MetricId::max_eccentricity), ecc);
-    at(v_, MetricId::max_penetration) =
-        std::max(at(v_, MetricId::max_penetration), f.get(SignalId::penetration));
-    // trapezoids over accepted steps; the run's first step too, from t = 0, its end's values
-    // held back over it (no frame at t = 0 is observed)
-    const double h = first_step_ ? t : dt;
-    if (first_step_) {
-      force_prev_ = F;
-      wear_prev_ = wear;
-    }
-    at(v_, MetricId::wear_integral) += 0.5 * (wear + wear_prev_) * h;
-    if (F > 0.0 || force_prev_ > 0.0)
-      at(v_, MetricId::contact_time) += (F > 0.0 && force_prev_ > 0.0) ? h : 0.5 * h;
-    // contact episodes, from the latched impact speed / force
-    const double pen = f.get(SignalId::penetration);
-    const bool touching = pen > 0.0;
-    if (touching && !in_contact_) {
-      ++episode_;
-      if (episode_ == 1) {
-        if (onsets_ == 0) {  // no onset reported (an observer fed frames only)
-          at(v_, MetricId::first_contact_time) = t;
-          at(v_, MetricId::first_impact_speed) = f.get(SignalId::impact_speed);
-        }
-        ecc_min_ = ecc;
-        ecc_max_ = std::max(ecc, ecc_peak_pending_);
-        // onset of the first episode for its duration: the driver's, else extrapolated back
-        // along the approach from this first step end inside it (not before the previous one)
-        if (onsets_ > 0) {
-          first_onset_ = at(v_, MetricId::first_contact_time);
-        } else {
-          const double rate = f.get(SignalId::penetration_rate);
-          first_onset_ = rate > 0.0 ? t - pen / rate : t;
-          if (!first_step_) first_onset_ = std::max(first_onset_, t_prev_);
-        }
-        // dissipated energy at the last step end before the onset (0 at t = 0 by definition)
-        dissipated_before_ = first_step_ ? 0.0 : dissipated_prev_;
-      }
-    }
-    const double exit_rate = f.get(SignalId::penetration_rate);
-    if (!touching && in_contact_ && episode_ == 1 && exit_rate < 0.0) {
-      // the first episode ended during this step: this step end is the first after it. The
-      // rate here is the exit speed delta'+ once the bodies fly freely (no force after the
-      // end); the end is extrapolated back along it, not before the previous step end. (A
-      // penetration that turns <= 0 while still approaching is no separation, but a body gone
-      // through the centre of a failing run: the metrics of the episode then stay NaN.)
-      const double approach = at(v_, MetricId::first_impact_speed);
-      if (approach > 0.0) at(v_, MetricId::first_impact_restitution) = -exit_rate / approach;
-      at(v_, MetricId::first_impact_duration) =
-          std::max(t - pen / exit_rate, t_prev_) - first_onset_;
-      if (has_energy_)
-        at(v_, MetricId::first_impact_dissipated_energy) =
-            f.get(SignalId::dissipated_energy) - dissipated_before_;
-    }
-    in_contact_ = touching;
-    if (episode_ == 1 && touching)
-      at(v_, MetricId::first_impact_peak_force) =
-          std::max(at(v_, MetricId::first_impact_peak_force), F);
-    if (episode_ >= 1 && t <= at(v_, MetricId::first_contact_time) + settings_.post_impact_window) {
-      ecc_min_ = std::min(ecc_min_, ecc);
-      ecc_max_ = std::max(ecc_max_, ecc);
-    }
-    force_prev_ = F;
-    wear_prev_ = wear;
-  }
-  if (has_surface_) {
-    const double a = f.get(SignalId::surface_angle);
-    at(v_, MetricId::final_surface_angle) = a;
-    at(v_, MetricId::min_surface_angle) = std::isnan(at(v_, MetricId::min_surface_angle))
-                                              ? a
-                                              : std::min(at(v_, MetricId::min_surface_angle), a);
-    at(v_, MetricId::max_surface_angle) = std::isnan(at(v_, MetricId::max_surface_angle))
-                                              ? a
-                                              : std::max(at(v_, MetricId::max_surface_angle), a);
-    if (std::isnan(at(v_, MetricId::surface_motion_onset_time)) &&
-        std::abs(a) > settings_.surface_motion_threshold)
-      at(v_, MetricId::surface_motion_onset_time) = t;
-  }
-  if (has_command_) {
-    // the end of each stroke: the last step end at which the command sits at its extreme (a
-    // hold keeps it there exactly, so the last such step end is the end of the hold)
-    const double c = f.get(command_signal_);
-    const double err = f.get(SignalId::surface_angle_command) - f.get(SignalId::surface_angle);
-    if (first_step_ || c >= command_max_) {
-      command_max_ = first_step_ ? c : std::max(command_max_, c);
-      at(v_, MetricId::surface_angle_error_extended) = err;
-    }
-    if (first_step_ || c <= command_min_) {
-      command_min_ = first_step_ ? c : std::min(command_min_, c);
-      at(v_, MetricId::surface_angle_error_retracted) = err;
-    }
-  }
-  if (has_chambers_) {
-    auto peak = [&](MetricId id, double p) {
-      double& m = at(v_, id);
-      m = std::isnan(m) ? p : std::max(m, p);
-    };
-    const double p1 = f.get(SignalId::chamber_pressures, 0);
-    const double p2 = f.get(SignalId::chamber_pressures, 1);
-    peak(MetricId::max_chamber_pressure, std::max(p1, p2));
-    peak(MetricId::max_rear_chamber_pressure, p1);
-    peak(MetricId::max_front_chamber_pressure, p2);
-  }
-  if (has_crank_) {
-    // revolutions counted from the first frame's crank angle; 1e-9 turn of slack so a run that
-    // ends on a whole number of turns completes its last one despite round-off in the angle
-    const double turn = 2.0 * std::numbers::pi;
-    const double angle = f.get(SignalId::crank_angle);
-    // the crank angle at t = 0: the first frame is the first step's end, so take back the
-    // angle turned over that (short) step at the crank's rate there (exact at constant speed)
-    if (first_step_)
-      crank_start_ = angle - (has_crank_rate_ ? f.get(SignalId::surface_rate) * t : 0.0);
-    const auto index =
-        static_cast<long long>(std::floor(std::abs(angle - crank_start_) / turn + 1e-9));
-    auto take = [&](Revolution& r) {
-      r.peak_acceleration =
-          std::max(r.peak_acceleration, std::abs(f.get(SignalId::slider_acceleration)));
-      if (has_joint_forces_)
-        for (int j = 0; j < 3; ++j)
-          r.peak_force = std::max(r.peak_force, f.get(SignalId::joint_normal_forces, j));
-      if (has_contact_) {
-        const double e = f.get(SignalId::eccentricity);
-        r.ecc_min = std::min(r.ecc_min, e);
-        r.ecc_max = std::max(r.ecc_max, e);
-      }
-    };
-    take(current_);  // the step that crosses a turn ends both revolutions
-    take_rig(f, dt);
-    if (index > revolution_) {
-      close_rig_revolution();
-      before_last_ = index == revolution_ + 1 ? last_ : Revolution{};
-      last_ = index == revolution_ + 1 ? current_ : Revolution{};
-      revolution_peaks_.push_back(current_.peak_acceleration);
-      current_ = Revolution{};
-      take(current_);
-      revolution_ = index;
-    }
-  }
-  if (has_energy_) {
-    const double w = f.get(SignalId::input_work);
-    const double d = f.get(SignalId::dissipated_energy);
-    const double r = f.get(SignalId::energy_residual);
-    energy_scale_ =
-        std::max(energy_scale_,
-                 energy_audit_scale(w, d, has_kinetic_ ? f.get(SignalId::kinetic_energy) : 0.0));
-    max_residual_ = std::max(max_residual_, std::abs(r));
-    at(v_, MetricId::input_work) = w;
-    at(v_, MetricId::dissipated_energy) = d;
-    dissipated_prev_ = d;
-  }
+  if (has_contact_) step_contact(f, t, dt);
+  if (has_surface_) step_surface(f, t);
+  if (has_command_) step_command(f);
+  if (has_chambers_) step_chambers(f);
+  if (has_crank_) step_crank(f, t, dt);
+  if (has_energy_) step_energy(f);
   if (periodic_.active()) periodic_.on_step(f);
   t_prev_ = t;
   first_step_ = false;
+}
+
+void MetricsAccumulator::step_contact(const SignalFrame& f, double t, double dt) {
+  const double F = f.get(SignalId::contact_force);
+  const double ecc = f.get(SignalId::eccentricity);
+  const double wear = f.get(SignalId::wear_indicator);
+  at(v_, MetricId::max_contact_force) = std::max(at(v_, MetricId::max_contact_force), F);
+  at(v_, MetricId::max_eccentricity) = std::max(at(v_, MetricId::max_eccentricity), ecc);
+  at(v_, MetricId::max_penetration) =
+      std::max(at(v_, MetricId::max_penetration), f.get(SignalId::penetration));
+  // trapezoids over accepted steps; the run's first step too, from t = 0, its end's values
+  // held back over it (no frame at t = 0 is observed)
+  const double h = first_step_ ? t : dt;
+  if (first_step_) {
+    force_prev_ = F;
+    wear_prev_ = wear;
+  }
+  at(v_, MetricId::wear_integral) += 0.5 * (wear + wear_prev_) * h;
+  if (F > 0.0 || force_prev_ > 0.0)
+    at(v_, MetricId::contact_time) += (F > 0.0 && force_prev_ > 0.0) ? h : 0.5 * h;
+  // contact episodes, from the latched impact speed / force
+  const bool touching = f.get(SignalId::penetration) > 0.0;
+  if (touching && !in_contact_ && ++episode_ == 1) first_episode_begins(f, t, ecc);
+  if (!touching && in_contact_ && episode_ == 1) first_episode_ends(f, t);
+  in_contact_ = touching;
+  if (episode_ == 1 && touching)
+    at(v_, MetricId::first_impact_peak_force) =
+        std::max(at(v_, MetricId::first_impact_peak_force), F);
+  if (episode_ >= 1 && t <= at(v_, MetricId::first_contact_time) + settings_.post_impact_window) {
+    ecc_min_ = std::min(ecc_min_, ecc);
+    ecc_max_ = std::max(ecc_max_, ecc);
+  }
+  force_prev_ = F;
+  wear_prev_ = wear;
+}
+
+void MetricsAccumulator::first_episode_begins(const SignalFrame& f, double t, double ecc) {
+  const double pen = f.get(SignalId::penetration);
+  if (onsets_ == 0) {  // no onset reported (an observer fed frames only)
+    at(v_, MetricId::first_contact_time) = t;
+    at(v_, MetricId::first_impact_speed) = f.get(SignalId::impact_speed);
+  }
+  ecc_min_ = ecc;
+  ecc_max_ = std::max(ecc, ecc_peak_pending_);
+  // onset of the first episode for its duration: the driver's, else extrapolated back
+  // along the approach from this first step end inside it (not before the previous one)
+  if (onsets_ > 0) {
+    first_onset_ = at(v_, MetricId::first_contact_time);
+  } else {
+    const double rate = f.get(SignalId::penetration_rate);
+    first_onset_ = rate > 0.0 ? t - pen / rate : t;
+    if (!first_step_) first_onset_ = std::max(first_onset_, t_prev_);
+  }
+  // dissipated energy at the last step end before the onset (0 at t = 0 by definition)
+  dissipated_before_ = first_step_ ? 0.0 : dissipated_prev_;
+}
+
+void MetricsAccumulator::first_episode_ends(const SignalFrame& f, double t) {
+  const double pen = f.get(SignalId::penetration);
+  const double exit_rate = f.get(SignalId::penetration_rate);
+  if (!(exit_rate < 0.0)) return;
+  // the first episode ended during this step: this step end is the first after it. The
+  // rate here is the exit speed delta'+ once the bodies fly freely (no force after the
+  // end); the end is extrapolated back along it, not before the previous step end. (A
+  // penetration that turns <= 0 while still approaching is no separation, but a body gone
+  // through the centre of a failing run: the metrics of the episode then stay NaN.)
+  const double approach = at(v_, MetricId::first_impact_speed);
+  if (approach > 0.0) at(v_, MetricId::first_impact_restitution) = -exit_rate / approach;
+  at(v_, MetricId::first_impact_duration) = std::max(t - pen / exit_rate, t_prev_) - first_onset_;
+  if (has_energy_)
+    at(v_, MetricId::first_impact_dissipated_energy) =
+        f.get(SignalId::dissipated_energy) - dissipated_before_;
+}
+
+void MetricsAccumulator::step_surface(const SignalFrame& f, double t) {
+  const double a = f.get(SignalId::surface_angle);
+  at(v_, MetricId::final_surface_angle) = a;
+  at(v_, MetricId::min_surface_angle) = std::isnan(at(v_, MetricId::min_surface_angle))
+                                            ? a
+                                            : std::min(at(v_, MetricId::min_surface_angle), a);
+  at(v_, MetricId::max_surface_angle) = std::isnan(at(v_, MetricId::max_surface_angle))
+                                            ? a
+                                            : std::max(at(v_, MetricId::max_surface_angle), a);
+  if (std::isnan(at(v_, MetricId::surface_motion_onset_time)) &&
+      std::abs(a) > settings_.surface_motion_threshold)
+    at(v_, MetricId::surface_motion_onset_time) = t;
+}
+
+void MetricsAccumulator::step_command(const SignalFrame& f) {
+  // the end of each stroke: the last step end at which the command sits at its extreme (a
+  // hold keeps it there exactly, so the last such step end is the end of the hold)
+  const double c = f.get(command_signal_);
+  const double err = f.get(SignalId::surface_angle_command) - f.get(SignalId::surface_angle);
+  if (first_step_ || c >= command_max_) {
+    command_max_ = first_step_ ? c : std::max(command_max_, c);
+    at(v_, MetricId::surface_angle_error_extended) = err;
+  }
+  if (first_step_ || c <= command_min_) {
+    command_min_ = first_step_ ? c : std::min(command_min_, c);
+    at(v_, MetricId::surface_angle_error_retracted) = err;
+  }
+}
+
+void MetricsAccumulator::step_chambers(const SignalFrame& f) {
+  auto peak = [&](MetricId id, double p) {
+    double& m = at(v_, id);
+    m = std::isnan(m) ? p : std::max(m, p);
+  };
+  const double p1 = f.get(SignalId::chamber_pressures, 0);
+  const double p2 = f.get(SignalId::chamber_pressures, 1);
+  peak(MetricId::max_chamber_pressure, std::max(p1, p2));
+  peak(MetricId::max_rear_chamber_pressure, p1);
+  peak(MetricId::max_front_chamber_pressure, p2);
+}
+
+void MetricsAccumulator::step_crank(const SignalFrame& f, double t, double dt) {
+  // revolutions counted from the first frame's crank angle; 1e-9 turn of slack so a run that
+  // ends on a whole number of turns completes its last one despite round-off in the angle
+  const double turn = 2.0 * std::numbers::pi;
+  const double angle = f.get(SignalId::crank_angle);
+  // the crank angle at t = 0: the first frame is the first step's end, so take back the
+  // angle turned over that (short) step at the crank's rate there (exact at constant speed)
+  if (first_step_)
+    crank_start_ = angle - (has_crank_rate_ ? f.get(SignalId::surface_rate) * t : 0.0);
+  const auto index =
+      static_cast<long long>(std::floor(std::abs(angle - crank_start_) / turn + 1e-9));
+  take_revolution(f, current_);  // the step that crosses a turn ends both revolutions
+  take_rig(f, dt);
+  if (index > revolution_) {
+    close_rig_revolution();
+    before_last_ = index == revolution_ + 1 ? last_ : Revolution{};
+    last_ = index == revolution_ + 1 ? current_ : Revolution{};
+    revolution_peaks_.push_back(current_.peak_acceleration);
+    current_ = Revolution{};
+    take_revolution(f, current_);
+    revolution_ = index;
+  }
+}
+
+void MetricsAccumulator::take_revolution(const SignalFrame& f, Revolution& r) const {
+  r.peak_acceleration =
+      std::max(r.peak_acceleration, std::abs(f.get(SignalId::slider_acceleration)));
+  if (has_joint_forces_)
+    for (int j = 0; j < 3; ++j)
+      r.peak_force = std::max(r.peak_force, f.get(SignalId::joint_normal_forces, j));
+  if (has_contact_) {
+    const double e = f.get(SignalId::eccentricity);
+    r.ecc_min = std::min(r.ecc_min, e);
+    r.ecc_max = std::max(r.ecc_max, e);
+  }
+}
+
+void MetricsAccumulator::step_energy(const SignalFrame& f) {
+  const double w = f.get(SignalId::input_work);
+  const double d = f.get(SignalId::dissipated_energy);
+  const double r = f.get(SignalId::energy_residual);
+  energy_scale_ =
+      std::max(energy_scale_,
+               energy_audit_scale(w, d, has_kinetic_ ? f.get(SignalId::kinetic_energy) : 0.0));
+  max_residual_ = std::max(max_residual_, std::abs(r));
+  at(v_, MetricId::input_work) = w;
+  at(v_, MetricId::dissipated_energy) = d;
+  dissipated_prev_ = d;
 }
 
 bool MetricsAccumulator::wants_peak(ContactPeak::Kind kind, double t0, double bound) const {
@@ -497,60 +512,64 @@ MetricValues MetricsAccumulator::finish(const RunStats& stats) const {
     at(v, MetricId::energy_residual) = energy_scale_ > 0.0 ? max_residual_ / energy_scale_ : 0.0;
   if (has_crank_) {
     at(v, MetricId::revolutions) = static_cast<double>(revolution_);
-    if (revolution_ >= 1) {
-      const double peak = last_.peak_acceleration;
-      at(v, MetricId::peak_slider_acceleration) = peak;
-      if (revolution_ >= 2 && peak > 0.0)
-        at(v, MetricId::peak_slider_acceleration_change) =
-            std::abs(peak - before_last_.peak_acceleration) / peak;
-      // the period of the settled response: the last p turns repeat the p before them
-      const std::vector<double>& pk = revolution_peaks_;
-      const std::size_t n = pk.size();
-      for (std::size_t period = 1; period <= 4 && 2 * period <= n; ++period) {
-        bool repeats = true;
-        double cycle = 0.0;
-        for (std::size_t j = 0; j < period; ++j) {
-          const double now = pk[n - 1 - j], before = pk[n - 1 - j - period];
-          repeats = repeats && std::abs(now - before) <= 0.01 * now;
-          cycle = std::max(cycle, now);
-        }
-        if (repeats) {
-          at(v, MetricId::steady_cycle_revolutions) = static_cast<double>(period);
-          at(v, MetricId::peak_slider_acceleration_cycle) = cycle;
-          break;
-        }
-      }
-      const SettledPeak settled = settled_peak(revolution_peaks_);
-      at(v, MetricId::peak_slider_acceleration_settled) = settled.peak;
-      at(v, MetricId::median_revolution_peak_slider_acceleration) = settled.median;
-      at(v, MetricId::peak_slider_acceleration_settled_change) = settled.change;
-      if (!std::isnan(settled.change))
-        at(v, MetricId::slider_response_settled) = settled.change < 0.01 ? 1.0 : 0.0;
-      finish_rig(v);
-      if (has_contact_) {
-        if (has_joint_forces_) at(v, MetricId::peak_contact_force) = last_.peak_force;
-        at(v, MetricId::last_revolution_min_eccentricity) = last_.ecc_min;
-        at(v, MetricId::last_revolution_max_eccentricity) = last_.ecc_max;
-      }
-    }
+    if (revolution_ >= 1) finish_crank(v);
   }
-  if (periodic_.active()) {
-    const PeriodicMetrics p = periodic_.finish();
-    at(v, MetricId::drive_frequency) = p.drive_frequency;
-    at(v, MetricId::piston_gain) = p.piston_gain;
-    at(v, MetricId::piston_phase) = p.piston_phase;
-    at(v, MetricId::surface_gain) = p.surface_gain;
-    at(v, MetricId::surface_phase) = p.surface_phase;
-    at(v, MetricId::response_settling) = p.response_settling;
-    at(v, MetricId::free_play) = p.free_play;
-    at(v, MetricId::stiffness_positive) = p.stiffness_positive;
-    at(v, MetricId::stiffness_negative) = p.stiffness_negative;
-    at(v, MetricId::hysteresis) = p.hysteresis;
-  }
+  if (periodic_.active()) finish_periodic(v);
   at(v, MetricId::max_penetration_fraction) = stats.max_penetration_fraction;
   at(v, MetricId::max_penetration_strain) = stats.max_penetration_strain;
   at(v, MetricId::max_quaternion_norm_error) = stats.max_quaternion_norm_error;
   return v;
+}
+
+void MetricsAccumulator::finish_crank(MetricValues& v) const {
+  const double peak = last_.peak_acceleration;
+  at(v, MetricId::peak_slider_acceleration) = peak;
+  if (revolution_ >= 2 && peak > 0.0)
+    at(v, MetricId::peak_slider_acceleration_change) =
+        std::abs(peak - before_last_.peak_acceleration) / peak;
+  // the period of the settled response: the last p turns repeat the p before them
+  const std::vector<double>& pk = revolution_peaks_;
+  const std::size_t n = pk.size();
+  for (std::size_t period = 1; period <= 4 && 2 * period <= n; ++period) {
+    bool repeats = true;
+    double cycle = 0.0;
+    for (std::size_t j = 0; j < period; ++j) {
+      const double now = pk[n - 1 - j], before = pk[n - 1 - j - period];
+      repeats = repeats && std::abs(now - before) <= 0.01 * now;
+      cycle = std::max(cycle, now);
+    }
+    if (repeats) {
+      at(v, MetricId::steady_cycle_revolutions) = static_cast<double>(period);
+      at(v, MetricId::peak_slider_acceleration_cycle) = cycle;
+      break;
+    }
+  }
+  const SettledPeak settled = settled_peak(revolution_peaks_);
+  at(v, MetricId::peak_slider_acceleration_settled) = settled.peak;
+  at(v, MetricId::median_revolution_peak_slider_acceleration) = settled.median;
+  at(v, MetricId::peak_slider_acceleration_settled_change) = settled.change;
+  if (!std::isnan(settled.change))
+    at(v, MetricId::slider_response_settled) = settled.change < 0.01 ? 1.0 : 0.0;
+  finish_rig(v);
+  if (has_contact_) {
+    if (has_joint_forces_) at(v, MetricId::peak_contact_force) = last_.peak_force;
+    at(v, MetricId::last_revolution_min_eccentricity) = last_.ecc_min;
+    at(v, MetricId::last_revolution_max_eccentricity) = last_.ecc_max;
+  }
+}
+
+void MetricsAccumulator::finish_periodic(MetricValues& v) const {
+  const PeriodicMetrics p = periodic_.finish();
+  at(v, MetricId::drive_frequency) = p.drive_frequency;
+  at(v, MetricId::piston_gain) = p.piston_gain;
+  at(v, MetricId::piston_phase) = p.piston_phase;
+  at(v, MetricId::surface_gain) = p.surface_gain;
+  at(v, MetricId::surface_phase) = p.surface_phase;
+  at(v, MetricId::response_settling) = p.response_settling;
+  at(v, MetricId::free_play) = p.free_play;
+  at(v, MetricId::stiffness_positive) = p.stiffness_positive;
+  at(v, MetricId::stiffness_negative) = p.stiffness_negative;
+  at(v, MetricId::hysteresis) = p.hysteresis;
 }
 
 }  // namespace rodend

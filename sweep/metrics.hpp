@@ -138,6 +138,9 @@ class MetricsAccumulator {
   void take_rig(const SignalFrame& f, double dt);
   void close_rig_revolution();
   void finish_rig(MetricValues& v) const;
+  /// finish(): the crank-driven metrics (a revolution done) and the periodic ones.
+  void finish_crank(MetricValues& v) const;
+  void finish_periodic(MetricValues& v) const;
 
   MetricsSettings settings_;
   // what the scene has (Scene::features)
@@ -166,6 +169,16 @@ class MetricsAccumulator {
   double crank_start_ = 0.0;  // [rad] crank angle of the first frame
   long long revolution_ = 0;  // index of the revolution under way
   Revolution current_, last_, before_last_;
+  /// on_step, by the feature of the scene each part serves (in this order).
+  void step_contact(const SignalFrame& f, double t, double dt);
+  void first_episode_begins(const SignalFrame& f, double t, double eccentricity);
+  void first_episode_ends(const SignalFrame& f, double t);
+  void step_surface(const SignalFrame& f, double t);
+  void step_command(const SignalFrame& f);
+  void step_chambers(const SignalFrame& f);
+  void step_crank(const SignalFrame& f, double t, double dt);
+  void take_revolution(const SignalFrame& f, Revolution& r) const;
+  void step_energy(const SignalFrame& f);
   std::vector<double> revolution_peaks_;  // [m/s^2] peak |slider acceleration| of each turn
   PeriodicAccumulator periodic_;          // frequency response, free-play loop
   // the rig metrics: the revolution under way, the finished ones, the anti-alias low-pass

@@ -298,17 +298,12 @@ void claim_locks(const Study& study, const RunOptions& opt, RunPlan& plan) {
 
 }  // namespace
 
-RunPlan plan_run(const Study& study, const RunOptions& opt) {
-  RunPlan plan;
-  plan.dir = study.output_dir;
-  plan.cases_dir = plan.dir / "cases";
-  plan.resume = resume_command(study, opt);
-  claim_locks(study, opt, plan);
-  const int stale =
-      plan.lock->stale_removed() + (plan.study_lock ? plan.study_lock->stale_removed() : 0);
-  if (stale > 0 && opt.progress)
-    run_message(opt.events,
-                "removed " + std::to_string(stale) + " temporary file(s) left by interrupted runs");
+namespace {
+
+/// The results directories: created, writable, and no directory where a summary or study.json
+/// goes; checked before anything runs, so a read-only results folder fails at once, not after
+/// the cases. A shard writes its own summary (`rodend merge` assembles the study's).
+void prepare_directories(const Study& study, const RunOptions& opt, RunPlan& plan) {
   std::error_code ec;
   fs::create_directories(plan.cases_dir, ec);
   if (ec)
@@ -316,8 +311,7 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
         "output",
         "cannot create the results directory " + plan.cases_dir.string() + ": " + ec.message(),
         study.file.string());
-  // both directories take files (cases; study.json and the summary): checked before anything
-  // runs, so a read-only results folder fails at once, not after the cases
+  // both directories take files (cases; study.json and the summary)
   for (const fs::path& d : {plan.cases_dir, plan.dir})
     if (::access(d.c_str(), W_OK) != 0)
       throw InputError(
@@ -332,8 +326,6 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
                            " there: move it away",
                        study.file.string());
   }
-  plan.provenance = provenance(study);
-  // a shard writes its own summary; `rodend merge` assembles the study's
   plan.summary_dir = opt.shard_count > 1 ? plan.dir / ("shard-" + std::to_string(opt.shard_index) +
                                                        "-of-" + std::to_string(opt.shard_count))
                                          : plan.dir;
@@ -342,9 +334,11 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
     throw InputError(
         "output", "cannot create the directory " + plan.summary_dir.string() + ": " + ec.message(),
         study.file.string());
+}
 
-  // a summary.csv of another run than summary.h5 (a run stopped between the two renames)
-  // (the run rewrites both at its end; this keeps the pair consistent until then)
+/// A summary.csv of another run than summary.h5 (a run stopped between the two renames) is
+/// rewritten (the run rewrites both at its end; this keeps the pair consistent until then).
+void repair_summary(const RunPlan& plan, const RunOptions& opt) {
   try {
     if (repair_summary_csv(plan.summary_dir) && opt.progress)
       run_message(opt.events, (plan.summary_dir / "summary.csv").string() +
@@ -354,12 +348,23 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
     run_message(opt.events, std::string("warning: ") + e.what() +
                                 " (the run rewrites both summaries at its end)");
   }
+}
 
-  // what is complete already (resume): a case file under its final name is complete once its
-  // checksum holds. A corrupt one (damaged bytes: checksum, truncation) is reported, moved aside
-  // to <id>.h5.corrupt (never deleted) and its case rerun. One that cannot be read for another
-  // reason (another case's, another schema's, not a regular file, no permission) is never
-  // touched: it is reported and nothing runs.
+/// The stored record of case c (nullopt: no file), read only if no other process writes it;
+/// throws CorruptCaseFile for damaged bytes, std::runtime_error when it is another case's.
+std::optional<CaseRecord> stored_record(const fs::path& path, const CaseSpec& c) {
+  std::optional<CaseRecord> rec = read_case_unless_locked(path);
+  if (rec && rec->id != c.id)
+    throw std::runtime_error(path.string() + " holds case " + rec->id + ", not " + c.id);
+  return rec;
+}
+
+/// What is complete already (resume): a case file under its final name is complete once its
+/// checksum holds. A corrupt one (damaged bytes: checksum, truncation) is reported, moved aside
+/// to <id>.h5.corrupt (never deleted) and its case rerun. One that cannot be read for another
+/// reason (another case's, another schema's, not a regular file, no permission) is never
+/// touched: it is reported and nothing runs.
+void collect_done(const Study& study, const RunOptions& opt, RunPlan& plan) {
   plan.spool = std::make_unique<RecordSpool>(plan.summary_dir, study.cases.size());
   std::vector<std::string> unreadable;
   for (std::size_t i = 0; i < study.cases.size(); ++i) {
@@ -369,9 +374,7 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
     const fs::path path = plan.cases_dir / (c.id + ".h5");
     std::optional<CaseRecord> rec;
     try {
-      rec = read_case_unless_locked(path);
-      if (rec && rec->id != c.id)
-        throw std::runtime_error(path.string() + " holds case " + rec->id + ", not " + c.id);
+      rec = stored_record(path, c);
     } catch (const CorruptCaseFile& e) {
       const fs::path aside = move_aside(path);
       run_message(opt.events,
@@ -382,7 +385,7 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
       unreadable.push_back(e.what());
       continue;
     }
-    if (rec && (rec->status == "ok" || !opt.rerun_failed)) {
+    if (rec && (run_status_from_name(rec->status) == RunStatus::ok || !opt.rerun_failed)) {
       // a file reused from another grid of the study: its row takes this grid's place
       rec->index = c.index;
       rec->coordinates = c.coordinates;
@@ -398,6 +401,25 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
     for (const std::string& u : unreadable) m += "\n  " + u;
     throw std::runtime_error(m);
   }
+}
+
+}  // namespace
+
+RunPlan plan_run(const Study& study, const RunOptions& opt) {
+  RunPlan plan;
+  plan.dir = study.output_dir;
+  plan.cases_dir = plan.dir / "cases";
+  plan.resume = resume_command(study, opt);
+  claim_locks(study, opt, plan);
+  const int stale =
+      plan.lock->stale_removed() + (plan.study_lock ? plan.study_lock->stale_removed() : 0);
+  if (stale > 0 && opt.progress)
+    run_message(opt.events,
+                "removed " + std::to_string(stale) + " temporary file(s) left by interrupted runs");
+  prepare_directories(study, opt, plan);
+  plan.provenance = provenance(study);
+  repair_summary(plan, opt);
+  collect_done(study, opt, plan);
   // written as every results file is (sweep/results/atomic_file.hpp): a fresh file under an
   // unpredictable temporary name, never through a link, then renamed
   write_text_file_atomically(plan.dir / "study.json", "study file", study.source.dump(2) + "\n",
@@ -489,7 +511,7 @@ void run_cases(const Study& study, const RunPlan& plan, int threads, Progress& p
       try {
         const CaseRecord rec = run_and_write_case(study, plan, i);
         plan.spool->put(i, rec);
-        progress.case_done(rec.status != "ok");
+        progress.case_done(run_status_from_name(rec.status) != RunStatus::ok);
       } catch (const std::bad_alloc&) {
         fail.out_of_memory.store(true);  // nothing allocated here
       } catch (const std::exception& e) {
@@ -571,17 +593,11 @@ int run_study(const Study& study, const RunOptions& opt) {
   }
 }
 
-int merge_study(const Study& study, std::ostream& report) {
-  const fs::path dir = study.output_dir;
-  const fs::path cases_dir = dir / "cases";
-  if (!fs::is_directory(dir))
-    throw InputError("output", "no results directory " + dir.string() + " to merge",
-                     study.file.string());
-  const auto lock =
-      ResultsLock::claim(dir, std::string(kResultsMarker) + ".lock", study.file.string(), false);
-  RecordSpool rows(dir, study.cases.size());
-  std::vector<std::pair<long, std::string>> missing;  // case index, case id
-  // the shard count, when the shard summaries present agree on one (to name missing shards)
+namespace {
+
+/// The shard count, when the shard summaries present in `dir` agree on one (to name missing
+/// shards); 0 otherwise.
+int shard_count_in(const fs::path& dir) {
   int shards = 0;
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(dir, ec)) {
@@ -591,12 +607,18 @@ int merge_study(const Study& study, std::ostream& report) {
     if (std::sscanf(name.c_str(), "shard-%d-of-%d%c", &k, &n, &tail) == 2 && n > 0)
       shards = (shards == 0 || shards == n) ? n : -1;
   }
-  if (shards < 0) shards = 0;
-  if (repair_summary_csv(dir))
-    report << "rodend: " << (dir / "summary.csv").string()
-           << " did not match summary.h5 (a run was stopped between writing the two); rewritten "
-              "from summary.h5\n";
+  return shards < 0 ? 0 : shards;
+}
+
+/// The case files of a merge: the records found (into the spool), and those that are missing,
+/// corrupt or unreadable.
+struct MergeScan {
+  std::vector<std::pair<long, std::string>> missing;  // case index, case id
   std::vector<std::string> unreadable, corrupt;
+};
+
+MergeScan scan_case_files(const Study& study, const fs::path& cases_dir, RecordSpool& rows) {
+  MergeScan scan;
   std::size_t slot = 0;
   for (const CaseSpec& c : study.cases) {
     const std::size_t i = slot++;
@@ -604,10 +626,10 @@ int merge_study(const Study& study, std::ostream& report) {
     try {
       rec = read_case_unless_locked(cases_dir / (c.id + ".h5"));
     } catch (const CorruptCaseFile& e) {
-      corrupt.push_back(e.what());
+      scan.corrupt.push_back(e.what());
       continue;
     } catch (const std::exception& e) {
-      unreadable.push_back(e.what());
+      scan.unreadable.push_back(e.what());
       continue;
     }
     if (rec) {
@@ -615,34 +637,59 @@ int merge_study(const Study& study, std::ostream& report) {
       rec->coordinates = c.coordinates;
       rows.put(i, *rec);
     } else {
-      missing.emplace_back(c.index, c.id);
+      scan.missing.emplace_back(c.index, c.id);
     }
   }
-  if (!corrupt.empty()) {
-    report << "rodend: " << corrupt.size()
+  return scan;
+}
+
+/// Reports why no summary can be merged; false when there is no such reason.
+bool report_incomplete(const Study& study, const MergeScan& scan, const fs::path& cases_dir,
+                       int shards, std::ostream& report) {
+  if (!scan.corrupt.empty()) {
+    report << "rodend: " << scan.corrupt.size()
            << " case file(s) are corrupt; no summary written. `rodend run` on the study moves "
               "them aside and reruns those cases:\n";
-    for (const std::string& u : corrupt) report << "  " << u << "\n";
+    for (const std::string& u : scan.corrupt) report << "  " << u << "\n";
   }
-  if (!unreadable.empty()) {
-    report << "rodend: " << unreadable.size()
+  if (!scan.unreadable.empty()) {
+    report << "rodend: " << scan.unreadable.size()
            << " case file(s) exist but cannot be read; no summary written. Move them away and "
               "rerun those cases (rodend run resumes):\n";
-    for (const std::string& u : unreadable) report << "  " << u << "\n";
+    for (const std::string& u : scan.unreadable) report << "  " << u << "\n";
   }
-  if (!corrupt.empty() || !unreadable.empty()) return 1;
-  if (!missing.empty()) {
-    report << "rodend: " << missing.size() << " of " << study.cases.size()
-           << " cases have no complete file in " << cases_dir.string()
-           << "; no summary written. Missing (case index, case id"
-           << (shards > 0 ? ", shard K/N" : "") << "):\n";
-    for (const auto& [index, id] : missing) {
-      report << "  " << index << "\t" << id;
-      if (shards > 0) report << "\t" << (index % shards) + 1 << "/" << shards;
-      report << "\n";
-    }
-    return 1;
+  if (!scan.corrupt.empty() || !scan.unreadable.empty()) return true;
+  if (scan.missing.empty()) return false;
+  report << "rodend: " << scan.missing.size() << " of " << study.cases.size()
+         << " cases have no complete file in " << cases_dir.string()
+         << "; no summary written. Missing (case index, case id"
+         << (shards > 0 ? ", shard K/N" : "") << "):\n";
+  for (const auto& [index, id] : scan.missing) {
+    report << "  " << index << "\t" << id;
+    if (shards > 0) report << "\t" << (index % shards) + 1 << "/" << shards;
+    report << "\n";
   }
+  return true;
+}
+
+}  // namespace
+
+int merge_study(const Study& study, std::ostream& report) {
+  const fs::path dir = study.output_dir;
+  const fs::path cases_dir = dir / "cases";
+  if (!fs::is_directory(dir))
+    throw InputError("output", "no results directory " + dir.string() + " to merge",
+                     study.file.string());
+  const auto lock =
+      ResultsLock::claim(dir, std::string(kResultsMarker) + ".lock", study.file.string(), false);
+  RecordSpool rows(dir, study.cases.size());
+  const int shards = shard_count_in(dir);
+  if (repair_summary_csv(dir))
+    report << "rodend: " << (dir / "summary.csv").string()
+           << " did not match summary.h5 (a run was stopped between writing the two); rewritten "
+              "from summary.h5\n";
+  const MergeScan scan = scan_case_files(study, cases_dir, rows);
+  if (report_incomplete(study, scan, cases_dir, shards, report)) return 1;
   const std::size_t failed = rows.failed(), merged = rows.size();
   write_summary(dir, study, rows, provenance(study));
   report << "rodend: merged " << merged << " cases (" << failed << " failed) into "

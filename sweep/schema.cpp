@@ -151,17 +151,11 @@ Json scene_rules() {
   return rules;
 }
 
-}  // namespace
-
-Json study_schema() {
-  Json scenes = Json::array(), signals = Json::array();
-  for (const auto& s : scene_catalogue()) scenes.push_back(std::string(s.name));
-  for (const auto& s : signal_catalogue()) signals.push_back(std::string(s.name));
-
-  // the sections of settings, from the loader's field list (sweep/settings.def); output is the
-  // study's, not a grid key
+/// The sections of settings, from the loader's field list (sweep/settings.def), as schema
+/// properties; `sections` gets the sections a key path may start with (output is the study's,
+/// not a grid key).
+Json settings_properties(std::set<std::string>& sections) {
   Json props = Json::object();
-  std::set<std::string> sections{"parameters"};
   for (const StudyField& f : study_fields()) {
     if (f.section != "output") sections.insert(f.section);
     Json& sec = props[f.section];
@@ -185,12 +179,15 @@ Json study_schema() {
   props["metrics"]["description"] = "settings of the summary metrics";
   props["wear_evolution"]["description"] =
       "makes every case a wear evolution (needs parameters wear.model \"archard\")";
+  return props;
+}
 
-  std::string key_pattern;
-  for (const std::string& s : sections) key_pattern += (key_pattern.empty() ? "" : "|") + s;
-  // a full key path, or "scene": the scene as a grid axis (then no top-level "scene")
-  key_pattern = "^((" + key_pattern + ")\\.|scene$)";
-
+/// The study's own top-level keys (name, scene, parameters, signals, grid, design, output),
+/// added to the settings' properties.
+void add_study_properties(Json& props, const std::string& key_pattern) {
+  Json scenes = Json::array(), signals = Json::array();
+  for (const auto& s : scene_catalogue()) scenes.push_back(std::string(s.name));
+  for (const auto& s : signal_catalogue()) signals.push_back(std::string(s.name));
   props["name"] = {{"type", "string"},
                    {"pattern", "^[^/]+$"},
                    {"description",
@@ -214,11 +211,13 @@ Json study_schema() {
                       "results directory (default results/<name>), or an object with it and the "
                       "storage settings of the histories"},
                      {"oneOf", {{{"type", "string"}}, props["output"]}}};
-
   // the top-level keys are the loader's list: fail loudly if the two ever disagree
   for (const std::string& k : study_keys())
     if (!props.contains(k)) throw std::logic_error("study_schema: no schema for key " + k);
+}
 
+/// The grid's entries: an axis (values, linspace or logspace of a key path) or a zip of axes.
+Json grid_defs(const std::string& key_pattern) {
   const Json number3 = {
       {"type", "array"},
       {"prefixItems",
@@ -242,9 +241,19 @@ Json study_schema() {
       {"additionalProperties", false},
       {"properties",
        {{"zip", {{"type", "array"}, {"minItems", 1}, {"items", {{"$ref", "#/$defs/axis"}}}}}}}};
+  return {{"axis", axis}, {"grid_entry", {{"oneOf", {axis, zip}}}}};
+}
 
-  const Json per_scene = scene_rules();
+}  // namespace
 
+Json study_schema() {
+  std::set<std::string> sections{"parameters"};
+  Json props = settings_properties(sections);
+  std::string key_pattern;
+  for (const std::string& s : sections) key_pattern += (key_pattern.empty() ? "" : "|") + s;
+  // a full key path, or "scene": the scene as a grid axis (then no top-level "scene")
+  key_pattern = "^((" + key_pattern + ")\\.|scene$)";
+  add_study_properties(props, key_pattern);
   return {{"$schema", "https://json-schema.org/draft/2020-12/schema"},
           {"$id", "urn:rodend:study"},
           {"title", "rodend study"},
@@ -258,8 +267,8 @@ Json study_schema() {
           {"anyOf", Json::array({{{"required", {"scene"}}}, {{"required", {"grid"}}}})},
           {"additionalProperties", false},
           {"properties", props},
-          {"allOf", per_scene},
-          {"$defs", {{"axis", axis}, {"grid_entry", {{"oneOf", {axis, zip}}}}}}};
+          {"allOf", scene_rules()},
+          {"$defs", grid_defs(key_pattern)}};
 }
 
 std::string study_settings_markdown() {

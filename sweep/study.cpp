@@ -212,9 +212,11 @@ enum class InId { in_id, in_id_as_double, not_in_id, in_id_if_not_default, speci
 enum class Kind { number, integer, string, choice };
 
 /// The member a setting is, of a draft (read) or of a resolved case (written).
-using Member = std::variant<double*, int*, long*, long long*, std::string*, HistoryPrecision*>;
-using ConstMember = std::variant<const double*, const int*, const long*, const long long*,
-                                 const std::string*, const HistoryPrecision*>;
+using Member = std::variant<double*, int*, long*, long long*, std::string*, HistoryPrecision*,
+                            IntegratorMethod*, ContactOnset*>;
+using ConstMember =
+    std::variant<const double*, const int*, const long*, const long long*, const std::string*,
+                 const HistoryPrecision*, const IntegratorMethod*, const ContactOnset*>;
 
 /// One line of settings.def.
 struct Setting {
@@ -345,6 +347,16 @@ std::string read_string(const Json& v, const std::string& key, const Check& c) {
 void read_member(std::string& m, const Json& v, const std::string& key, const Check& c) {
   m = read_string(v, key, c);
 }
+/// A choice of a catalogue (core/choice.hpp): its name, read into the enum.
+template <Choice E>
+void read_member(E& m, const Json& v, const std::string& key, const Check& c) {
+  const std::string s = read_string(v, key, c);
+  const auto e = choice_from_name<E>(s);
+  if (!e)
+    throw InputError(key, "unknown " + key.substr(key.rfind('.') + 1) + " '" + s +
+                              "'; expected one of: " + choice_list<E>());
+  m = *e;
+}
 void read_member(HistoryPrecision& m, const Json& v, const std::string& key, const Check& c) {
   const std::string s = read_string(v, key, c);
   for (const HistoryPrecision p : {HistoryPrecision::float64, HistoryPrecision::float32})
@@ -382,6 +394,10 @@ void read_setting(Draft& d, const Setting& s, const Json& v, const std::string& 
 template <class T>
 Json value_json(const T& x) {
   return Json(x);
+}
+template <Choice E>
+Json value_json(const E& e) {
+  return std::string(choice_name(e));
 }
 Json value_json(HistoryPrecision p) {
   return std::string(to_string(p));
@@ -1306,80 +1322,99 @@ void set_design_key(Json& doc, const std::string& rest, const Json& value) {
   doc["design"][rest] = value;
 }
 
+namespace {
+
+/// The value of one --set key=value (`o`): its JSON, else the text as a string.
+Json override_value(const std::string& o, const std::string& key, const std::string& text,
+                    const fs::path& file) {
+  Json value;
+  try {
+    (void)Json(o).dump();  // throws on bytes that are not UTF-8
+  } catch (const Json::type_error&) {
+    throw InputError(key, "expected UTF-8 text; the --set value has bytes that are not",
+                     file.string());
+  }
+  try {
+    value = Json::parse(text);
+  } catch (const Json::out_of_range&) {  // 1e309: a number beyond a double's range
+    throw InputError(key,
+                     "the number " + text +
+                         " is beyond a double's range; expected a finite "
+                         "number (from --set " +
+                         o + ")",
+                     file.string());
+  } catch (const Json::exception&) {
+    value = text;  // not JSON: a string (--set scene=gravity-drop)
+  }
+  // before any copy of it (nlohmann copies recursively: 100,000 levels overflow the stack)
+  if (nesting_depth(value) > kMaxDepth)
+    throw InputError(key,
+                     "the value is nested deeper than " + std::to_string(kMaxDepth) +
+                         " levels (from --set); expected a value a study can hold",
+                     file.string());
+  return value;
+}
+
+/// A dotted --set key of a case section (parameters or settings.def), checked as the loader
+/// will check it, on the study's scene.
+void check_section_override(const Json& doc, const std::string& key, const std::string& section,
+                            const std::string& rest, const Json& value) {
+  const auto& dotted = case_sections();
+  if (std::find(dotted.begin(), dotted.end(), section) == dotted.end())
+    throw InputError(key, "'" + section + "' takes a whole value: --set " + section + "=...");
+  if (!doc.contains("scene") || !doc["scene"].is_string())
+    throw InputError("scene", "missing: which scene to run");
+  Draft d;
+  d.scene = doc["scene"].get<std::string>();
+  d.parameters = ParameterSet::defaults_for(d.scene);
+  const bool known =
+      section == "parameters" ? d.parameters.has(rest) : find_setting(section, rest) != nullptr;
+  if (!known) unknown_override_key(key, section, rest, d.parameters, d.scene);
+  apply(d, key, value);
+  if (doc.contains(section) && !doc[section].is_object())
+    throw InputError(section, "expected an object, got " + json_type_name(doc[section]));
+}
+
+/// Sets one --set key to `value` in the study document.
+void apply_override(Json& doc, const std::string& key, const Json& value) {
+  if (!doc.is_object()) throw InputError("", "a study must be a JSON object");
+  const auto dot = key.find('.');
+  const std::string section = key.substr(0, dot);
+  const auto& keys = study_keys();
+  if (std::find(keys.begin(), keys.end(), section) == keys.end()) {
+    std::string list;
+    for (const auto& k : keys) list += (list.empty() ? "" : ", ") + k;
+    throw InputError(key, "unknown key; expected one of " + list + " (with a dotted path for " +
+                              alternatives(case_sections(), false, " and ") + ")");
+  }
+  if (dot == std::string::npos) {  // a whole top-level value (parse_study checks it)
+    doc[key] = value;
+    return;
+  }
+  const std::string rest = key.substr(dot + 1);
+  if (section == "design")  // its scalar keys (seed, size, method, base, levels)
+    return set_design_key(doc, rest, value);
+  check_section_override(doc, key, section, rest, value);
+  erase_path(doc[section], rest);
+  // a preset sets every integrator field: asked for on the command line, it replaces the
+  // study's integrator settings (an integrator key --set after it still applies on top)
+  if (key == "integrator.preset") doc[section] = Json::object();
+  doc[section][rest] = value;
+}
+
+}  // namespace
+
 Json apply_overrides(Json doc, const std::vector<std::string>& overrides, const fs::path& file) {
   for (const std::string& o : overrides) {
     const auto eq = o.find('=');
     if (eq == std::string::npos || eq == 0)
       throw InputError("--set", "expected key.path=value, got '" + o + "'", file.string());
     const std::string key = o.substr(0, eq), text = o.substr(eq + 1);
-    Json value;
+    const Json value = override_value(o, key, text, file);
     try {
-      (void)Json(o).dump();  // throws on bytes that are not UTF-8
-    } catch (const Json::type_error&) {
-      throw InputError(key, "expected UTF-8 text; the --set value has bytes that are not",
-                       file.string());
-    }
-    try {
-      value = Json::parse(text);
-    } catch (const Json::out_of_range&) {  // 1e309: a number beyond a double's range
-      throw InputError(key,
-                       "the number " + text +
-                           " is beyond a double's range; expected a finite "
-                           "number (from --set " +
-                           o + ")",
-                       file.string());
-    } catch (const Json::exception&) {
-      value = text;  // not JSON: a string (--set scene=gravity-drop)
-    }
-    // before any copy of it (nlohmann copies recursively: 100,000 levels overflow the stack)
-    if (nesting_depth(value) > kMaxDepth)
-      throw InputError(key,
-                       "the value is nested deeper than " + std::to_string(kMaxDepth) +
-                           " levels (from --set); expected a value a study can hold",
-                       file.string());
-    const std::string from = " (from --set " + o + ")";
-    try {
-      if (!doc.is_object()) throw InputError("", "a study must be a JSON object");
-      const auto dot = key.find('.');
-      const std::string section = key.substr(0, dot);
-      const auto& keys = study_keys();
-      if (std::find(keys.begin(), keys.end(), section) == keys.end()) {
-        std::string list;
-        for (const auto& k : keys) list += (list.empty() ? "" : ", ") + k;
-        throw InputError(key, "unknown key; expected one of " + list + " (with a dotted path for " +
-                                  alternatives(case_sections(), false, " and ") + ")");
-      }
-      if (dot == std::string::npos) {  // a whole top-level value (parse_study checks it)
-        doc[key] = value;
-        continue;
-      }
-      const std::string rest = key.substr(dot + 1);
-      if (section == "design") {  // its scalar keys (seed, size, method, base, levels)
-        set_design_key(doc, rest, value);
-        continue;
-      }
-      const auto& dotted = case_sections();
-      if (std::find(dotted.begin(), dotted.end(), section) == dotted.end())
-        throw InputError(key, "'" + section + "' takes a whole value: --set " + section + "=...");
-      // check the key and the type of the value as the loader will, on the study's scene
-      if (!doc.contains("scene") || !doc["scene"].is_string())
-        throw InputError("scene", "missing: which scene to run");
-      Draft d;
-      d.scene = doc["scene"].get<std::string>();
-      d.parameters = ParameterSet::defaults_for(d.scene);
-      const bool known =
-          section == "parameters" ? d.parameters.has(rest) : find_setting(section, rest) != nullptr;
-      if (!known) unknown_override_key(key, section, rest, d.parameters, d.scene);
-      apply(d, key, value);
-      if (doc.contains(section) && !doc[section].is_object())
-        throw InputError(section, "expected an object, got " + json_type_name(doc[section]));
-      erase_path(doc[section], rest);
-      // a preset sets every integrator field: asked for on the command line, it replaces the
-      // study's integrator settings (an integrator key --set after it still applies on top)
-      if (key == "integrator.preset") doc[section] = Json::object();
-      doc[section][rest] = value;
+      apply_override(doc, key, value);
     } catch (const InputError& e) {
-      throw InputError(e.key_path(), e.problem() + from, file.string());
+      throw InputError(e.key_path(), e.problem() + " (from --set " + o + ")", file.string());
     }
   }
   return doc;
@@ -1390,8 +1425,50 @@ Study load_study(const fs::path& file, const fs::path& results_root,
   return parse_study_text(read_study_text(file), file, results_root, overrides);
 }
 
-Study parse_study_text(const std::string& text, const fs::path& file, const fs::path& results_root,
-                       const std::vector<std::string>& overrides) {
+namespace {
+
+/// Parses JSON text, refusing a key that appears twice in one object: nlohmann keeps the last
+/// one, which would silently drop a value the user wrote.
+Json parse_unique_keys(const std::string& text, const fs::path& file) {
+  KeyTracker keys;
+  auto callback = [&keys](int, Json::parse_event_t event, Json& parsed) {
+    using E = Json::parse_event_t;
+    switch (event) {
+      case E::object_start:
+      case E::array_start:
+        keys.stack.push_back({event == E::array_start, 0, {}});
+        break;
+      case E::object_end:
+      case E::array_end:
+        keys.stack.pop_back();
+        keys.element_done();
+        break;
+      case E::key: {
+        auto& seen = keys.stack.back().keys;
+        const std::string k = parsed.get<std::string>();
+        if (keys.duplicate.empty() && std::find(seen.begin(), seen.end(), k) != seen.end())
+          keys.duplicate = keys.path(k);
+        seen.push_back(k);
+        break;
+      }
+      case E::value:
+        keys.element_done();
+        break;
+    }
+    return true;
+  };
+  Json doc = Json::parse(text, callback);
+  if (!keys.duplicate.empty())
+    throw InputError(keys.duplicate,
+                     "the same key appears twice in one object; expected each key once (the "
+                     "later value would silently replace the earlier)",
+                     file.string());
+  return doc;
+}
+
+/// The study's JSON document; a NUL byte, a syntax error or a number out of range is an
+/// InputError naming the file and the line and column.
+Json parse_study_json(const std::string& text, const fs::path& file) {
   if (text.find('\0') != std::string::npos) {
     const auto [line, col] = line_column(text, text.find('\0'));
     throw InputError("",
@@ -1399,43 +1476,8 @@ Study parse_study_text(const std::string& text, const fs::path& file, const fs::
                          std::to_string(col) + "; expected JSON text (UTF-8) with no NUL byte",
                      file.string());
   }
-  Json doc;
   try {
-    // duplicate keys are refused: nlohmann keeps the last one, which would silently drop a
-    // value the user wrote
-    KeyTracker keys;
-    auto callback = [&keys](int, Json::parse_event_t event, Json& parsed) {
-      using E = Json::parse_event_t;
-      switch (event) {
-        case E::object_start:
-        case E::array_start:
-          keys.stack.push_back({event == E::array_start, 0, {}});
-          break;
-        case E::object_end:
-        case E::array_end:
-          keys.stack.pop_back();
-          keys.element_done();
-          break;
-        case E::key: {
-          auto& seen = keys.stack.back().keys;
-          const std::string k = parsed.get<std::string>();
-          if (keys.duplicate.empty() && std::find(seen.begin(), seen.end(), k) != seen.end())
-            keys.duplicate = keys.path(k);
-          seen.push_back(k);
-          break;
-        }
-        case E::value:
-          keys.element_done();
-          break;
-      }
-      return true;
-    };
-    doc = Json::parse(text, callback);
-    if (!keys.duplicate.empty())
-      throw InputError(keys.duplicate,
-                       "the same key appears twice in one object; expected each key once (the "
-                       "later value would silently replace the earlier)",
-                       file.string());
+    return parse_unique_keys(text, file);
   } catch (const Json::out_of_range& e) {
     // a number JSON can write but a double cannot hold (1e400)
     std::string what = e.what();
@@ -1456,6 +1498,13 @@ Study parse_study_text(const std::string& text, const fs::path& file, const fs::
                          std::to_string(col) + ": " + detail,
                      file.string());
   }
+}
+
+}  // namespace
+
+Study parse_study_text(const std::string& text, const fs::path& file, const fs::path& results_root,
+                       const std::vector<std::string>& overrides) {
+  Json doc = parse_study_json(text, file);
   if (overrides.empty()) return parse_study(doc, file, results_root);
   Study study =
       parse_study(apply_overrides(std::move(doc), overrides, file), file, results_root, overrides);

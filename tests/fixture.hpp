@@ -58,9 +58,16 @@ inline constexpr double kTightTol = 1e-12;
 /// 30 s the measured drift is then ~1e-13, four decades inside the 1e-9 bound.
 inline constexpr double kConservationTol = 1e-13;
 
+/// The method of the integrator menu called `name` (a test's parameter, as a study names it).
+inline IntegratorMethod method_named(std::string_view name) {
+  const auto m = choice_from_name<IntegratorMethod>(name);
+  if (!m) throw std::invalid_argument("no integration method " + std::string(name));
+  return *m;
+}
+
 inline IntegratorSettings dopri5(double tol, double max_step = 1e-3) {
   IntegratorSettings s;
-  s.method = "dopri5";
+  s.method = IntegratorMethod::dopri5;
   s.abs_tol = tol;
   s.rel_tol = tol;
   s.max_step = max_step;
@@ -69,7 +76,7 @@ inline IntegratorSettings dopri5(double tol, double max_step = 1e-3) {
 
 inline IntegratorSettings rk4(double step) {
   IntegratorSettings s;
-  s.method = "rk4";
+  s.method = IntegratorMethod::rk4;
   s.step = step;
   return s;
 }

@@ -44,7 +44,7 @@ double metric_of(const CaseRecord& r, MetricId id) {
 void check_matrix(const std::string& scene, double end, int impacts) {
   std::map<std::string, double> restitution;
   double lo = INFINITY, hi = -INFINITY;
-  for (std::string_view m : integrator_methods()) {
+  for (std::string_view m : choice_names(IntegratorMethod{})) {
     const std::string method(m);
     double m_lo = INFINITY, m_hi = -INFINITY;
     for (double dt : {1e-2, 1e-3, 1e-4}) {

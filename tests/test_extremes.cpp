@@ -283,7 +283,8 @@ TEST_CASE("extremes: an actuator that cannot follow fails (actuator_saturation)"
     auto scene = make_scene("rod-end-actuator", p);
     FiniteObserver obs(all_signals(*scene));
     IntegratorSettings s = dopri5(1e-6);
-    s.method = "rosenbrock4";  // kN contact forces make the friction stiff for dopri5
+    s.method =
+        IntegratorMethod::rosenbrock4;  // kN contact forces make the friction stiff for dopri5
     const RunResult r = simulate(*scene, s, TimeSettings{2.4, 1e-3}, obs);
     INFO(r.message);
     REQUIRE(r.status == RunStatus::actuator_saturation);

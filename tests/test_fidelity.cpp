@@ -135,7 +135,7 @@ ContactEval press(const ClearanceContactModel& m, double delta, double rate, dou
 TEST_CASE("eq. 3.14 cap: the damping term never exceeds the elastic term", "[contact][cap]") {
   // the catalogue is the one list of allowed values: every scene with a contact offers it
   std::vector<std::string> names;
-  for (std::string_view n : damping_cap_names()) names.emplace_back(n);
+  for (std::string_view n : choice_names(DampingCap{})) names.emplace_back(n);
   REQUIRE(names == std::vector<std::string>{"none", "elastic"});
   for (const SceneEntry& s : scene_catalogue()) {
     const ParameterSet p = ParameterSet::defaults_for(s.name);

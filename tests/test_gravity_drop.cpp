@@ -194,14 +194,15 @@ TEST_CASE("gravity drop: the integrators agree on the history", "[gravity-drop]"
   // adaptive ones at tol 1e-8; plus dopri5 with the onset latched at the end of the crossing
   // step instead of located. Bounds: see the fixture.
   std::vector<Case> cases;
-  for (std::string_view m : integrator_methods()) {
-    IntegratorSettings s = m == "rk4" ? rk4(1e-6) : dopri5(1e-8);
-    s.method = std::string(m);
-    const bool pair = m == "rk4" || m == "dopri5";
-    cases.push_back({s.method, s, pair ? kIntegratorAgreementRel : kMenuAgreementRel});
+  for (const IntegratorMethod m : choice_values<IntegratorMethod>()) {
+    IntegratorSettings s = m == IntegratorMethod::rk4 ? rk4(1e-6) : dopri5(1e-8);
+    s.method = m;
+    const bool pair = m == IntegratorMethod::rk4 || m == IntegratorMethod::dopri5;
+    cases.push_back(
+        {std::string(to_string(m)), s, pair ? kIntegratorAgreementRel : kMenuAgreementRel});
   }
   IntegratorSettings step_end = dopri5(1e-8);
-  step_end.contact_onset = "step-end";
+  step_end.contact_onset = ContactOnset::step_end;
   cases.push_back({"dopri5 step-end", step_end, kMenuAgreementRel});
   REQUIRE(cases.size() >= 3);
   const Case c = GENERATE_COPY(from_range(cases));

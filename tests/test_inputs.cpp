@@ -298,7 +298,7 @@ TEST_CASE("free-play ground test: the loop's free-play is the geometric 2c/s", "
   // at twice its rate: still quasi-static, the linkage's mode is at 71 Hz), no friction: the
   // geometric prediction has none (docs/inputs.md#the-geometric-free-play)
   IntegratorSettings bdf;
-  bdf.method = "cvode_bdf";
+  bdf.method = IntegratorMethod::cvode_bdf;
   bdf.abs_tol = bdf.rel_tol = 1e-8;
   bdf.max_step = 1e-3;
   for (double c : {5e-4, 1e-3}) {

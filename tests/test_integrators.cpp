@@ -15,7 +15,7 @@ namespace {
 /// state (1e-10 is two decades above what the controllers can still honour on O(1) states).
 IntegratorSettings tight(const std::string& method) {
   IntegratorSettings s;
-  s.method = method;
+  s.method = test::method_named(method);
   s.abs_tol = s.rel_tol = 1e-10;
   s.step = method == "rk4" ? 1e-6 : 1e-5;
   s.max_step = 1e-3;
@@ -94,9 +94,9 @@ TEST_CASE("locating contact onset beats latching at the end of the step", "[inte
   int k = 0;
   for (const char* mode : {"locate", "step-end"}) {
     IntegratorSettings s;
-    s.method = "rk4";
+    s.method = IntegratorMethod::rk4;
     s.step = 5e-5;
-    s.contact_onset = mode;
+    s.contact_onset = *choice_from_name<ContactOnset>(mode);
     Onset o;
     // the coarse step is deliberate: the energy-audit health limit would stop the run
     HealthLimits lax;

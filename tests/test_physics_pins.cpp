@@ -58,7 +58,7 @@ FirstStep oversized_first_step(const std::string& method, double tol, double phi
   const ProtheroRobinson scene(phi);
   const double end = 2.0;
   IntegratorSettings s;
-  s.method = method;
+  s.method = test::method_named(method);
   s.abs_tol = s.rel_tol = tol;
   s.step = end;  // the first trial step: deliberately the whole run
   s.max_step = end;
@@ -271,7 +271,7 @@ TEST_CASE("pins: the first step after a located contact onset is at most integra
   CAPTURE(method);
   const auto scene = make_scene("gravity-drop", ParameterSet::defaults_for("gravity-drop"));
   IntegratorSettings s;
-  s.method = method;
+  s.method = test::method_named(method);
   s.step = 1e-7;  // [s] far below the steps of the free fall before each impact (up to 1e-3 s)
   StepsAndOnsets obs;
   const RunResult r = simulate(*scene, s, TimeSettings{0.05, 1e-3}, obs);
@@ -372,7 +372,7 @@ TEST_CASE("pins: a single impact's contact_time is the closed-form Hertz duratio
                "rosenbrock4", "cvode_bdf", "cvode_adams");
   CAPTURE(method);
   IntegratorSettings s;
-  s.method = method;
+  s.method = test::method_named(method);
   s.abs_tol = s.rel_tol = 1e-8;
   s.step = 1e-6;
   s.max_step = 2e-6;

@@ -70,10 +70,11 @@ StillResult socket_before_contact(const IntegratorSettings& s) {
 
 std::string label(const IntegratorSettings& s) {
   char buf[64];
-  if (s.method == "rk4")
+  if (s.method == IntegratorMethod::rk4)
     std::snprintf(buf, sizeof buf, "rk4, h %.0e s", s.step);
   else
-    std::snprintf(buf, sizeof buf, "%s, tol %.0e", s.method.c_str(), s.abs_tol);
+    std::snprintf(buf, sizeof buf, "%s, tol %.0e", std::string(to_string(s.method)).c_str(),
+                  s.abs_tol);
   return buf;
 }
 
@@ -109,11 +110,11 @@ TEST_CASE("spring contact: every integrator keeps the socket still until the fir
   // carried the contact force back from the step that crossed it would not: before the fix
   // of the root-finding path, cvode_bdf showed 1.2e-5 m/s at tol 1e-6, 1000x its tolerance.
   std::vector<IntegratorSettings> menu;
-  for (std::string_view m : integrator_methods())
+  for (const IntegratorMethod m : choice_values<IntegratorMethod>())
     for (double tol : {1e-6, 1e-8}) {
-      IntegratorSettings s = m == "rk4" ? rk4(1e-6) : dopri5(tol);
-      s.method = std::string(m);
-      if (m == "rk4" && tol != 1e-6) continue;  // one fixed-step run is enough
+      IntegratorSettings s = m == IntegratorMethod::rk4 ? rk4(1e-6) : dopri5(tol);
+      s.method = m;
+      if (m == IntegratorMethod::rk4 && tol != 1e-6) continue;  // one fixed-step run is enough
       menu.push_back(s);
     }
   const IntegratorSettings s = GENERATE_COPY(from_range(menu));
@@ -125,7 +126,7 @@ TEST_CASE("spring contact: every integrator keeps the socket still until the fir
   REQUIRE(r.t_contact > 0.04);
   REQUIRE(r.t_contact < 0.06);
   // rk4 has no tolerance: its stages never pass the step end, at 1e-6 s nothing can leak
-  const double tol = s.method == "rk4" ? 0.0 : s.abs_tol;
+  const double tol = s.method == IntegratorMethod::rk4 ? 0.0 : s.abs_tol;
   measured("socket displacement before contact / (tol c), " + label(s),
            tol > 0 ? r.moved / (tol * c) : r.moved, 1.0);
   measured("socket speed before contact / (tol V), " + label(s),

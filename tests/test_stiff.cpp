@@ -43,7 +43,7 @@ TEST_CASE("rosenbrock4: steps grow on a stiff problem and the error follows the 
   double previous_error = INFINITY;
   for (const double tol : {1e-4, 1e-6, 1e-8}) {
     IntegratorSettings s;
-    s.method = "rosenbrock4";
+    s.method = IntegratorMethod::rosenbrock4;
     s.abs_tol = s.rel_tol = tol;
     s.max_step = 1.0;
     RunObserver none;
@@ -86,7 +86,7 @@ TEST_CASE("every scene's Jacobian agrees with central differences, free and in c
     for (int k = 1; k <= 32; ++k) {
       const double end = span * k / 32.0;
       IntegratorSettings s;
-      s.method = "dopri5";
+      s.method = IntegratorMethod::dopri5;
       s.abs_tol = s.rel_tol = 1e-8;
       RunObserver none;
       const RunResult r = simulate(*scene, s, TimeSettings{end, end}, none);

@@ -1,7 +1,6 @@
 // Friction laws: mu(|v_t|) in F_t = -mu F_n v_t/|v_t|.
 #include <array>
 #include <cmath>
-#include <stdexcept>
 
 #include "core/contact.hpp"
 
@@ -56,20 +55,56 @@ class CoulombFriction final : public FrictionLaw {
   FrictionParams p_;
 };
 
-constexpr std::array<std::string_view, 4> kNames{"thesis", "ambrosio", "coulomb", "none"};
+std::unique_ptr<FrictionLaw> make_thesis_friction(const FrictionParams& p) {
+  return std::make_unique<ThesisFriction>(p);
+}
+std::unique_ptr<FrictionLaw> make_ambrosio_friction(const FrictionParams& p) {
+  return std::make_unique<AmbrosioFriction>(p);
+}
+std::unique_ptr<FrictionLaw> make_coulomb_friction(const FrictionParams& p) {
+  return std::make_unique<CoulombFriction>(p);
+}
+std::unique_ptr<FrictionLaw> make_no_friction(const FrictionParams&) {
+  return nullptr;
+}
+
+using Maker = std::unique_ptr<FrictionLaw> (*)(const FrictionParams&);
+struct Entry {
+  Maker make;
+  bool ordered_speeds;
+};
+constexpr Entry kLaws[] = {
+#define RODEND_FRICTION_LAW(name, maker, ordered_speeds, description) {&maker, ordered_speeds},
+#include "core/laws/friction_laws.def"
+#undef RODEND_FRICTION_LAW
+};
 
 }  // namespace
 
-std::span<const std::string_view> friction_law_names() {
+std::span<const std::string_view> choice_names(FrictionLawKind) {
+  static constexpr std::string_view kNames[] = {
+#define RODEND_FRICTION_LAW(name, maker, ordered_speeds, description) #name,
+#include "core/laws/friction_laws.def"
+#undef RODEND_FRICTION_LAW
+  };
   return kNames;
 }
 
+std::span<const std::string_view> choice_descriptions(FrictionLawKind) {
+  static constexpr std::string_view kDescriptions[] = {
+#define RODEND_FRICTION_LAW(name, maker, ordered_speeds, description) description,
+#include "core/laws/friction_laws.def"
+#undef RODEND_FRICTION_LAW
+  };
+  return kDescriptions;
+}
+
+bool needs_ordered_speeds(FrictionLawKind law) {
+  return kLaws[static_cast<std::size_t>(law)].ordered_speeds;
+}
+
 std::unique_ptr<FrictionLaw> make_friction_law(const FrictionParams& p) {
-  if (p.law == "thesis") return std::make_unique<ThesisFriction>(p);
-  if (p.law == "ambrosio") return std::make_unique<AmbrosioFriction>(p);
-  if (p.law == "coulomb") return std::make_unique<CoulombFriction>(p);
-  if (p.law == "none") return nullptr;
-  throw std::invalid_argument("unknown friction law '" + p.law + "'");
+  return kLaws[static_cast<std::size_t>(p.law)].make(p);
 }
 
 }  // namespace rodend

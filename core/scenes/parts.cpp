@@ -44,37 +44,32 @@ double read_hertz_coefficient(const ParameterSet& p, const std::string& prefix,
   if (!(nus > -1.0 && nus < 0.5))
     throw InputError(prefix + ".socket_poisson_ratio", "expected -1 < nu < 0.5");
   // the elastic force is the geometry's (contact.hpp); the laws below supply only chi(c_r)
-  const std::string geometry = p.text(prefix + ".geometry");
-  double coefficient = 0.0;
-  if (geometry == "sphere") {
-    m.geometry = ContactGeometry::sphere;
-    coefficient = sphere_in_sphere_stiffness(m.ball_radius, m.socket_radius(), Eb, nub, Es, nus);
-  } else if (geometry == "cylinder") {
-    m.geometry = ContactGeometry::cylinder;
-    coefficient = cylinder_in_cylinder_coefficient(read_positive(p, prefix + ".bearing_length"), Eb,
-                                                   nub, Es, nus);
-  } else {
-    throw InputError(prefix + ".geometry", "expected \"sphere\" or \"cylinder\"");
+  m.geometry = read_choice<ContactGeometry>(p, prefix + ".geometry");
+  switch (m.geometry) {
+    case ContactGeometry::sphere:
+      return sphere_in_sphere_stiffness(m.ball_radius, m.socket_radius(), Eb, nub, Es, nus);
+    case ContactGeometry::cylinder:
+      return cylinder_in_cylinder_coefficient(read_positive(p, prefix + ".bearing_length"), Eb, nub,
+                                              Es, nus);
   }
-  return coefficient;
+  return 0.0;
 }
 
 /// The friction law of a clearance contact, keys under `fprefix`.
 void read_friction(const ParameterSet& p, const std::string& fprefix, ClearanceContactModel& m) {
   FrictionParams f;
-  f.law = p.text(fprefix + ".law");
+  const std::string law = p.text(fprefix + ".law");
+  const auto kind = choice_from_name<FrictionLawKind>(law);
+  if (!kind) throw InputError(fprefix + ".law", "unknown friction law '" + law + "'");
+  f.law = *kind;
   f.static_coefficient = read_positive(p, fprefix + ".static_coefficient", true);
   f.dynamic_coefficient = read_positive(p, fprefix + ".dynamic_coefficient", true);
   f.static_speed = read_positive(p, fprefix + ".static_speed");
   f.dynamic_speed = read_positive(p, fprefix + ".dynamic_speed");
   f.viscous_coefficient = read_positive(p, fprefix + ".viscous_coefficient", true);
-  if (f.law != "coulomb" && !(f.dynamic_speed > f.static_speed))
+  if (needs_ordered_speeds(f.law) && !(f.dynamic_speed > f.static_speed))
     throw InputError(fprefix + ".dynamic_speed", "expected dynamic_speed > static_speed");
-  try {
-    m.friction = make_friction_law(f);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(fprefix + ".law", e.what());
-  }
+  m.friction = make_friction_law(f);
 }
 
 }  // namespace
@@ -116,11 +111,10 @@ ClearanceContactModel read_clearance_contact(const ParameterSet& p, const std::s
                      "law '" + law_name + "' divides by c_r and is undefined at c_r = 0");
   m.hysteresis = law->hysteresis_factor(cr);
   m.min_impact_speed = read_positive(p, prefix + ".min_impact_speed");
-  try {
-    m.damping_cap = damping_cap_from_name(p.text(prefix + ".damping_cap"));
-  } catch (const std::invalid_argument& e) {
-    throw InputError(prefix + ".damping_cap", e.what());
-  }
+  const std::string cap = p.text(prefix + ".damping_cap");
+  const auto damping_cap = choice_from_name<DampingCap>(cap);
+  if (!damping_cap) throw InputError(prefix + ".damping_cap", "unknown damping cap '" + cap + "'");
+  m.damping_cap = *damping_cap;
 
   read_friction(p, fprefix, m);
   return m;

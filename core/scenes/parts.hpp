@@ -36,6 +36,15 @@ std::string format_number(double v);
 /// A number that must be > 0 (or >= 0 with allow_zero).
 double read_positive(const ParameterSet& p, const std::string& path, bool allow_zero = false);
 
+/// A choice of a catalogue (core/choice.hpp) named by the text at `path`; an unknown name is an
+/// InputError listing the catalogue's names ("expected \"a\" or \"b\"").
+template <Choice E>
+E read_choice(const ParameterSet& p, const std::string& path) {
+  const std::string name = p.text(path);
+  if (const auto e = choice_from_name<E>(name)) return *e;
+  throw InputError(path, "expected " + choice_alternatives<E>());
+}
+
 /// A load history: `<prefix>.kind` in {constant, sine, ramp}, `<prefix>.amplitude` (3 numbers),
 /// `<prefix>.frequency` [Hz] for sine, `<prefix>.ramp_time` [s] for ramp.
 ///   constant: A;  sine: A sin(2 pi f t);  ramp: A t / T

@@ -23,9 +23,12 @@ SliderCrank read_geometry(const ParameterSet& p) {
 }
 
 std::optional<WearModel> read_wear(const ParameterSet& p) {
-  const std::string model = p.text("wear.model");
-  if (model == "none") return std::nullopt;
-  if (model != "archard") throw InputError("wear.model", "expected \"none\" or \"archard\"");
+  switch (read_choice<WearModelKind>(p, "wear.model")) {
+    case WearModelKind::none:
+      return std::nullopt;
+    case WearModelKind::archard:
+      break;
+  }
   WearModel w;
   w.ball = {read_positive(p, "wear.ball_coefficient", true),
             read_positive(p, "wear.ball_hardness")};
