@@ -441,6 +441,9 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
   if (study.design)
     write_text_atomically(plan.dir / "design.json",
                           study.design->to_json(study.design_units).dump(2) + "\n");
+  // the profile files the cases read, by name and content (docs/inputs.md)
+  if (!study.profiles.empty())
+    write_text_atomically(plan.dir / "profiles.json", study.profiles.dump(2) + "\n");
   return plan;
 }
 
