@@ -69,13 +69,19 @@ std::shared_ptr<const ProfileData> ProfileStore::load(const ParameterSet& p,
   }
 }
 
-std::vector<std::string> profiles_in_use(const ParameterSet& p) {
-  const Json values = p.values();
+namespace {
+/// profiles_in_use, from the parameters' values.
+std::vector<std::string> in_use_of(const Json& values) {
   std::vector<std::string> out;
   for (const auto& [path, v] : values.items())
     if (ends_with(path, kFileLeaf) && in_use(values, input_of(path)))
       out.push_back(input_of(path) + ".profile");
   return out;
+}
+}  // namespace
+
+std::vector<std::string> profiles_in_use(const ParameterSet& p) {
+  return in_use_of(p.values());
 }
 
 void attach_profiles(ParameterSet& p, ProfileStore& store) {
@@ -108,7 +114,7 @@ Json identity_values(const ParameterSet& p) {
     if (in_use(values, input)) continue;
     unused.push_back(input + ".profile.");
   }
-  for (const std::string& prefix : profiles_in_use(p))
+  for (const std::string& prefix : in_use_of(values))
     if (const auto data = p.attached(prefix + ".file"))
       values[prefix + ".file"] = "fnv1a64:" + data->content_hash;
   for (const std::string& prefix : unused)

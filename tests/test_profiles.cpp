@@ -27,7 +27,7 @@ namespace {
 
 /// Relative difference allowed between a result of the built-in stroke and of the stroke sampled
 /// every 1 ms (the test below says where it comes from).
-constexpr double kProfileReproduceRel = 1e-4;
+constexpr double kProfileReproduceRel = 1.5e-4;
 
 /// The thesis stroke of the scenes (core/scenes/parts/stroke.part.json): +-60 mm, 1 s strokes,
 /// 0.2 s holds, one cycle (2.4 s), raised-cosine.
@@ -114,10 +114,12 @@ TEST_CASE("profile interpolants: linear and pchip against boost and the data", "
 // orders h^3 |x'''| = 4.7e-9 m in position and h^2 |x'''| = 4.7e-6 m/s in rate: bounded here by
 // 2e-9 m and 1.2e-5 m/s (measured 1.5e-10 m and 1.6e-6 m/s). The kinematic scene is driven by
 // that position and rate: a relative input error of at most 1.2e-5 / 0.24 m/s (the peak rate)
-// = 5e-5, to which the system responds with a gain of order one; the integrator (balanced:
-// dopri5 at 1e-7) adds its own error on two slightly different step sequences, well below.
-// The bound, kProfileReproduceRel = 1e-4, is twice the input's relative error (measured: 4.2e-6
-// on the peak contact force, at most 2.2e-8 on the other results).
+// = 5e-5. The results respond to it with a gain of a few: the peak contact force, the most
+// sensitive, moved by 6.2e-3 for the 2e-3 relative rate error of a 10 ms sampling (a gain of
+// 3; the other results by 1e-5 or less). The integrator (balanced: dopri5 at 1e-7) adds its
+// own error on two slightly different step sequences, well below. The bound,
+// kProfileReproduceRel = 1.5e-4, is that gain of 3 times the input's bound (measured: 4.2e-6 on
+// the peak contact force, at most 2.2e-8 on the other results; a 10 ms sampling fails it).
 TEST_CASE("profiles: a sampled raised-cosine stroke reproduces the stroke", "[profiles]") {
   TempDir dir("profiles");
   const double h = 1e-3;
