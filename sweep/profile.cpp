@@ -84,6 +84,14 @@ std::vector<std::string> profiles_in_use(const ParameterSet& p) {
   return in_use_of(p.values());
 }
 
+bool profiles_possible_keys(const std::vector<std::string>& axis_keys) {
+  for (const std::string& k : axis_keys)
+    if (k == "scene" || k.find(".profile.") != std::string::npos || ends_with(k, ".shape") ||
+        ends_with(k, ".kind"))
+      return true;
+  return false;
+}
+
 void attach_profiles(ParameterSet& p, ProfileStore& store) {
   for (const std::string& prefix : profiles_in_use(p)) {
     const std::string file = prefix + ".file";

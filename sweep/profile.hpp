@@ -63,6 +63,11 @@ class ProfileStore {
 /// `kind` is "profile").
 std::vector<std::string> profiles_in_use(const ParameterSet& p);
 
+/// Whether an axis of a grid (its keys) may bring a profile into use: it sets a profile key, an
+/// input's selector (`*.shape`, `*.kind`) or the scene. When it cannot, and no base draft uses
+/// one, the grid's cases skip the profile lookups (issue 19: fast validation of large grids).
+bool profiles_possible_keys(const std::vector<std::string>& axis_keys);
+
 /// Reads (through `store`) and attaches the data of every profile in use.
 void attach_profiles(ParameterSet& p, ProfileStore& store);
 

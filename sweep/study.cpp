@@ -908,6 +908,7 @@ struct Grid {
   OutputSettings output;
   std::vector<std::uint64_t> ids;          // filled by the validation pass
   std::shared_ptr<ProfileStore> profiles;  // the profile files, each read once (sweep/profile.hpp)
+  bool profiles_possible = true;           // some case may use one (else their lookup is skipped)
 };
 
 /// Each scene's base draft and recorded signals; a scene's own error names it when the study
@@ -1027,8 +1028,8 @@ CaseSpec resolve_case(const Grid& g, std::size_t index, bool check) {
         else
           apply(d, key, v);
       }
-    attach_profiles(d.parameters, *g.profiles);
-    if (check) check_profiles_cover(d.parameters, d.time.end);
+    if (g.profiles_possible) attach_profiles(d.parameters, *g.profiles);
+    if (g.profiles_possible && check) check_profiles_cover(d.parameters, d.time.end);
     if (check) check_case(d, g.scene_signals[which]);
   } catch (const InputError& e) {
     if (g.axes.empty()) throw;
@@ -1122,6 +1123,10 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
     build_bases(*grid, study, doc, several);
     const std::size_t total = count_cases(study, grid->axes);
     check_preset_axis(study, doc);
+    grid->profiles_possible =
+        profiles_possible_keys(study.axis_keys) ||
+        std::any_of(grid->bases.begin(), grid->bases.end(),
+                    [](const Draft& d) { return !profiles_in_use(d.parameters).empty(); });
     grid->scenes = study.scenes;
     grid->output = study.output;
     const std::shared_ptr<ProfileStore> profiles = grid->profiles;
