@@ -7,6 +7,7 @@
 #include "core/json_text.hpp"
 #include "core/scene.hpp"
 #include "core/scene_parameters.hpp"
+#include "core/scenes/profile.hpp"
 
 namespace rodend {
 namespace {
@@ -125,6 +126,17 @@ void ParameterSet::set(const std::string& path, const Json& value, const std::st
     (*l)["note"] = note;
   }
   (*l)["value"] = value;
+  attached_.erase(path);
+}
+
+void ParameterSet::attach(const std::string& path, std::shared_ptr<const ProfileData> data) {
+  leaf(path);  // an unknown key throws
+  attached_[path] = std::move(data);
+}
+
+std::shared_ptr<const ProfileData> ParameterSet::attached(const std::string& path) const {
+  const auto it = attached_.find(path);
+  return it == attached_.end() ? nullptr : it->second;
 }
 
 double ParameterSet::number(const std::string& path) const {
@@ -161,6 +173,10 @@ Json ParameterSet::values() const {
 Json ParameterSet::leaves() const {
   Json out = Json::object();
   walk(tree_, "", [&](const std::string& path, const Json& l) { out[path] = l; });
+  for (const auto& [path, data] : attached_) {
+    out[path]["resolved_path"] = data->resolved;
+    out[path]["content_fnv1a64"] = data->content_hash;
+  }
   return out;
 }
 std::vector<std::string> ParameterSet::paths() const {

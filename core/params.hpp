@@ -10,6 +10,8 @@
 // ("contact.clearance") and must match the leaf's type.
 #pragma once
 
+#include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
@@ -21,6 +23,7 @@
 namespace rodend {
 
 using Json = nlohmann::json;
+struct ProfileData;  // core/scenes/profile.hpp
 
 class ParameterSet {
  public:
@@ -52,9 +55,18 @@ class ParameterSet {
   /// The unit of a leaf ("" if none).
   std::string unit(const std::string& path) const;
 
+  /// Attaches the data a string leaf names (a profile's `file`), read by the study that
+  /// resolved these parameters: immutable, and shared by every copy of the set (every case that
+  /// names the file). Setting the leaf again detaches it. leaves() then gives the leaf the
+  /// file's resolved path and content hash.
+  void attach(const std::string& path, std::shared_ptr<const ProfileData> data);
+  /// The data attached at `path`, or null.
+  std::shared_ptr<const ProfileData> attached(const std::string& path) const;
+
  private:
   const Json& leaf(const std::string& path) const;
   Json tree_;
+  std::map<std::string, std::shared_ptr<const ProfileData>> attached_;
 };
 
 }  // namespace rodend

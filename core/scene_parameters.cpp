@@ -210,6 +210,8 @@ const Catalogue kCatalogues[] = {
     {"torque_motors", [] { return strings(torque_motor_names()); }},
     {"motion_shapes", [] { return strings(motion_shape_names()); }},
     {"hinge_moments", [] { return strings(hinge_moment_names()); }},
+    {"profile_interpolations", [] { return strings(profile_interpolation_names()); }},
+    {"profile_past_end", [] { return strings(profile_past_end_names()); }},
 };
 
 }  // namespace

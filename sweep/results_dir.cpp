@@ -28,9 +28,9 @@ bool all_digits(const std::string& s) {
 /// Names a results directory of rodend holds (any version): what may be in a directory that is
 /// adopted without a marker.
 bool rodend_name(const std::string& name) {
-  static const std::array<const char*, 8> kNames{"study.json", "summary.h5", "summary.csv",
-                                                 "cases",      "plots",      "design.json",
-                                                 "analysis",   "report.html"};
+  static const std::array<const char*, 9> kNames{"study.json", "summary.h5",  "summary.csv",
+                                                 "cases",      "plots",       "design.json",
+                                                 "analysis",   "report.html", "profiles.json"};
   for (const char* n : kNames)
     if (name == n) return true;
   if (name.rfind("shard-", 0) == 0) return true;                       // shard summaries

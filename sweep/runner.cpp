@@ -429,6 +429,10 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
     write_text_file_atomically(plan.dir / "design.json", "study file",
                                study.design->to_json(study.design_units).dump(2) + "\n",
                                /*durable=*/false);
+  // the profile files the cases read, by name and content (docs/inputs.md)
+  if (!study.profiles.empty())
+    write_text_file_atomically(plan.dir / "profiles.json", "study file",
+                               study.profiles.dump(2) + "\n", /*durable=*/false);
   return plan;
 }
 

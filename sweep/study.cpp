@@ -17,6 +17,7 @@
 #include "core/json_text.hpp"
 #include "core/presets.hpp"
 #include "core/scene.hpp"
+#include "sweep/profile.hpp"
 
 namespace rodend {
 namespace fs = std::filesystem;
@@ -723,7 +724,8 @@ std::vector<std::string> design_units(const Design& design,
 Json CaseSpec::canonical() const {
   Json sig = Json::array();
   for (SignalId id : signals) sig.push_back(std::string(signal_spec(id).name));
-  Json c = {{"scene", scene}, {"parameters", as_doubles(parameters.values())}, {"signals", sig}};
+  Json c = {
+      {"scene", scene}, {"parameters", as_doubles(identity_values(parameters))}, {"signals", sig}};
   write_settings(*this, c);
   if (design_sample >= 0) c["design_sample"] = design_sample;
   return c;
@@ -949,8 +951,10 @@ struct Grid {
   std::vector<Draft> bases;
   std::vector<std::vector<SignalId>> scene_signals;
   OutputSettings output;
-  std::vector<std::uint64_t> ids;  // filled by the validation pass
-  Origins origins;                 // the parameters' provenance
+  std::vector<std::uint64_t> ids;          // filled by the validation pass
+  Origins origins;                         // the parameters' provenance
+  std::shared_ptr<ProfileStore> profiles;  // the profile files, each read once (sweep/profile.hpp)
+  bool profiles_possible = true;           // some case may use one (else their lookup is skipped)
 };
 
 /// Each scene's base draft and recorded signals; a scene's own error names it when the study
@@ -961,6 +965,7 @@ void build_bases(Grid& grid, const Study& study, const Json& doc, bool several) 
     Draft base = base_draft(name, doc, several, grid.origins);
     std::unique_ptr<Scene> scene;  // the scene's signal list needs a built scene
     try {
+      attach_profiles(base.parameters, *grid.profiles);
       scene = build_checked(name, base.parameters);
     } catch (const InputError& e) {
       rethrow_for_scene(e, name, several);
@@ -1069,6 +1074,8 @@ CaseSpec resolve_case(const Grid& g, std::size_t index, bool check) {
         else
           apply(d, key, v, g.origins.of_axis(g.axes[a].wheres[k]));
       }
+    if (g.profiles_possible) attach_profiles(d.parameters, *g.profiles);
+    if (g.profiles_possible && check) check_profiles_cover(d.parameters, d.time.end);
     if (check) check_case(d, g.scene_signals[which]);
   } catch (const InputError& e) {
     if (g.axes.empty()) throw;
@@ -1153,6 +1160,7 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
     grid->origins.file = file.string();
     for (const std::string& o : overrides)
       grid->origins.set.emplace_back(o.substr(0, o.find('=')), o);
+    grid->profiles = std::make_shared<ProfileStore>(file.parent_path());
     grid->axes = read_axes(study, doc);
     grid->scene_axis = find_scene_axis(grid->axes);
     read_scenes(study, doc, grid->axes, grid->scene_axis);
@@ -1165,9 +1173,15 @@ Study parse_study(const Json& doc, const fs::path& file, const fs::path& results
     build_bases(*grid, study, doc, several);
     const std::size_t total = count_cases(study, grid->axes);
     check_preset_axis(study, doc);
+    grid->profiles_possible =
+        profiles_possible_keys(study.axis_keys) ||
+        std::any_of(grid->bases.begin(), grid->bases.end(),
+                    [](const Draft& d) { return !profiles_in_use(d.parameters).empty(); });
     grid->scenes = study.scenes;
     grid->output = study.output;
+    const std::shared_ptr<ProfileStore> profiles = grid->profiles;
     study.cases = index_cases(std::move(grid), total);
+    study.profiles = profiles->records();
     return study;
   } catch (const InputError& e) {
     throw e.located(file.string());

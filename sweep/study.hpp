@@ -171,6 +171,9 @@ struct Study {
   /// last axis: axis_keys end with "design.sample" and the factors' keys
   std::shared_ptr<const Design> design;
   std::vector<std::string> design_units;  ///< each factor's SI unit, in factor order
+  /// the profile files the cases read (sweep/profile.hpp; docs/inputs.md): [{"file",
+  /// "resolved_path", "content_fnv1a64", "column", ...}], written to profiles.json
+  Json profiles = Json::array();
   Json source;  ///< the study file as parsed, with the --set overrides applied
   std::vector<std::string> overrides;  ///< the --set key=value overrides, in order
   /// where a study without an "output" key writes (--results-root), for the resume command

@@ -89,12 +89,15 @@ TEST_CASE("waveform catalogues: one list for the command and the hinge moment", 
   const auto shapes = motion_shape_names();
   const auto kinds = hinge_moment_names();
   const auto waves = waveform_names();
-  REQUIRE(shapes.size() == 3 + waves.size());
-  REQUIRE(kinds.size() == 3 + waves.size());
+  // three strokes or loads of their own, the waveforms, then a profile from data (profile.hpp)
+  REQUIRE(shapes.size() == 4 + waves.size());
+  REQUIRE(kinds.size() == 4 + waves.size());
   for (std::size_t i = 0; i < waves.size(); ++i) {
     CHECK(shapes[3 + i] == waves[i]);
     CHECK(kinds[3 + i] == waves[i]);
   }
+  CHECK(shapes.back() == "profile");
+  CHECK(kinds.back() == "profile");
   // a sine command and a triangle moment are the scene's periodic inputs
   ParameterSet p = ParameterSet::defaults_for("rod-end-actuator");
   p.set("motion.shape", "sine");

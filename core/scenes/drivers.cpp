@@ -14,13 +14,16 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 #define RODEND_X(id, name) name,
 constexpr std::string_view kWaveNames[]{RODEND_WAVEFORMS(RODEND_X)};
 constexpr std::string_view kShapeNames[]{"raised-cosine", "minimum-jerk", "step",
-                                         RODEND_WAVEFORMS(RODEND_X)};
+                                         RODEND_WAVEFORMS(RODEND_X) "profile"};
 constexpr std::string_view kHingeNames[]{"none", "constant", "proportional",
-                                         RODEND_WAVEFORMS(RODEND_X)};
+                                         RODEND_WAVEFORMS(RODEND_X) "profile"};
 #undef RODEND_X
 constexpr auto kWaveformCount = std::size(kWaveNames);
-static_assert(std::size(kShapeNames) == 3 + kWaveformCount);
-static_assert(std::size(kHingeNames) == 3 + kWaveformCount);
+static_assert(std::size(kShapeNames) == 4 + kWaveformCount);
+static_assert(std::size(kHingeNames) == 4 + kWaveformCount);
+static_assert(static_cast<std::size_t>(ActuatorMotion::Shape::profile) + 1 ==
+              std::size(kShapeNames));
+static_assert(static_cast<std::size_t>(HingeMoment::Kind::profile) + 1 == std::size(kHingeNames));
 
 /// The position of the text at `path` in `names`; InputError naming them if it is not there.
 std::size_t catalogue_index(const ParameterSet& p, const std::string& path,
@@ -141,11 +144,16 @@ Waveform read_waveform(const ParameterSet& p, const std::string& pre, Waveform::
 }
 
 double ActuatorMotion::duration() const {
+  if (shape == Shape::profile) return profile.end_time();
   if (is_waveform()) return wave.end_time();
   return start_time + cycles * (extension_time + retraction_time + 2.0 * hold_time);
 }
 
 std::pair<double, double> ActuatorMotion::range() const {
+  if (shape == Shape::profile) {
+    const auto [lo, hi] = profile.range();
+    return {std::min(0.0, lo), std::max(0.0, hi)};
+  }
   if (is_waveform())
     return {std::min(0.0, wave.offset - wave.amplitude),
             std::max(0.0, wave.offset + wave.amplitude)};
@@ -153,6 +161,10 @@ std::pair<double, double> ActuatorMotion::range() const {
 }
 
 ActuatorMotion::Sample ActuatorMotion::at(double t) const {
+  if (shape == Shape::profile) {
+    const ProfileInput::Sample s = profile.at(t);
+    return {s.value, s.rate, s.acceleration};
+  }
   if (is_waveform()) {
     const Waveform::Sample w = wave.at(t);
     return {w.value, w.rate, w.acceleration};
@@ -203,6 +215,8 @@ ActuatorMotion read_motion(const ParameterSet& p, const std::string& prefix) {
         read_waveform(p, prefix,
                       static_cast<Waveform::Kind>(static_cast<int>(m.shape) -
                                                   static_cast<int>(ActuatorMotion::Shape::sine)));
+  if (m.shape == ActuatorMotion::Shape::profile)
+    m.profile = read_profile_input(p, prefix + ".profile");
   return m;
 }
 
@@ -216,6 +230,9 @@ double HingeMoment::at(double t, double theta) const {
       break;
     case Kind::proportional:
       m -= stiffness * theta;
+      break;
+    case Kind::profile:
+      m += profile.at(t).value;
       break;
     default:  // a waveform
       m += wave.at(t).value;
@@ -240,6 +257,7 @@ HingeMoment read_hinge(const ParameterSet& p, const std::string& prefix) {
     h.wave = read_waveform(p, prefix,
                            static_cast<Waveform::Kind>(static_cast<int>(h.kind) -
                                                        static_cast<int>(HingeMoment::Kind::sine)));
+  if (h.kind == HingeMoment::Kind::profile) h.profile = read_profile_input(p, prefix + ".profile");
   return h;
 }
 

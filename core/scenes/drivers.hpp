@@ -9,6 +9,7 @@
 
 #include "core/params.hpp"
 #include "core/scene.hpp"
+#include "core/scenes/profile.hpp"
 
 namespace rodend {
 
@@ -80,6 +81,7 @@ struct ActuatorMotion {
   /// step: the position jumps at the start of each stroke (a command only: the actuator scenes
   /// accept it, the kinematic scene, which needs a velocity, rejects it)
   /// then the waveforms (RODEND_WAVEFORMS), which replace the stroke by `wave`
+  /// then profile: a time series from a file (`<prefix>.profile.*`, core/scenes/profile.hpp)
   enum class Shape {
     raised_cosine,
     minimum_jerk,
@@ -87,6 +89,7 @@ struct ActuatorMotion {
 #define RODEND_X(id, name) id,
     RODEND_WAVEFORMS(RODEND_X)
 #undef RODEND_X
+        profile,
   } shape = Shape::raised_cosine;
   double extension = 0.05;       ///< extended position [m]
   double retraction = 0.0;       ///< retracted position is -retraction [m]
@@ -96,10 +99,15 @@ struct ActuatorMotion {
   double start_time = 0.0;       ///< [s]
   int cycles = 1;
   Waveform wave;  ///< the waveform of a waveform shape (its start_time and cycles are the above)
+  ProfileInput profile;  ///< the time series of shape profile [m]
 
-  /// Whether the shape is a waveform (sine, chirp, triangle) rather than a stroke.
+  /// Whether the shape is a waveform (sine, chirp, triangle).
   bool is_waveform() const {
-    return shape > Shape::step;
+    return shape > Shape::step && shape < Shape::profile;
+  }
+  /// Whether the shape is a stroke out and back (raised-cosine, minimum-jerk, step).
+  bool is_stroke() const {
+    return shape <= Shape::step;
   }
   /// The smallest and largest position the profile reaches [m] (0 included: the start).
   std::pair<double, double> range() const;
@@ -109,7 +117,7 @@ struct ActuatorMotion {
     double position, velocity, acceleration;
   };
   Sample at(double t) const;
-  /// Time at which the profile ends (after the last hold) [s].
+  /// Time at which the profile ends (after the last hold; a profile's last sample) [s].
   double duration() const;
 };
 
@@ -118,7 +126,8 @@ struct ActuatorMotion {
 std::span<const std::string_view> motion_shape_names();
 
 /// Reads `<prefix>.*` (shape, extension, retraction, extension_time, retraction_time,
-/// hold_time, start_time, cycles). Throws InputError.
+/// hold_time, start_time, cycles; the waveform's keys; `<prefix>.profile.*` for a profile).
+/// Throws InputError.
 ActuatorMotion read_motion(const ParameterSet& p, const std::string& prefix);
 
 /// Hinge moment on the surface [N m], counter-clockwise positive (thesis §6.3.2):
@@ -127,6 +136,7 @@ ActuatorMotion read_motion(const ParameterSet& p, const std::string& prefix);
 ///   plus an optional sinusoidal term A sin(2 pi f t).
 struct HingeMoment {
   /// then the waveforms (RODEND_WAVEFORMS): M = the waveform `wave`
+  /// then profile: M = the time series `profile` from a file (`<prefix>.profile.*`)
   enum class Kind {
     none,
     constant,
@@ -134,6 +144,7 @@ struct HingeMoment {
 #define RODEND_X(id, name) id,
     RODEND_WAVEFORMS(RODEND_X)
 #undef RODEND_X
+        profile,
   } kind = Kind::none;
   double constant_moment = 0.0;  ///< M0 [N m]
   double step_time = 0.0;        ///< [s]
@@ -141,9 +152,10 @@ struct HingeMoment {
   double sine_amplitude = 0.0;   ///< A [N m]
   double sine_frequency = 0.0;   ///< f [Hz]
   Waveform wave;                 ///< the moment of a waveform kind [N m]
+  ProfileInput profile;          ///< the moment of kind profile [N m]
 
   bool is_waveform() const {
-    return kind > Kind::proportional;
+    return kind > Kind::proportional && kind < Kind::profile;
   }
 
   double at(double t, double theta) const;

@@ -21,7 +21,15 @@ class RodEndKinematicScene final : public RodEndScene<RodEndKinematicScene, 0> {
       throw InputError("motion.shape",
                        "a step has no velocity: the prescribed rod motion needs \"raised-cosine\" "
                        "or \"minimum-jerk\" (steps are for the actuator scenes' command)");
-    mech_.check_closure(motion_, "motion.extension", "motion.retraction");
+    if (motion_.shape == ActuatorMotion::Shape::profile &&
+        motion_.profile.interpolation != ProfileInput::Interpolation::pchip)
+      throw InputError("motion.profile.interpolation",
+                       "the prescribed rod motion needs a velocity without jumps: expected "
+                       "\"pchip\" (linear interpolation is for the actuator scenes' command)");
+    if (motion_.shape == ActuatorMotion::Shape::profile)
+      mech_.check_closure(motion_, "motion.profile.file");
+    else
+      mech_.check_closure(motion_, "motion.extension", "motion.retraction");
     double x[kStates + 1];
     initial_state(x);
     initial_energy_ = mech_.mechanical_energy(mechanism_eval(0.0, x, ContactLatch{}));

@@ -105,8 +105,8 @@ void RodEndMechanism::check_closure(const ActuatorMotion& motion, const std::str
   ActuatorMotion scanned = motion;
   scanned.cycles = std::min(motion.cycles, 2);
   // a waveform is scanned over its whole window (its cycles are not repeats of a stroke)
-  const double T = scanned.is_waveform() ? motion.duration() : scanned.duration();
-  const int n = scanned.is_waveform() ? 200000 : 20000 * scanned.cycles;
+  const double T = scanned.is_stroke() ? scanned.duration() : motion.duration();
+  const int n = scanned.is_stroke() ? 20000 * scanned.cycles : 200000;
   for (int i = 0; i <= n; ++i) {
     const double t = T * i / n;
     const double l = geometry_.rod_zero() + scanned.at(t).position;

@@ -82,12 +82,17 @@ void check_command_within_stroke(const ActuatorMotion& m, const ServoActuatorPar
                                  const std::string& prefix) {
   const auto [lo, hi] = m.range();
   const bool wave = m.is_waveform();
+  const bool data = m.shape == ActuatorMotion::Shape::profile;
   if (hi >= a.half_stroke)
-    throw InputError(prefix + (wave ? ".amplitude" : ".extension"),
+    throw InputError(prefix + (data   ? ".profile.file"
+                               : wave ? ".amplitude"
+                                      : ".extension"),
                      "the command " + format_number(hi) + " m is outside the piston stroke +-" +
                          format_number(a.half_stroke) + " m");
   if (-lo >= a.half_stroke)
-    throw InputError(prefix + (wave ? ".amplitude" : ".retraction"),
+    throw InputError(prefix + (data   ? ".profile.file"
+                               : wave ? ".amplitude"
+                                      : ".retraction"),
                      "the command " + format_number(lo) + " m is outside the piston stroke +-" +
                          format_number(a.half_stroke) + " m");
 }

@@ -1,0 +1,91 @@
+// Profiles from data (issue 31 item 1): a position command or a hinge moment given as a time
+// series from a file (a recorded flight, a rig sequence). The file is read once per study
+// (sweep/profile.hpp) into an immutable ProfileData that every case naming it shares; a scene
+// holds a ProfileInput: that data plus how to read between and past its samples.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "core/params.hpp"
+
+namespace rodend {
+
+/// How a profile is read between its samples: RODEND_X(enumerator, "name").
+///   linear: straight lines (the value is continuous, its rate steps at each sample)
+///   pchip:  the monotone piecewise-cubic Hermite interpolant (Fritsch & Carlson 1980, slopes
+///           by Brodlie's weighted harmonic mean as in MATLAB's and Boost's pchip): continuous
+///           value and rate, no overshoot (it stays within each interval's two samples)
+#define RODEND_PROFILE_INTERPOLATIONS(RODEND_X) \
+  RODEND_X(linear, "linear")                    \
+  RODEND_X(pchip, "pchip")
+
+/// What a profile does past its last sample: RODEND_X(enumerator, "name").
+///   error:  a run longer than the profile is refused when the study is loaded
+///   hold:   the last value is held
+///   repeat: the profile repeats with the period last time - first time
+#define RODEND_PROFILE_PAST_END(RODEND_X) \
+  RODEND_X(error, "error")                \
+  RODEND_X(hold, "hold")                  \
+  RODEND_X(repeat, "repeat")
+
+/// One column of a data file against its time column: immutable once read, shared by cases.
+struct ProfileData {
+  std::string file;           ///< the path as the study names it
+  std::string resolved;       ///< the path it was read from (against the study file's folder)
+  std::string content_hash;   ///< FNV-1a 64 of the file's bytes, 16 hex digits
+  std::string column;         ///< the value column (CSV header name; HDF5 dataset path)
+  std::string unit;           ///< the value column's unit, as the file states it
+  std::vector<double> time;   ///< strictly increasing [s]
+  std::vector<double> value;  ///< [unit]
+  std::vector<double> slope;  ///< pchip slopes d(value)/dt at the samples [unit/s]
+
+  double start() const { return time.front(); }
+  double end() const { return time.back(); }
+};
+
+/// Fills `d.slope` (pchip) from d.time and d.value (at least two samples, time increasing).
+void compute_pchip_slopes(ProfileData& d);
+
+/// A profile as a scene reads it.
+struct ProfileInput {
+  enum class Interpolation {
+#define RODEND_X(id, name) id,
+    RODEND_PROFILE_INTERPOLATIONS(RODEND_X)
+#undef RODEND_X
+  } interpolation = Interpolation::linear;
+  enum class PastEnd {
+#define RODEND_X(id, name) id,
+    RODEND_PROFILE_PAST_END(RODEND_X)
+#undef RODEND_X
+  } past_end = PastEnd::error;
+  std::shared_ptr<const ProfileData> data;
+
+  /// Value, rate and its rate at time t. Before the first sample the first value is held; past
+  /// the last, `past_end` (error: the last value is held; the study refuses a run that would
+  /// need it).
+  struct Sample {
+    double value, rate, acceleration;
+  };
+  Sample at(double t) const;
+  /// The smallest and largest value (both interpolations stay within the samples' range).
+  std::pair<double, double> range() const;
+  /// The time of the last sample [s].
+  double end_time() const {
+    return data->end();
+  }
+};
+
+std::span<const std::string_view> profile_interpolation_names();
+std::span<const std::string_view> profile_past_end_names();
+
+/// Reads `<prefix>.interpolation`, `<prefix>.past_end` and the data attached to `<prefix>.file`
+/// (ParameterSet::attach, done by the study that loaded the parameters). Throws InputError
+/// naming `<prefix>.file` when no data is attached.
+ProfileInput read_profile_input(const ParameterSet& p, const std::string& prefix);
+
+}  // namespace rodend
