@@ -42,19 +42,27 @@ py::object from_json(const Json& j) {
   return py::module_::import("json").attr("loads")(j.dump());
 }
 
+/// One field of the case record as a Python value (sweep/case_record.def): str, int, float;
+/// json and features fields as their stored text (as in the case file).
+py::object record_value(const record_text& v) {
+  return py::str(v);
+}
+py::object record_value(record_integer v) {
+  return py::int_(v);
+}
+py::object record_value(record_real v) {
+  return py::float_(v);
+}
+template <class T>
+py::object record_value(const T& v) {
+  return py::str(record_field_text(v));
+}
+
 py::dict record_dict(const CaseRecord& r) {
   py::dict d;
-  d["case_id"] = r.id;
-  d["case_index"] = r.index;
-  d["status"] = r.status;
-  d["message"] = r.message;
-  d["t_reached_s"] = r.t_reached;
-  d["wall_time_s"] = r.wall_time;
-  d["steps_accepted"] = r.steps_accepted;
-  d["steps_rejected"] = r.steps_rejected;
-  d["rhs_calls"] = r.rhs_calls;
-  d["started_utc"] = r.started_utc;
-  d["finished_utc"] = r.finished_utc;
+  for_each_record_field(r, [&](const RecordFieldSpec& f, const auto& v) {
+    d[py::str(std::string(f.name))] = record_value(v);
+  });
   py::dict metrics, units;
   const auto cat = metric_catalogue();
   for (std::size_t i = 0; i < cat.size() && i < r.metrics.size(); ++i) {

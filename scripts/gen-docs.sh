@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Regenerates docs/signals.md, docs/metrics.md and docs/choices.md from the catalogues compiled
-# into rodend (core/signals.def, sweep/metrics.def, the catalogues of choices core/*.def), and the settings table of docs/studies.md (between its
-# "rodend schema --markdown" markers) from sweep/settings.def. The test cli.docs_in_step fails
+# into rodend (core/signals.def, sweep/metrics.def, the catalogues of choices core/*.def), the
+# settings table of docs/studies.md (between its "rodend schema --markdown" markers) from
+# sweep/settings.def, and the case record table of docs/results.md from sweep/case_record.def.
+# The test cli.docs_in_step fails
 # when they are stale.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -35,3 +37,12 @@ TABLE="$table" awk -v begin="$begin" -v end="$end" '
   !skip { print }' docs/studies.md > docs/studies.md.new
 mv docs/studies.md.new docs/studies.md
 echo "regenerated docs/signals.md, docs/metrics.md, docs/choices.md and the settings table of docs/studies.md"
+table=$(/usr/bin/python3 scripts/record-table.py .)
+begin='<!-- begin: scripts/record-table.py -->'
+end='<!-- end: scripts/record-table.py -->'
+TABLE="$table" awk -v begin="$begin" -v end="$end" '
+  $0 == begin { print; print ENVIRON["TABLE"]; skip = 1; next }
+  $0 == end { skip = 0 }
+  !skip { print }' docs/results.md > docs/results.md.new
+mv docs/results.md.new docs/results.md
+echo "regenerated the case record table of docs/results.md (sweep/case_record.def)"

@@ -29,8 +29,10 @@
 #include <memory>
 #include <optional>
 #include <set>
+#include <span>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/integrator.hpp"
@@ -65,22 +67,73 @@ struct History {
   std::vector<CaseArray> arrays;  ///< wear maps and the like (docs/results.md)
 };
 
-/// What one case produced, and what the summary keeps of it.
+/// The types and places of the case record's fields (sweep/case_record.def).
+enum class RecordType { text, integer, real, json, features };
+enum class RecordPlace { identity, run, file };
+/// The C++ type of each RecordType (the member types of CaseRecord).
+using record_text = std::string;
+using record_integer = long long;
+using record_real = double;
+using record_json = Json;          ///< an object unless set
+using record_features = Features;  ///< stored as a JSON array of names
+inline record_text record_default_text() {
+  return {};
+}
+inline record_integer record_default_integer() {
+  return 0;
+}
+inline record_real record_default_real() {
+  return 0.0;
+}
+inline record_json record_default_json() {
+  return Json::object();
+}
+inline record_features record_default_features() {
+  return {};
+}
+
+/// One field of the case record: a line of sweep/case_record.def.
+struct RecordFieldSpec {
+  std::string_view member, name, unit, description;
+  RecordType type;
+  RecordPlace place;
+};
+/// The fields of the case record, in catalogue order.
+std::span<const RecordFieldSpec> record_catalogue();
+
+/// What one case produced, and what the summary keeps of it: the fields of
+/// sweep/case_record.def, then the metrics (sweep/metrics.def).
 struct CaseRecord {
-  std::string id;
-  long index = 0;
-  std::string scene;  ///< the case's scene
-  Features features;  ///< what the scene has (written to the case file; not read back)
-  Json coordinates = Json::object();
-  std::string status;      ///< "ok" or a RunStatus name
-  std::string message;     ///< empty when ok
-  double t_reached = 0.0;  ///< [s]
-  double wall_time = 0.0;  ///< [s]
-  long long steps_accepted = 0, steps_rejected = 0, rhs_calls = 0;
-  std::string started_utc, finished_utc;  ///< ISO 8601
+#define RODEND_RECORD_FIELD(member, type, place, name, unit, description) \
+  record_##type member = record_default_##type();
+#include "sweep/case_record.def"
+#undef RODEND_RECORD_FIELD
   MetricValues metrics{};
 };
 
+/// The stored text of a json or features field (a case file attribute, a summary cell, the
+/// spool, the Python dictionary): compact JSON; features as the array of their names.
+std::string record_field_text(const Json& v);
+std::string record_field_text(const Features& v);
+/// A json or features field back from its stored text; throws std::runtime_error when it is not
+/// JSON of that kind (unknown feature names are dropped: a newer rodend's features).
+void record_field_from_text(const std::string& text, Json& v);
+void record_field_from_text(const std::string& text, Features& v);
+
+/// True when the record's run ended well (its status names RunStatus::ok).
+inline bool record_ok(const CaseRecord& r) {
+  return r.status == to_string(RunStatus::ok);
+}
+
+/// Calls f(spec, value) for each field of `r` (a CaseRecord, const or not), in catalogue order.
+template <class Record, class F>
+void for_each_record_field(Record& r, F&& f) {
+  const auto cat = record_catalogue();
+  std::size_t i = 0;
+#define RODEND_RECORD_FIELD(member, type, place, name, unit, description) f(cat[i++], r.member);
+#include "sweep/case_record.def"
+#undef RODEND_RECORD_FIELD
+}
 /// A summary table read back from summary.h5.
 struct SummaryTable {
   std::vector<std::string> columns;                       ///< in table order

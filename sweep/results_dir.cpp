@@ -156,9 +156,12 @@ bool is_stale_temporary(const std::string& name) {
   return ::kill(p, 0) != 0 && errno == ESRCH;
 }
 
-std::unique_ptr<ResultsLock> ResultsLock::claim(const fs::path& dir, const std::string& lock_name,
-                                                const std::string& study_file, bool wait,
-                                                bool shared) {
+namespace {
+
+/// Creates `dir` (with its marker) or checks that rodend may write there: a directory it
+/// created (the marker), an empty one, or one of an earlier rodend version (cases/ and rodend's
+/// own names only), which is adopted and marked. Throws InputError (key "output") otherwise.
+void claim_directory(const fs::path& dir, const std::string& study_file) {
   std::error_code ec;
   const fs::path marker = dir / kResultsMarker;
   const bool existed = fs::exists(dir, ec);
@@ -167,8 +170,6 @@ std::unique_ptr<ResultsLock> ResultsLock::claim(const fs::path& dir, const std::
                      "the results path " + dir.string() + " exists and is not a directory",
                      study_file);
   if (existed && !fs::exists(marker, ec)) {
-    // a directory rodend did not create: only an empty one, or the results of an earlier
-    // rodend version (cases/ and rodend's own names only), is taken
     bool has_cases = false, foreign = false;
     std::string foreign_name;
     for (const auto& e : fs::directory_iterator(dir, ec)) {
@@ -196,36 +197,48 @@ std::unique_ptr<ResultsLock> ResultsLock::claim(const fs::path& dir, const std::
                      "cannot create the results directory " + dir.string() + ": " + ec.message(),
                      study_file);
   write_marker(marker, study_file);
+}
 
+/// Takes flock `mode` (LOCK_SH, LOCK_EX) on `fd`, the lock file `lock_path`: at once, or, when
+/// another run holds it, waiting (`wait`) or throwing a message naming the holder. Closes `fd`
+/// when it throws.
+void take_lock(int fd, const fs::path& lock_path, int mode, bool wait) {
+  if (::flock(fd, mode | LOCK_NB) == 0) return;
+  const int err = errno;
+  if (err != EWOULDBLOCK) {
+    ::close(fd);
+    throw std::runtime_error("cannot lock " + lock_path.string() + ": " + std::strerror(err));
+  }
+  const std::string holder = read_holder(lock_path);
+  if (!wait) {
+    ::close(fd);
+    throw std::runtime_error("another run of this study holds " + lock_path.string() + " (" +
+                             holder +
+                             "); wait for it to finish, or rerun with --wait to queue "
+                             "behind it");
+  }
+  std::fprintf(stderr, "rodend: waiting for the run that holds %s (%s)\n", lock_path.c_str(),
+               holder.c_str());
+  while (::flock(fd, mode) != 0) {
+    if (errno != EINTR) {
+      const int e = errno;
+      ::close(fd);
+      throw std::runtime_error("cannot lock " + lock_path.string() + ": " + std::strerror(e));
+    }
+  }
+}
+
+}  // namespace
+
+std::unique_ptr<ResultsLock> ResultsLock::claim(const fs::path& dir, const std::string& lock_name,
+                                                const std::string& study_file, bool wait,
+                                                bool shared) {
+  claim_directory(dir, study_file);
   // the lock: flock on a file of its own, held until the run ends (closing the descriptor, or
   // the process's death, releases it)
   const fs::path lock_path = dir / lock_name;
   const int fd = open_lock_file(lock_path, study_file);
-  const int mode = shared ? LOCK_SH : LOCK_EX;
-  if (::flock(fd, mode | LOCK_NB) != 0) {
-    const int err = errno;
-    if (err != EWOULDBLOCK) {
-      ::close(fd);
-      throw std::runtime_error("cannot lock " + lock_path.string() + ": " + std::strerror(err));
-    }
-    const std::string holder = read_holder(lock_path);
-    if (!wait) {
-      ::close(fd);
-      throw std::runtime_error("another run of this study holds " + lock_path.string() + " (" +
-                               holder +
-                               "); wait for it to finish, or rerun with --wait to queue "
-                               "behind it");
-    }
-    std::fprintf(stderr, "rodend: waiting for the run that holds %s (%s)\n", lock_path.c_str(),
-                 holder.c_str());
-    while (::flock(fd, mode) != 0) {
-      if (errno != EINTR) {
-        const int e = errno;
-        ::close(fd);
-        throw std::runtime_error("cannot lock " + lock_path.string() + ": " + std::strerror(e));
-      }
-    }
-  }
+  take_lock(fd, lock_path, shared ? LOCK_SH : LOCK_EX, wait);
   // the holder's name, for the message of a second run
   const std::string who = "pid " + std::to_string(::getpid()) + " on " + host_name() + "\n";
   if (::ftruncate(fd, 0) == 0) {

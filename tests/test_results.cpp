@@ -79,6 +79,7 @@ CaseRecord make_record(const CaseSpec& spec) {
   r.rhs_calls = 98765;
   r.started_utc = "2024-05-01T10:00:00Z";
   r.finished_utc = "2024-05-01T10:00:02Z";
+  r.features = Features{Feature::contact, Feature::wear};
   for (std::size_t i = 0; i < r.metrics.size(); ++i)
     r.metrics[i] = i % 3 == 2 ? std::numeric_limits<double>::quiet_NaN()
                               : 0.125 * static_cast<double>(i) + 1e-17;
@@ -109,6 +110,8 @@ void summarise(const fs::path& dir, const Study& study, const std::vector<CaseRe
 void require_same_record(const CaseRecord& got, const CaseRecord& want) {
   CHECK(got.id == want.id);
   CHECK(got.index == want.index);
+  CHECK(got.scene == want.scene);
+  CHECK(got.features == want.features);  // written to the case file and read back (issue 32)
   CHECK(got.coordinates == want.coordinates);
   CHECK(got.status == want.status);
   CHECK(got.message == want.message);

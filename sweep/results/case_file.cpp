@@ -55,25 +55,31 @@ void check_history(const fs::path& path, const History& h) {
   }
 }
 
+/// One field of the case record as a root attribute (sweep/case_record.def).
+void write_record_attribute(const Context& cx, hid_t root, const std::string& name,
+                            const record_text& v) {
+  attr_string(cx, root, name, v);
+}
+void write_record_attribute(const Context& cx, hid_t root, const std::string& name,
+                            record_integer v) {
+  attr_int64(cx, root, name, v);
+}
+void write_record_attribute(const Context& cx, hid_t root, const std::string& name, record_real v) {
+  attr_double(cx, root, name, v);
+}
+template <class T>  // json, features: their text
+void write_record_attribute(const Context& cx, hid_t root, const std::string& name, const T& v) {
+  attr_string(cx, root, name, record_field_text(v));
+}
+
 void write_case_root(const Context& cx, hid_t root, const CaseSpec& spec, const CaseRecord& r,
                      const Json& prov) {
   attr_int(cx, root, "schema_version", kResultsSchemaVersion);
-  attr_string(cx, root, "case_id", r.id);
-  attr_int64(cx, root, "case_index", r.index);
-  attr_string(cx, root, "scene", spec.scene);
-  attr_string(cx, root, "features_json", Json(r.features.names()).dump());
-  attr_string(cx, root, "status", r.status);
-  attr_string(cx, root, "message", r.message);
-  attr_double(cx, root, "t_reached_s", r.t_reached);
-  attr_double(cx, root, "wall_time_s", r.wall_time);
-  attr_int64(cx, root, "steps_accepted", r.steps_accepted);
-  attr_int64(cx, root, "steps_rejected", r.steps_rejected);
-  attr_int64(cx, root, "rhs_calls", r.rhs_calls);
-  attr_string(cx, root, "started_utc", r.started_utc);
-  attr_string(cx, root, "finished_utc", r.finished_utc);
+  for_each_record_field(r, [&](const RecordFieldSpec& f, const auto& v) {
+    write_record_attribute(cx, root, std::string(f.name), v);
+  });
   for (const char* key : {"rodend_version", "git_revision", "host", "study_file"})
     attr_string(cx, root, key, prov_text(prov, key));
-  attr_string(cx, root, "coordinates_json", r.coordinates.dump());
   attr_string(cx, root, "parameters_json", spec.parameters.leaves().dump());
   attr_string(cx, root, "case_json", spec.canonical().dump());
 }

@@ -20,6 +20,31 @@ struct UnreadableVersion : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// One field of the case record from its root attribute (sweep/case_record.def).
+void read_record_attribute(const Context& cx, hid_t g, const char* name, record_text& v) {
+  v = read_attr_string(cx, g, name);
+}
+void read_record_attribute(const Context& cx, hid_t g, const char* name, record_integer& v) {
+  v = read_attr_int64(cx, g, name);
+}
+void read_record_attribute(const Context& cx, hid_t g, const char* name, record_real& v) {
+  v = read_attr_double(cx, g, name);
+}
+template <class T>  // json, features: from their text
+void read_record_attribute(const Context& cx, hid_t g, const char* name, T& v) {
+  record_field_from_text(read_attr_string(cx, g, name), v);
+}
+
+/// The fields of the case record from the root attributes of `g`. A field the file does not
+/// have (a file written before the field was added to the catalogue) keeps its default.
+void read_record_attributes(const Context& cx, hid_t g, CaseRecord& r) {
+  for_each_record_field(r, [&](const RecordFieldSpec& f, auto& v) {
+    const std::string name(f.name);
+    if (cx.yes(H5Aexists(g, name.c_str()), "cannot look up attribute " + name))
+      read_record_attribute(cx, g, name.c_str(), v);
+  });
+}
+
 CaseRecord read_case_locked(const fs::path& path) {
   const Context cx(path, "cannot read results file");
   Handle file =
@@ -35,20 +60,7 @@ CaseRecord read_case_locked(const fs::path& path) {
                               " is not readable by this rodend (it reads " +
                               std::to_string(kOldestReadableSchemaVersion) + " to " +
                               std::to_string(kResultsSchemaVersion) + ")");
-    r.id = read_attr_string(cx, g, "case_id");
-    r.index = static_cast<long>(read_attr_int64(cx, g, "case_index"));
-    r.scene = read_attr_string(cx, g, "scene");
-    r.coordinates = Json::parse(read_attr_string(cx, g, "coordinates_json"));
-    r.status = read_attr_string(cx, g, "status");
-    r.message = read_attr_string(cx, g, "message");
-    r.t_reached = read_attr_double(cx, g, "t_reached_s");
-    r.wall_time = read_attr_double(cx, g, "wall_time_s");
-    r.steps_accepted = read_attr_int64(cx, g, "steps_accepted");
-    r.steps_rejected = read_attr_int64(cx, g, "steps_rejected");
-    r.rhs_calls = read_attr_int64(cx, g, "rhs_calls");
-    r.started_utc = read_attr_string(cx, g, "started_utc");
-    r.finished_utc = read_attr_string(cx, g, "finished_utc");
-
+    read_record_attributes(cx, g, r);
     r.metrics.fill(std::numeric_limits<double>::quiet_NaN());
     if (cx.yes(H5Lexists(g, "metrics", H5P_DEFAULT), "cannot look up /metrics")) {
       const Handle m =

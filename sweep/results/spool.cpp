@@ -1,10 +1,9 @@
 // The record spool (RecordSpool, sweep/results.hpp): the rows of the summary kept on the disk.
 //
-// A record on the spool: its size (uint32), then index, t_reached, wall_time, steps_accepted,
-// steps_rejected, rhs_calls, the metric count and the metrics (8 bytes each, native), then the
-// strings id, scene, status, message, started_utc, finished_utc and the coordinates as compact
-// JSON, each as its size (uint32) and bytes. The file is private to the process (native byte
-// order; nothing else reads it).
+// A record on the spool: its size (uint32), then the fields of sweep/case_record.def in
+// catalogue order (numbers as 8 bytes, native; text, and json and features as their text, as
+// its size (uint32) and bytes), then the metric count and the metrics (8 bytes each). The file is
+// private to the process (native byte order; nothing else reads it).
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -69,21 +68,42 @@ class SpoolReader {
   const char* end_;
 };
 
+/// One field of the case record on the spool (sweep/case_record.def): numbers as 8 bytes,
+/// text (json and features as their text) as its size and bytes.
+void put_field(std::string& out, const record_text& v) {
+  put_text(out, v);
+}
+void put_field(std::string& out, record_integer v) {
+  put_raw(out, static_cast<std::int64_t>(v));
+}
+void put_field(std::string& out, record_real v) {
+  put_raw(out, v);
+}
+template <class T>
+void put_field(std::string& out, const T& v) {
+  put_text(out, record_field_text(v));
+}
+
+void get_field(SpoolReader& in, record_text& v) {
+  v = in.text();
+}
+void get_field(SpoolReader& in, record_integer& v) {
+  v = in.raw<std::int64_t>();
+}
+void get_field(SpoolReader& in, record_real& v) {
+  v = in.raw<double>();
+}
+template <class T>
+void get_field(SpoolReader& in, T& v) {
+  record_field_from_text(in.text(), v);
+}
+
 std::string encode_record(const CaseRecord& r) {
   std::string out;
   put_raw(out, std::uint32_t{0});  // the size, set below
-  put_raw(out, static_cast<std::int64_t>(r.index));
-  put_raw(out, r.t_reached);
-  put_raw(out, r.wall_time);
-  put_raw(out, static_cast<std::int64_t>(r.steps_accepted));
-  put_raw(out, static_cast<std::int64_t>(r.steps_rejected));
-  put_raw(out, static_cast<std::int64_t>(r.rhs_calls));
+  for_each_record_field(r, [&](const RecordFieldSpec&, const auto& v) { put_field(out, v); });
   put_raw(out, static_cast<std::uint32_t>(r.metrics.size()));
   out.append(reinterpret_cast<const char*>(r.metrics.data()), sizeof(double) * r.metrics.size());
-  for (const std::string* s :
-       {&r.id, &r.scene, &r.status, &r.message, &r.started_utc, &r.finished_utc})
-    put_text(out, *s);
-  put_text(out, r.coordinates.dump());
   const auto size = static_cast<std::uint32_t>(out.size());
   std::memcpy(out.data(), &size, sizeof size);
   return out;
@@ -93,17 +113,9 @@ CaseRecord decode_record(const char* p, std::size_t n) {
   SpoolReader in(p, n);
   (void)in.raw<std::uint32_t>();
   CaseRecord r;
-  r.index = static_cast<long>(in.raw<std::int64_t>());
-  r.t_reached = in.raw<double>();
-  r.wall_time = in.raw<double>();
-  r.steps_accepted = in.raw<std::int64_t>();
-  r.steps_rejected = in.raw<std::int64_t>();
-  r.rhs_calls = in.raw<std::int64_t>();
+  for_each_record_field(r, [&](const RecordFieldSpec&, auto& v) { get_field(in, v); });
   if (in.raw<std::uint32_t>() != r.metrics.size()) throw std::runtime_error("metric count");
   for (double& m : r.metrics) m = in.raw<double>();
-  for (std::string* s : {&r.id, &r.scene, &r.status, &r.message, &r.started_utc, &r.finished_utc})
-    *s = in.text();
-  r.coordinates = Json::parse(in.text());
   return r;
 }
 
@@ -191,13 +203,13 @@ void RecordSpool::put(std::size_t slot, const CaseRecord& record) {
     ++impl_->count;
   } else {  // replaced: what the old record counted no longer holds
     const CaseRecord old = impl_->load(impl_->offsets[slot]);
-    if (old.status != "ok") --impl_->failed;
+    if (!record_ok(old)) --impl_->failed;
     for (const std::string& k : text_coordinate_keys(old))
       if (--impl_->text_keys[k] == 0) impl_->text_keys.erase(k);
   }
   if (impl_->buffer.size() + bytes.size() > Impl::kBufferBytes) impl_->flush();
   impl_->offsets[slot] = impl_->written + static_cast<std::int64_t>(impl_->buffer.size());
-  if (record.status != "ok") ++impl_->failed;
+  if (!record_ok(record)) ++impl_->failed;
   impl_->buffer += bytes;
   for (const std::string& k : text_coordinate_keys(record)) ++impl_->text_keys[k];
   impl_->cursor_row = impl_->cursor_slot = 0;

@@ -104,12 +104,109 @@ void seal_summary(AtomicFile& h5) {
 
 }  // namespace
 
-void write_summary(const fs::path& dir, const Study& study, const RecordSpool& rows,
-                   const Json& prov) {
+namespace {
+
+/// The root attributes of summary.h5 (all but summary_csv_crc32, written last).
+void write_summary_root(const Context& cx, hid_t g, const Study& study, const Json& prov,
+                        std::size_t row_count) {
+  attr_int(cx, g, "schema_version", kResultsSchemaVersion);
+  attr_string(cx, g, "study_name", study.name);
+  const std::string study_file = prov_text(prov, "study_file");
+  attr_string(cx, g, "study_file", study_file.empty() ? study.file.string() : study_file);
+  for (const char* key : {"rodend_version", "git_revision", "host"})
+    attr_string(cx, g, key, prov_text(prov, key));
+  attr_int64(cx, g, "case_count", static_cast<long long>(row_count));
+  attr_string(cx, g, "provenance_json", prov.dump());
+  attr_string(cx, g, "study_json", study.source.dump());
+}
+
+/// The rows of `rows`, a block at a time, into the columns `datasets` of summary.h5 and into
+/// summary.csv (`csv`, header first); returns the CRC-32 of summary.csv. Throws as soon as the
+/// sink driver has latched a failure (a full disk), not after the remaining rows.
+std::uint32_t write_summary_rows(const Context& cx, const std::vector<Column>& cols,
+                                 const std::vector<Handle>& datasets, const RecordSpool& rows,
+                                 const SinkTarget& sink, AtomicFile& csv) {
   const std::size_t row_count = rows.size();
-  const std::vector<Column> cols = summary_columns(study, rows.text_coordinates());
   std::vector<std::string> names;
   for (const Column& c : cols) names.push_back(c.name);
+  std::vector<CaseRecord> block;
+  std::vector<ColumnValues> values(cols.size());
+  std::string text = summary_csv_header(names);
+  std::uint32_t crc = 0;
+  for (std::size_t begin = 0;; begin += kSummaryRowsPerBlock) {
+    const std::size_t end = std::min(row_count, begin + kSummaryRowsPerBlock);
+    if (end > begin) {
+      rows.read(begin, end, block);
+      if (block.size() != end - begin)
+        throw std::logic_error("the summary's rows gave " + std::to_string(block.size()) +
+                               " records for " + std::to_string(end - begin) + " rows");
+      for (std::size_t j = 0; j < cols.size(); ++j) {
+        column_values(cols[j], block, values[j]);
+        write_summary_block(cx, datasets[j].get(), cols[j].name, values[j], begin);
+      }
+      append_summary_csv_rows(values, end - begin, text);
+      if (sink.error != 0) throw std::runtime_error("the sink driver latched a failure");
+    }
+    crc = libdeflate_crc32(crc, text.data(), text.size());
+    csv.write(bytes_of(text));
+    text.clear();
+    if (end >= row_count) break;
+  }
+  return crc;
+}
+
+/// The column names (attribute `columns`) and case_index as the netCDF dimension of every
+/// column: the table is one call away,
+/// xarray.open_dataset(path, engine="h5netcdf", group="summary").to_dataframe()
+void write_summary_dimensions(const Context& cx, hid_t summary, const std::vector<Column>& cols,
+                              const std::vector<Handle>& datasets) {
+  std::vector<std::string> names;
+  for (const Column& c : cols) names.push_back(c.name);
+  attr_string(cx, summary, "columns", Json(names).dump());
+  std::vector<std::pair<hid_t, unsigned>> columns;
+  hid_t index = H5I_INVALID_HID;
+  for (std::size_t j = 0; j < cols.size(); ++j)
+    if (cols[j].name == "case_index")
+      index = datasets[j].get();
+    else
+      columns.emplace_back(datasets[j].get(), 0u);
+  attach_scale(cx, index, "case_index", columns);
+}
+
+/// summary.h5 through the sink driver into `h5`'s temporary file, and summary.csv into `csv`.
+/// Call under Hdf5Lock.
+void write_summary_files(const Context& cx, const fs::path& h5_path, const Study& study,
+                         const std::vector<Column>& cols, const RecordSpool& rows, const Json& prov,
+                         SinkTarget& sink, AtomicFile& csv) {
+  const Handle fapl = sink_access(cx, sink);
+  // the user block: the checksum header, written once HDF5 is done (seal_summary)
+  const Handle fcpl = cx.own(H5Pcreate(H5P_FILE_CREATE), H5Pclose, "cannot create the file");
+  cx.ok(H5Pset_userblock(fcpl.get(), kUserBlock), "cannot create the file");
+  Handle file = cx.own(H5Fcreate(h5_path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()), H5Fclose,
+                       "cannot create the file");
+  Handle root = cx.own(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose, "no root");
+  write_summary_root(cx, root.get(), study, prov, rows.size());
+  Handle summary = create_group(cx, root.get(), "summary", /*track_link_order=*/true);
+  std::vector<Handle> datasets;
+  for (const Column& c : cols)
+    datasets.push_back(create_summary_column(cx, summary.get(), c, rows.size()));
+  const std::uint32_t crc = write_summary_rows(cx, cols, datasets, rows, sink, csv);
+  write_summary_dimensions(cx, summary.get(), cols, datasets);
+  // the summary.csv of the same run (summary_csv_matches, repair_summary_csv)
+  attr_int64(cx, root.get(), "summary_csv_crc32", static_cast<long long>(crc));
+  for (Handle& d : datasets) cx.ok(d.close(), "cannot close a summary column");
+  cx.ok(summary.close(), "cannot close the summary group");
+  cx.ok(root.close(), "cannot close the root group");
+  // nothing of the file is open now, so this is the real close (the last flush, the
+  // superblock), whose result counts
+  cx.ok(file.close(), "cannot close the file");
+}
+
+}  // namespace
+
+void write_summary(const fs::path& dir, const Study& study, const RecordSpool& rows,
+                   const Json& prov) {
+  const std::vector<Column> cols = summary_columns(study, rows.text_coordinates());
   // summary.csv and summary.h5 go to their temporary files block of rows by block of rows;
   // summary.h5 carries the CRC-32 of summary.csv and is renamed first, and only then
   // summary.csv: a run stopped between the two renames leaves a summary.csv that does not
@@ -122,73 +219,7 @@ void write_summary(const fs::path& dir, const Study& study, const RecordSpool& r
   try {
     Hdf5Lock lock;  // held for the whole create-write-close
     const Context cx(h5_path, "cannot write summary file");
-    const Handle fapl = sink_access(cx, sink);
-    // the user block: the checksum header, written once HDF5 is done (seal_summary)
-    const Handle fcpl = cx.own(H5Pcreate(H5P_FILE_CREATE), H5Pclose, "cannot create the file");
-    cx.ok(H5Pset_userblock(fcpl.get(), kUserBlock), "cannot create the file");
-    Handle file = cx.own(H5Fcreate(h5_path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()),
-                         H5Fclose, "cannot create the file");
-    Handle root = cx.own(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose, "no root");
-    const hid_t g = root.get();
-    attr_int(cx, g, "schema_version", kResultsSchemaVersion);
-    attr_string(cx, g, "study_name", study.name);
-    const std::string study_file = prov_text(prov, "study_file");
-    attr_string(cx, g, "study_file", study_file.empty() ? study.file.string() : study_file);
-    for (const char* key : {"rodend_version", "git_revision", "host"})
-      attr_string(cx, g, key, prov_text(prov, key));
-    attr_int64(cx, g, "case_count", static_cast<long long>(row_count));
-    attr_string(cx, g, "provenance_json", prov.dump());
-    attr_string(cx, g, "study_json", study.source.dump());
-
-    Handle summary = create_group(cx, g, "summary", /*track_link_order=*/true);
-    std::vector<Handle> datasets;
-    for (const Column& c : cols)
-      datasets.push_back(create_summary_column(cx, summary.get(), c, row_count));
-
-    std::vector<CaseRecord> block;
-    std::vector<ColumnValues> values(cols.size());
-    std::string text = summary_csv_header(names);
-    std::uint32_t crc = 0;
-    for (std::size_t begin = 0;; begin += kSummaryRowsPerBlock) {
-      const std::size_t end = std::min(row_count, begin + kSummaryRowsPerBlock);
-      if (end > begin) {
-        rows.read(begin, end, block);
-        if (block.size() != end - begin)
-          throw std::logic_error("the summary's rows gave " + std::to_string(block.size()) +
-                                 " records for " + std::to_string(end - begin) + " rows");
-        for (std::size_t j = 0; j < cols.size(); ++j) {
-          column_values(cols[j], block, values[j]);
-          write_summary_block(cx, datasets[j].get(), cols[j].name, values[j], begin);
-        }
-        append_summary_csv_rows(values, end - begin, text);
-        // a latched failure (a full disk): reported at once, not after the remaining rows
-        if (sink.error != 0) throw std::runtime_error("the sink driver latched a failure");
-      }
-      crc = libdeflate_crc32(crc, text.data(), text.size());
-      csv.write(bytes_of(text));
-      text.clear();
-      if (end >= row_count) break;
-    }
-
-    attr_string(cx, summary.get(), "columns", Json(names).dump());
-    // case_index is the netCDF dimension of every column: the table is one call away,
-    // xarray.open_dataset(path, engine="h5netcdf", group="summary").to_dataframe()
-    std::vector<std::pair<hid_t, unsigned>> columns;
-    hid_t index = H5I_INVALID_HID;
-    for (std::size_t j = 0; j < cols.size(); ++j)
-      if (cols[j].name == "case_index")
-        index = datasets[j].get();
-      else
-        columns.emplace_back(datasets[j].get(), 0u);
-    attach_scale(cx, index, "case_index", columns);
-    // the summary.csv of the same run (summary_csv_matches, repair_summary_csv)
-    attr_int64(cx, g, "summary_csv_crc32", static_cast<long long>(crc));
-    for (Handle& d : datasets) cx.ok(d.close(), "cannot close a summary column");
-    cx.ok(summary.close(), "cannot close the summary group");
-    cx.ok(root.close(), "cannot close the root group");
-    // nothing of the file is open now, so this is the real close (the last flush, the
-    // superblock), whose result counts
-    cx.ok(file.close(), "cannot close the file");
+    write_summary_files(cx, h5_path, study, cols, rows, prov, sink, csv);
   } catch (const std::exception&) {
     if (sink.error != 0) h5.fail_write(sink.error);  // the cause of what HDF5 reported
     throw;

@@ -3,94 +3,106 @@
 
 #include <limits>
 #include <stdexcept>
+#include <type_traits>
 
 namespace rodend::results_detail {
 
-std::vector<Column> summary_columns(const Study& study,
-                                    const std::set<std::string>& text_coordinates) {
-  std::vector<Column> cols;
-  using Get = std::function<std::string(const CaseRecord&)>;
-  auto text = [&](std::string name, std::string unit, std::string desc, Get get) {
-    Column c{std::move(name), std::move(unit), std::move(desc), Column::Kind::text, {}, {}, {}};
-    c.text = std::move(get);
-    cols.push_back(std::move(c));
-  };
-  auto integer = [&](std::string name, std::string unit, std::string desc,
-                     std::function<long long(const CaseRecord&)> get) {
-    Column c{std::move(name), std::move(unit), std::move(desc), Column::Kind::integer, {}, {}, {}};
-    c.integer = std::move(get);
-    cols.push_back(std::move(c));
-  };
-  auto real = [&](std::string name, std::string unit, std::string desc,
-                  std::function<double(const CaseRecord&)> get) {
-    Column c{std::move(name), std::move(unit), std::move(desc), Column::Kind::real, {}, {}, {}};
-    c.real = std::move(get);
-    cols.push_back(std::move(c));
-  };
-  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+namespace {
 
-  text("case_id", "", "case id: FNV-1a 64 hash of the canonical case description",
-       [](const CaseRecord& r) { return r.id; });
-  integer("case_index", "1", "position of the case in the expanded grid, 0-based",
-          [](const CaseRecord& r) { return static_cast<long long>(r.index); });
-  text("scene", "", "the case's scene (a grid coordinate when the study's scene is a grid axis)",
-       [](const CaseRecord& r) { return r.scene; });
+/// Calls f(value) with field `i` of `r` (sweep/case_record.def).
+template <class F>
+void visit_record_field(const CaseRecord& r, std::size_t i, F&& f) {
+  std::size_t k = 0;
+  for_each_record_field(r, [&](const RecordFieldSpec&, const auto& v) {
+    if (k++ == i) f(v);
+  });
+}
 
-  // grid coordinates: numeric columns when every value is a number, else text (strings as
-  // they are, other values as compact JSON); a missing value is NaN or ""
-  for (const std::string& key : study.axis_keys) {
-    if (key == "scene") continue;  // the scene column above
-    std::string unit;
-    if (key.rfind("parameters.", 0) == 0 && !study.cases.empty()) {
-      const std::string path = key.substr(11);
-      for (const CaseSpec& c : study.cases)  // with a scene axis, not every scene has it
-        if (c.parameters.has(path)) {
-          unit = c.parameters.unit(path);
-          break;
-        }
-    }
-    const std::string desc = "grid coordinate " + key;
-    auto value = [key](const CaseRecord& r) -> const Json* {
-      if (!r.coordinates.is_object()) return nullptr;
-      const auto it = r.coordinates.find(key);
-      return it == r.coordinates.end() ? nullptr : &*it;
+std::string as_text(const std::string& v) {
+  return v;
+}
+template <class T>
+std::string as_text(const T& v) {
+  if constexpr (std::is_arithmetic_v<T>)
+    return {};  // not a text column
+  else
+    return record_field_text(v);
+}
+
+/// The summary column of record field `i`: text, json and features fields as text, integers
+/// as int64, reals as float64.
+Column record_column(const RecordFieldSpec& f, std::size_t i) {
+  Column c{std::string(f.name),
+           std::string(f.unit),
+           std::string(f.description),
+           Column::Kind::text,
+           {},
+           {},
+           {}};
+  if (f.type == RecordType::integer) {
+    c.kind = Column::Kind::integer;
+    c.integer = [i](const CaseRecord& r) {
+      long long out = 0;
+      visit_record_field(r, i, [&](const auto& v) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, record_integer>) out = v;
+      });
+      return out;
     };
-    if (text_coordinates.count(key) == 0)
-      real(key, unit, desc, [value](const CaseRecord& r) {
-        const Json* v = value(r);
-        return v && v->is_number() ? v->get<double>() : nan;
+  } else if (f.type == RecordType::real) {
+    c.kind = Column::Kind::real;
+    c.real = [i](const CaseRecord& r) {
+      double out = 0.0;
+      visit_record_field(r, i, [&](const auto& v) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, record_real>) out = v;
       });
-    else
-      text(key, unit, desc, [value](const CaseRecord& r) {
-        const Json* v = value(r);
-        return !v ? std::string() : v->is_string() ? v->get<std::string>() : v->dump();
-      });
+      return out;
+    };
+  } else {
+    c.text = [i](const CaseRecord& r) {
+      std::string out;
+      visit_record_field(r, i, [&](const auto& v) { out = as_text(v); });
+      return out;
+    };
   }
+  return c;
+}
 
-  text("status", "", "\"ok\" or the reason the run stopped",
-       [](const CaseRecord& r) { return r.status; });
-  text("message", "", "details of a failed run (empty when ok)",
-       [](const CaseRecord& r) { return r.message; });
-  real("t_reached_s", "s", "simulation time reached",
-       [](const CaseRecord& r) { return r.t_reached; });
-  real("wall_time_s", "s", "wall-clock time of the run",
-       [](const CaseRecord& r) { return r.wall_time; });
-  integer("steps_accepted", "1", "accepted integration steps",
-          [](const CaseRecord& r) { return r.steps_accepted; });
-  integer("steps_rejected", "1", "rejected integration steps",
-          [](const CaseRecord& r) { return r.steps_rejected; });
-  integer("rhs_calls", "1", "right-hand-side evaluations",
-          [](const CaseRecord& r) { return r.rhs_calls; });
-  text("started_utc", "", "start of the run, UTC, ISO 8601",
-       [](const CaseRecord& r) { return r.started_utc; });
-  text("finished_utc", "", "end of the run, UTC, ISO 8601",
-       [](const CaseRecord& r) { return r.finished_utc; });
+/// The unit of grid key `key`: a parameter's unit, from the first case that has it (with a
+/// scene axis, not every scene has it); "" for other keys.
+std::string coordinate_unit(const Study& study, const std::string& key) {
+  if (key.rfind("parameters.", 0) != 0) return {};
+  const std::string path = key.substr(11);
+  for (const CaseSpec& c : study.cases)
+    if (c.parameters.has(path)) return c.parameters.unit(path);
+  return {};
+}
 
-  const auto cat = metric_catalogue();
-  for (std::size_t i = 0; i < cat.size() && i < MetricValues{}.size(); ++i)
-    real(std::string(cat[i].name), std::string(cat[i].unit), std::string(cat[i].description),
-         [i](const CaseRecord& r) { return r.metrics[i]; });
+/// The column of grid key `key`: numeric when every value is a number, else text (strings as
+/// they are, other values as compact JSON); a missing value is NaN or "".
+Column coordinate_column(const Study& study, const std::string& key, bool text) {
+  Column c{key, coordinate_unit(study, key), "grid coordinate " + key, Column::Kind::real, {}, {},
+           {}};
+  auto value = [key](const CaseRecord& r) -> const Json* {
+    if (!r.coordinates.is_object()) return nullptr;
+    const auto it = r.coordinates.find(key);
+    return it == r.coordinates.end() ? nullptr : &*it;
+  };
+  if (!text) {
+    c.real = [value](const CaseRecord& r) {
+      const Json* v = value(r);
+      return v && v->is_number() ? v->get<double>() : std::numeric_limits<double>::quiet_NaN();
+    };
+  } else {
+    c.kind = Column::Kind::text;
+    c.text = [value](const CaseRecord& r) {
+      const Json* v = value(r);
+      return !v ? std::string() : v->is_string() ? v->get<std::string>() : v->dump();
+    };
+  }
+  return c;
+}
 
+void check_column_names(const std::vector<Column>& cols) {
   std::set<std::string> seen;
   for (const Column& c : cols) {
     if (c.name.empty() || c.name.find('/') != std::string::npos || c.name == ".")
@@ -98,6 +110,36 @@ std::vector<Column> summary_columns(const Study& study,
     if (!seen.insert(c.name).second)
       throw std::runtime_error("summary column \"" + c.name + "\" appears twice");
   }
+}
+
+}  // namespace
+
+std::vector<Column> summary_columns(const Study& study,
+                                    const std::set<std::string>& text_coordinates) {
+  std::vector<Column> cols;
+  const auto fields = record_catalogue();
+  auto add_fields = [&](RecordPlace place) {
+    for (std::size_t i = 0; i < fields.size(); ++i)
+      if (fields[i].place == place) cols.push_back(record_column(fields[i], i));
+  };
+  add_fields(RecordPlace::identity);
+  for (const std::string& key : study.axis_keys)
+    if (key != "scene")  // the record's scene column
+      cols.push_back(coordinate_column(study, key, text_coordinates.count(key) > 0));
+  add_fields(RecordPlace::run);
+  const auto cat = metric_catalogue();
+  for (std::size_t i = 0; i < cat.size() && i < MetricValues{}.size(); ++i) {
+    Column c{std::string(cat[i].name),
+             std::string(cat[i].unit),
+             std::string(cat[i].description),
+             Column::Kind::real,
+             {},
+             {},
+             {}};
+    c.real = [i](const CaseRecord& r) { return r.metrics[i]; };
+    cols.push_back(std::move(c));
+  }
+  check_column_names(cols);
   return cols;
 }
 
