@@ -57,6 +57,7 @@
 // attributes and string datasets are variable-length UTF-8.
 #include "sweep/results.hpp"
 #include "sweep/results_dir.hpp"
+#include "sweep/case_template.hpp"
 
 #include <fcntl.h>
 #include <hdf5.h>
@@ -252,12 +253,17 @@ bool hdf5_out_of_memory() {
 /// failure to allocate is std::bad_alloc: the environment's failure, not the file's.
 class Context {
  public:
-  Context(const fs::path& file, std::string action)
-      : file_(file.string()), action_(std::move(action)) {}
+  /// `slots`: the writers of attributes record their values there (sweep/case_template.hpp);
+  /// when it is collecting, they make no HDF5 call at all.
+  Context(const fs::path& file, std::string action, CaseSlots* slots = nullptr)
+      : file_(file.string()), action_(std::move(action)), slots_(slots) {}
+
+  CaseSlots* slots() const { return slots_; }
+  bool collecting() const { return slots_ && slots_->collecting(); }
 
   [[noreturn]] void fail(const std::string& what) const {
-    if (hdf5_out_of_memory()) throw std::bad_alloc();
-    const std::string detail = hdf5_error_text();
+    if (!collecting() && hdf5_out_of_memory()) throw std::bad_alloc();
+    const std::string detail = collecting() ? std::string() : hdf5_error_text();
     throw std::runtime_error(action_ + " " + file_ + ": " + what +
                              (detail.empty() ? "" : " (HDF5: " + detail + ")"));
   }
@@ -277,6 +283,7 @@ class Context {
 
  private:
   std::string file_, action_;
+  CaseSlots* slots_;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -306,37 +313,65 @@ void write_attribute(const Context& cx, hid_t obj, const std::string& name, hid_
   cx.ok(a.close(), what);
 }
 
+// With a CaseSlots in the Context (a case file's template, sweep/case_template.hpp), text and
+// number attributes are slots: their values are recorded, and placeholders written in their
+// stead; the values of int and int8 attributes are part of the template's key.
+
 void attr_string(const Context& cx, hid_t obj, const std::string& name, const std::string& v) {
+  const std::string value = cx.slots() ? cx.slots()->text(name, v) : v;
+  if (cx.collecting()) return;
   const Handle t = utf8_string_type(cx);
   const Handle s = scalar_space(cx);
-  const char* p = v.c_str();
+  const char* p = value.c_str();
   write_attribute(cx, obj, name, t.get(), t.get(), s.get(), &p);
 }
 
-void attr_double(const Context& cx, hid_t obj, const std::string& name, double v) {
+/// A scalar 8-byte number attribute (a slot with a CaseSlots), `v` its bytes in memory.
+template <class T>
+void attr_number(const Context& cx, hid_t obj, const std::string& name, hid_t file_type,
+                 hid_t mem_type, T v) {
+  static_assert(sizeof(T) == 8);
+  std::uint64_t bits = std::bit_cast<std::uint64_t>(v);
+  if (cx.slots()) bits = cx.slots()->number(name, bits);
+  if (cx.collecting()) return;
   const Handle s = scalar_space(cx);
-  write_attribute(cx, obj, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, s.get(), &v);
+  write_attribute(cx, obj, name, file_type, mem_type, s.get(), &bits);
+}
+
+void attr_double(const Context& cx, hid_t obj, const std::string& name, double v) {
+  attr_number(cx, obj, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v);
 }
 
 void attr_int64(const Context& cx, hid_t obj, const std::string& name, long long v) {
-  const Handle s = scalar_space(cx);
-  write_attribute(cx, obj, name, H5T_STD_I64LE, H5T_NATIVE_LLONG, s.get(), &v);
+  attr_number(cx, obj, name, H5T_STD_I64LE, H5T_NATIVE_LLONG, v);
 }
 
 void attr_int(const Context& cx, hid_t obj, const std::string& name, int v) {
+  if (cx.slots()) cx.slots()->fixed("int " + name + "=" + std::to_string(v));
+  if (cx.collecting()) return;
   const Handle s = scalar_space(cx);
   write_attribute(cx, obj, name, H5T_STD_I32LE, H5T_NATIVE_INT, s.get(), &v);
 }
 
 void attr_int8(const Context& cx, hid_t obj, const std::string& name, signed char v) {
+  if (cx.slots()) cx.slots()->fixed("int8 " + name + "=" + std::to_string(v));
+  if (cx.collecting()) return;
   const Handle s = scalar_space(cx);
   write_attribute(cx, obj, name, H5T_STD_I8LE, H5T_NATIVE_SCHAR, s.get(), &v);
 }
 
 void attr_doubles(const Context& cx, hid_t obj, const std::string& name,
                   const std::vector<double>& v) {
+  std::vector<std::uint64_t> bits(v.size());
+  std::transform(v.begin(), v.end(), bits.begin(),
+                 [](double x) { return std::bit_cast<std::uint64_t>(x); });
+  if (cx.slots()) {
+    cx.slots()->fixed("doubles " + name + "[" + std::to_string(v.size()) + "]");
+    for (std::uint64_t& b : bits) b = cx.slots()->number(name, b);
+  }
+  if (cx.collecting()) return;
   const Handle s = vector_space(cx, v.size());
-  write_attribute(cx, obj, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, s.get(), v.data());
+  write_attribute(cx, obj, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, s.get(), bits.data());
 }
 
 /// CF-style description of a dataset: `units` (UDUNITS spelling as the catalogues give it; none
@@ -374,6 +409,8 @@ Handle dimension_without_variable(const Context& cx, hid_t group, const std::str
 
 Handle create_group(const Context& cx, hid_t parent, const std::string& name,
                     bool track_link_order = false) {
+  if (cx.slots()) cx.slots()->fixed("group " + name);
+  if (cx.collecting()) return Handle();
   const std::string what = "cannot create group " + name;
   Handle gcpl;
   if (track_link_order) {
@@ -941,8 +978,9 @@ EncodedSignal encode_signal(const std::vector<double>& values, long long samples
   return e;
 }
 
+/// `raw`: where HDF5 put each chunk is recorded there (a template, sweep/case_template.hpp).
 void write_signal(const Context& cx, hid_t group, const SignalSpec& s, const EncodedSignal& e,
-                  const OutputSettings& out) {
+                  const OutputSettings& out, CaseSlots* raw) {
   const std::string what = "cannot write signal " + std::string(s.name);
   const int rank = s.width == 1 ? 1 : 2;
   const hsize_t dims[2] = {e.rows, e.width};
@@ -969,6 +1007,13 @@ void write_signal(const Context& cx, hid_t group, const SignalSpec& s, const Enc
     const hsize_t offset[2] = {static_cast<hsize_t>(k) * e.chunk_rows, 0};
     cx.ok(H5Dwrite_chunk(d.get(), H5P_DEFAULT, 0, offset, e.chunks[k].size(), e.chunks[k].data()),
           what);
+    if (raw) {
+      unsigned mask = 0;
+      haddr_t addr = HADDR_UNDEF;
+      hsize_t size = 0;
+      cx.ok(H5Dget_chunk_info_by_coord(d.get(), offset, &mask, &addr, &size), what);
+      raw->raw(addr, size);  // relative to the base address: an image offset
+    }
   }
   attr_units(cx, d.get(), std::string(s.unit), std::string(s.description));
   cx.ok(d.close(), what);
@@ -1002,10 +1047,11 @@ void attach_signal_dimensions(const Context& cx, hid_t root, hid_t signals, cons
 }
 
 void write_case_signals(const Context& cx, hid_t root, const History& h,
-                        const std::vector<EncodedSignal>& encoded, const OutputSettings& out) {
+                        const std::vector<EncodedSignal>& encoded, const OutputSettings& out,
+                        CaseSlots* raw = nullptr) {
   const Handle g = create_group(cx, root, "signals");
   for (std::size_t i = 0; i < h.signals.size(); ++i)
-    write_signal(cx, g.get(), signal_spec(h.signals[i]), encoded[i], out);
+    write_signal(cx, g.get(), signal_spec(h.signals[i]), encoded[i], out, raw);
   attach_signal_dimensions(cx, root, g.get(), h);
 }
 
@@ -1044,15 +1090,23 @@ void attach_array_dimensions(const Context& cx, const History& h,
   }
 }
 
-void write_case_arrays(const Context& cx, hid_t root, const History& h) {
+/// Throws (cx.fail) when a per-case array cannot be written: a bad shape, a value not finite.
+void check_case_array(const Context& cx, const CaseArray& a) {
+  const std::string what = "cannot write " + a.group + "/" + a.name;
+  std::size_t n = 1;
+  for (std::size_t d : a.dims) n *= d;
+  if (a.dims.empty() || a.dims.size() > 2 || n != a.values.size()) cx.fail(what + ": bad shape");
+  for (double v : a.values)
+    if (!std::isfinite(v)) cx.fail(what + ": a value is not finite");
+}
+
+/// `raw`: where HDF5 put each array is recorded there (a template, sweep/case_template.hpp).
+void write_case_arrays(const Context& cx, hid_t root, const History& h, CaseSlots* raw = nullptr) {
   std::map<std::string, Handle> groups;
   for (const CaseArray& a : h.arrays) {
     const std::string what = "cannot write " + a.group + "/" + a.name;
-    std::size_t n = 1;
-    for (std::size_t d : a.dims) n *= d;
-    if (a.dims.empty() || a.dims.size() > 2 || n != a.values.size()) cx.fail(what + ": bad shape");
-    for (double v : a.values)
-      if (!std::isfinite(v)) cx.fail(what + ": a value is not finite");
+    check_case_array(cx, a);
+    const std::size_t n = a.values.size();
     auto it = groups.find(a.group);
     if (it == groups.end()) it = groups.emplace(a.group, create_group(cx, root, a.group)).first;
     hsize_t dims[2] = {0, 0};
@@ -1065,6 +1119,11 @@ void write_case_arrays(const Context& cx, hid_t root, const History& h) {
     if (n > 0)
       cx.ok(H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, a.values.data()),
             what);
+    if (raw && n > 0) {  // H5Dget_offset counts the user block, image offsets do not
+      const haddr_t addr = H5Dget_offset(d.get());
+      if (addr == HADDR_UNDEF || addr < kUserBlock) cx.fail(what + ": no address");
+      raw->raw(addr - kUserBlock, 8 * n);
+    }
     attr_units(cx, d.get(), a.unit, a.description);
     cx.ok(d.close(), what);
   }
@@ -1513,6 +1572,122 @@ Json provenance(const Study& study) {
   return p;
 }
 
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Case files from templates (sweep/case_template.hpp): HDF5 builds a case file once per shape,
+// under the lock, and every case of that shape is the template with its values written in,
+// outside it
+
+/// What a case file's key holds of its histories and arrays (the attributes' part: CaseSlots).
+std::string history_shape(const History& h, const OutputSettings& out) {
+  Json shape{{"samples", h.samples},
+             {"precision", static_cast<int>(out.history_precision)},
+             {"level", out.compression_level}};
+  Json& signals = shape["signals"] = Json::array();
+  for (SignalId id : h.signals) signals.push_back(std::string(signal_spec(id).name));
+  Json& arrays = shape["arrays"] = Json::array();
+  for (const CaseArray& a : h.arrays)
+    arrays.push_back({a.group, a.name, a.unit, a.description, a.dims, a.dim_names});
+  return shape.dump();
+}
+
+/// The case's raw data in the order the template's writers placed it: every chunk of every
+/// signal, then every array that is not empty.
+std::vector<CaseTemplate::Bytes> raw_data(const History& h,
+                                          const std::vector<EncodedSignal>& encoded) {
+  std::vector<CaseTemplate::Bytes> raw;
+  for (const EncodedSignal& e : encoded) raw.insert(raw.end(), e.chunks.begin(), e.chunks.end());
+  for (const CaseArray& a : h.arrays)
+    if (!a.values.empty())
+      raw.emplace_back(reinterpret_cast<const unsigned char*>(a.values.data()),
+                       8 * a.values.size());
+  return raw;
+}
+
+/// What a case file is made of.
+struct CaseParts {
+  const CaseSpec& spec;
+  const CaseRecord& record;
+  const History& history;
+  const Json& prov;
+  const std::vector<EncodedSignal>& encoded;
+  std::size_t estimate;  ///< of the image [bytes]
+};
+
+/// The attributes of a case file, written through `cx` (values, placeholders or collected).
+void write_case_attributes(const Context& cx, hid_t root, const CaseParts& c) {
+  write_case_root(cx, root, c.spec, c.record, c.prov);
+  write_case_parameters(cx, root, c.spec.parameters);
+  write_case_metrics(cx, root, c.record.metrics);
+}
+
+/// HDF5 builds the case file with placeholders (under the lock), and the template is made of
+/// that image (outside it). nullptr: the image cannot be a template.
+std::shared_ptr<const CaseTemplate> build_case_template(const fs::path& path, const CaseParts& c,
+                                                        const std::vector<CaseTemplate::Bytes>& raw,
+                                                        const CaseSlots& values) {
+  CaseSlots built(CaseSlots::Mode::placeholders);
+  ByteSpan image;
+  {
+    Hdf5Lock lock;
+    const Context plain(path, "cannot write results file");
+    const Context cx(path, "cannot write results file", &built);
+    image = build_image(plain, kUserBlock, c.estimate, [&](hid_t file) {
+      const Handle root = plain.own(H5Gopen2(file, "/", H5P_DEFAULT), H5Gclose, "no root");
+      // in the order of write_case_file's build: the attributes' slots, the raw data
+      write_case_root(cx, root.get(), c.spec, c.record, c.prov);
+      write_case_parameters(cx, root.get(), c.spec.parameters);
+      write_case_signals(plain, root.get(), c.history, c.encoded, c.spec.output, &built);
+      write_case_arrays(plain, root.get(), c.history, &built);
+      write_case_metrics(cx, root.get(), c.record.metrics);
+    });
+  }
+  if (built.key() != values.key()) return nullptr;
+  return CaseTemplate::analyse(image, built, raw);
+}
+
+/// The templates by key (a case's slots and history_shape), the most recently used last.
+struct TemplateCache {
+  std::mutex mutex;  ///< held while one is built: a case of the same key waits for it
+  std::vector<std::pair<std::string, std::shared_ptr<const CaseTemplate>>> entries;
+};
+TemplateCache g_templates;
+/// Templates kept: one per shape of the cases of a study (a failed case's histories are
+/// shorter, a shape of its own); each holds its image but the raw data (~0.1 MB for bench-32).
+constexpr std::size_t kTemplatesKept = 8;
+
+/// The case file's image from its template (building the template first if there is none for
+/// its key), in the calling thread's ScratchSlot::image. Empty: no template possible.
+ByteSpan image_from_template(const fs::path& path, const CaseParts& c) {
+  CaseSlots values(CaseSlots::Mode::collect);
+  const Context cx(path, "cannot write results file", &values);
+  write_case_attributes(cx, H5I_INVALID_HID, c);
+  for (const CaseArray& a : c.history.arrays) check_case_array(cx, a);
+  const std::vector<CaseTemplate::Bytes> raw = raw_data(c.history, c.encoded);
+  const std::string key = values.key() + history_shape(c.history, c.spec.output);
+  std::shared_ptr<const CaseTemplate> t;
+  {
+    std::lock_guard lock(g_templates.mutex);
+    auto& e = g_templates.entries;
+    auto it = std::find_if(e.begin(), e.end(), [&](const auto& x) { return x.first == key; });
+    if (it == e.end()) {
+      if (e.size() == kTemplatesKept) e.erase(e.begin());
+      e.emplace_back(key, build_case_template(path, c, raw, values));
+      it = std::prev(e.end());
+    }
+    std::rotate(it, std::next(it), e.end());  // the most recently used last
+    t = e.back().second;
+  }
+  if (!t) return {};
+  const std::size_t size = t->image_size(values);
+  unsigned char* const buffer = thread_scratch(ScratchSlot::image, size);
+  t->patch(values, raw, buffer);
+  return ByteSpan(buffer, size);
+}
+
+}  // namespace
+
 void write_case_file(const fs::path& path, const CaseSpec& spec, const CaseRecord& record,
                      const History& history, const Json& prov) {
   check_history(path, history);
@@ -1530,8 +1705,11 @@ void write_case_file(const fs::path& path, const CaseSpec& spec, const CaseRecor
   // 4-9 kB): an estimate too small makes the core driver grow its buffer by a whole estimate
   // (a copy and a clear of the file so far, under the lock)
   estimate += history.signals.size() * (1 << 14);
+  // chunks of a fixed size (not compressed): the case's image from its template, no HDF5
   ByteSpan image;
-  {
+  if (spec.output.compression_level == 0)
+    image = image_from_template(path, {spec, record, history, prov, encoded, estimate});
+  if (image.empty()) {
     Hdf5Lock lock;  // held for the in-memory build: cheap calls only, the chunks are ready
     const Context cx(path, "cannot write results file");
     image = build_image(cx, kUserBlock, estimate, [&](hid_t file) {
