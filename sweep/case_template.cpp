@@ -29,10 +29,10 @@ namespace {
 constexpr std::uint64_t kSentinelTag = 0x7FF5D0C1u;
 constexpr std::string_view kPlaceholderPrefix = "@rodend-slot:";
 constexpr std::size_t kPlaceholderSize = kPlaceholderPrefix.size() + 8;
-constexpr std::size_t kHeapHeader = 16;         ///< a collection's header, and an object's
-constexpr std::size_t kMinCollection = 4096;    ///< HDF5 reads at least this much of one
-constexpr std::size_t kSuperblockBase = 24;     ///< image offset of the base address
-constexpr std::size_t kSuperblockEof = 40;      ///< image offset of the end-of-file address
+constexpr std::size_t kHeapHeader = 16;       ///< a collection's header, and an object's
+constexpr std::size_t kMinCollection = 4096;  ///< HDF5 reads at least this much of one
+constexpr std::size_t kSuperblockBase = 24;   ///< image offset of the base address
+constexpr std::size_t kSuperblockEof = 40;    ///< image offset of the end-of-file address
 constexpr unsigned char kSignature[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
 
 std::string placeholder(std::size_t slot) {
@@ -117,8 +117,9 @@ std::unique_ptr<const CaseTemplate> CaseTemplate::analyse(Bytes image, const Cas
   // the raw regions, checked against the bytes HDF5 was given, and the gaps between them
   std::vector<std::size_t> order(raw.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(),
-            [&](std::size_t a, std::size_t b) { return built.raw_[a].offset < built.raw_[b].offset; });
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return built.raw_[a].offset < built.raw_[b].offset;
+  });
   std::vector<std::pair<std::size_t, std::size_t>> gaps;
   std::size_t at = 0;
   t->raw_order_.resize(raw.size());
@@ -150,7 +151,8 @@ bool CaseTemplate::find_slots(Bytes image, const CaseSlots& built, const Gaps& g
     found[slot] = true;
   }
   const std::vector<std::size_t> collections = find_all(image, gaps, "GCOL", 4);
-  for (const std::size_t q : find_all(image, gaps, kPlaceholderPrefix.data(), kPlaceholderPrefix.size())) {
+  for (const std::size_t q :
+       find_all(image, gaps, kPlaceholderPrefix.data(), kPlaceholderPrefix.size())) {
     if (q < kHeapHeader || q + kPlaceholderSize > image.size()) continue;
     const std::string text(reinterpret_cast<const char*>(image.data() + q), kPlaceholderSize);
     const std::size_t slot = std::strtoul(text.c_str() + kPlaceholderPrefix.size(), nullptr, 16);
@@ -229,7 +231,8 @@ void CaseTemplate::write_collection(const CaseSlots& values, unsigned char* out)
   std::memset(c + at, 0, size - at);  // the free space: object 0, its size counting its header
   store<std::uint64_t>(c + at + 8, size - at);
   for (const Reference& r : references_) {
-    store<std::uint32_t>(out + r.offset, static_cast<std::uint32_t>(values.slots_[r.slot].value.size()));
+    store<std::uint32_t>(out + r.offset,
+                         static_cast<std::uint32_t>(values.slots_[r.slot].value.size()));
     store<std::uint64_t>(out + r.offset + 4, size_);
     store<std::uint32_t>(out + r.offset + 12, index[r.slot]);
   }

@@ -99,7 +99,7 @@ class CaseTemplate {
   struct Number {  ///< the 8 bytes of a number slot
     std::size_t slot, offset;
   };
-  std::size_t size_ = 0;        ///< of the template image
+  std::size_t size_ = 0;                 ///< of the template image
   std::vector<unsigned char> metadata_;  ///< the template image but the raw regions
   std::vector<CaseSlots::Region> raw_;   ///< sorted by offset, as in CaseSlots order
   std::vector<std::size_t> raw_order_;   ///< raw_ index of the i-th raw span of a case

@@ -56,8 +56,8 @@
 // attributes unit and description and had no dimension scales; readers accept both. All string
 // attributes and string datasets are variable-length UTF-8.
 #include "sweep/results.hpp"
-#include "sweep/results_dir.hpp"
 #include "sweep/case_template.hpp"
+#include "sweep/results_dir.hpp"
 
 #include <fcntl.h>
 #include <hdf5.h>
@@ -166,10 +166,10 @@ class Hdf5Lock {
     }
   }
   ~Hdf5Lock() {
+    ++g_lock_stats.count;
     if (!g_lock_stats.enabled) return;
     g_lock_stats.held_ns += clock_ns(CLOCK_MONOTONIC) - t0_;
     g_lock_stats.held_cpu_ns += clock_ns(CLOCK_THREAD_CPUTIME_ID) - cpu0_;
-    ++g_lock_stats.count;
   }
   Hdf5Lock(const Hdf5Lock&) = delete;
   Hdf5Lock& operator=(const Hdf5Lock&) = delete;
@@ -1707,7 +1707,8 @@ void write_case_file(const fs::path& path, const CaseSpec& spec, const CaseRecor
   estimate += history.signals.size() * (1 << 14);
   // chunks of a fixed size (not compressed): the case's image from its template, no HDF5
   ByteSpan image;
-  if (spec.output.compression_level == 0)
+  const char* const templates = std::getenv("RODEND_CASE_TEMPLATES");
+  if (spec.output.compression_level == 0 && !(templates && std::string_view(templates) == "0"))
     image = image_from_template(path, {spec, record, history, prov, encoded, estimate});
   if (image.empty()) {
     Hdf5Lock lock;  // held for the in-memory build: cheap calls only, the chunks are ready
@@ -1824,6 +1825,10 @@ bool verify_case_file(const fs::path& path) {
 
 bool verify_summary_file(const fs::path& path) {
   return verify_checksum(path, "summary file");
+}
+
+long long hdf5_lock_count() {
+  return g_lock_stats.count.load();
 }
 
 void prepare_results_io() {

@@ -115,7 +115,15 @@ Json provenance(const Study& study);
 /// Throws std::bad_alloc when the memory HDF5 needs cannot be had.
 void prepare_results_io();
 
-/// Writes results/<study>/cases/<id>.h5 (temporary name, then rename).
+/// How many times this process has entered HDF5 (taken the process-wide lock around every HDF5
+/// call): the serial section of a sweep, in count (RODEND_LOCK_STATS=1 prints its time).
+long long hdf5_lock_count();
+
+/// Writes results/<study>/cases/<id>.h5 (temporary name, then rename). With uncompressed
+/// histories (output.compression_level 0), HDF5 builds a case file once per shape of case (a
+/// template, sweep/case_template.hpp) and the other cases of that shape are written without
+/// HDF5, outside its lock; RODEND_CASE_TEMPLATES=0 in the environment has HDF5 build every one
+/// (to compare the two).
 void write_case_file(const std::filesystem::path& path, const CaseSpec& spec,
                      const CaseRecord& record, const History& history, const Json& provenance);
 
