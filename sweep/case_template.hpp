@@ -57,6 +57,8 @@ class CaseSlots {
 
   const std::string& key() const { return key_; }
   std::size_t size() const { return slots_.size(); }
+  /// The raw regions, (image offset, size) in the order they were recorded.
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> raw_regions() const;
 
  private:
   friend class CaseTemplate;
@@ -78,11 +80,10 @@ class CaseSlots {
 class CaseTemplate {
  public:
   using Bytes = std::span<const unsigned char>;
-  /// Analyses `image` (without its user block), built by HDF5 with the placeholders of `built`
-  /// and with the raw data `raw` (in the order of built's raw regions, which it must match).
-  /// nullptr when a slot cannot be found (then HDF5 builds the case files as before).
-  static std::unique_ptr<const CaseTemplate> analyse(Bytes image, const CaseSlots& built,
-                                                     const std::vector<Bytes>& raw);
+  /// Analyses `image` (without its user block), built by HDF5 with the placeholders of
+  /// `built`; its raw regions are not read. nullptr when a slot cannot be found (then HDF5
+  /// builds the case files as before).
+  static std::unique_ptr<const CaseTemplate> analyse(Bytes image, const CaseSlots& built);
 
   /// Size [bytes] of the image of a case with the slot values of `values`.
   std::size_t image_size(const CaseSlots& values) const;

@@ -109,9 +109,11 @@ static_assert(std::endian::native == std::endian::little, "rodend writes HDF5 ch
 std::mutex g_hdf5_mutex;
 
 /// Diagnostics (RODEND_LOCK_STATS=1 in the environment): how long g_hdf5_mutex is held, summed
-/// over the run, printed on stderr at exit: the serial section of a sweep (bench/README.md).
+/// over the run, printed on stderr at exit: the serial section of a sweep (bench/README.md);
+/// RODEND_LOCK_STATS=2 also prints each time it is released.
 struct LockStats {
   const bool enabled = std::getenv("RODEND_LOCK_STATS") != nullptr;
+  const bool each = enabled && std::string_view(std::getenv("RODEND_LOCK_STATS")) == "2";
   std::atomic<long long> held_ns{0}, held_cpu_ns{0}, count{0};
   ~LockStats() {
     if (enabled)
@@ -170,6 +172,10 @@ class Hdf5Lock {
     if (!g_lock_stats.enabled) return;
     g_lock_stats.held_ns += clock_ns(CLOCK_MONOTONIC) - t0_;
     g_lock_stats.held_cpu_ns += clock_ns(CLOCK_THREAD_CPUTIME_ID) - cpu0_;
+    if (g_lock_stats.each)
+      std::fprintf(stderr, "rodend: HDF5 lock held %.3f ms wall, %.3f ms CPU\n",
+                   1e-6 * static_cast<double>(clock_ns(CLOCK_MONOTONIC) - t0_),
+                   1e-6 * static_cast<double>(clock_ns(CLOCK_THREAD_CPUTIME_ID) - cpu0_));
   }
   Hdf5Lock(const Hdf5Lock&) = delete;
   Hdf5Lock& operator=(const Hdf5Lock&) = delete;
@@ -825,6 +831,178 @@ Handle sink_access(const Context& cx, SinkTarget& target) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Files HDF5 builds for a template: the template driver
+//
+// A case file's template (sweep/case_template.hpp) needs HDF5's metadata, not the histories:
+// each case writes its own into the raw regions. This driver keeps what HDF5 writes of the
+// metadata in pages of 4 kB, created on first write, and drops the histories' chunks and the
+// arrays (the raw data written while t_dropping_raw_data is set; reads of dropped bytes give
+// zeros), so that a template costs no memory, copies nor page faults of the size of the
+// histories (the core driver clears and copies them, ~8 MB a bench-32 case). HDF5 writes its
+// global heap as raw data (H5FD_MEM_DRAW) too: that is kept.
+
+/// Set while a template's chunks or arrays are handed to HDF5 (DroppingRawData).
+thread_local bool t_dropping_raw_data = false;
+/// Sets t_dropping_raw_data for its lifetime when `on`.
+class DroppingRawData {
+ public:
+  explicit DroppingRawData(bool on) : on_(on) { t_dropping_raw_data = t_dropping_raw_data || on; }
+  ~DroppingRawData() {
+    if (on_) t_dropping_raw_data = false;
+  }
+  DroppingRawData(const DroppingRawData&) = delete;
+  DroppingRawData& operator=(const DroppingRawData&) = delete;
+
+ private:
+  bool on_;
+};
+
+/// What HDF5 wrote of a template file (driver addresses: the user block counts).
+struct TemplateTarget {
+  static constexpr haddr_t kPage = 4096;
+  std::map<haddr_t, std::unique_ptr<unsigned char[]>> pages;  ///< by address / kPage
+  std::vector<std::pair<haddr_t, haddr_t>> dropped;  ///< [begin, end) of each dropped write
+  haddr_t eoa = 0;                                   ///< at close
+};
+
+struct TemplateFile {
+  H5FD_t pub;  // first: HDF5 holds an H5FD_t*
+  TemplateTarget* target;
+  haddr_t eoa, eof;
+};
+
+TemplateFile* template_file(H5FD_t* f) {
+  return reinterpret_cast<TemplateFile*>(f);
+}
+
+H5FD_t* template_open(const char*, unsigned, hid_t fapl, haddr_t) {
+  const auto* info = static_cast<TemplateTarget* const*>(H5Pget_driver_info(fapl));
+  if (!info || !*info) return nullptr;
+  auto* f = static_cast<TemplateFile*>(std::calloc(1, sizeof(TemplateFile)));
+  if (!f) return nullptr;
+  f->target = *info;
+  return &f->pub;
+}
+herr_t template_close(H5FD_t* f) {
+  template_file(f)->target->eoa = template_file(f)->eoa;
+  std::free(template_file(f));
+  return 0;
+}
+herr_t template_query(const H5FD_t*, unsigned long* flags) {
+  // the core driver's, for the same allocation of the file's space
+  *flags = H5FD_FEAT_AGGREGATE_METADATA | H5FD_FEAT_ACCUMULATE_METADATA | H5FD_FEAT_DATA_SIEVE |
+           H5FD_FEAT_AGGREGATE_SMALLDATA;
+  return 0;
+}
+haddr_t template_get_eoa(const H5FD_t* f, H5FD_mem_t) {
+  return reinterpret_cast<const TemplateFile*>(f)->eoa;
+}
+herr_t template_set_eoa(H5FD_t* f, H5FD_mem_t, haddr_t addr) {
+  template_file(f)->eoa = addr;
+  return 0;
+}
+haddr_t template_get_eof(const H5FD_t* f, H5FD_mem_t) {
+  return reinterpret_cast<const TemplateFile*>(f)->eof;
+}
+/// Copies between `buffer` and the pages (`write`: into them, creating them; else out of
+/// them, zeros where none).
+void template_copy(TemplateTarget& t, haddr_t addr, size_t size, unsigned char* buffer,
+                   bool write) {
+  while (size > 0) {
+    const haddr_t page = addr / TemplateTarget::kPage, at = addr % TemplateTarget::kPage;
+    const size_t n = std::min<size_t>(size, static_cast<size_t>(TemplateTarget::kPage - at));
+    auto it = t.pages.find(page);
+    if (write && it == t.pages.end())
+      it = t.pages.emplace(page, std::make_unique<unsigned char[]>(TemplateTarget::kPage)).first;
+    if (write)
+      std::memcpy(it->second.get() + at, buffer, n);
+    else if (it == t.pages.end())
+      std::memset(buffer, 0, n);
+    else
+      std::memcpy(buffer, it->second.get() + at, n);
+    addr += n;
+    buffer += n;
+    size -= n;
+  }
+}
+herr_t template_read(H5FD_t* f, H5FD_mem_t type, hid_t, haddr_t addr, size_t size, void* buffer) {
+  if (type == H5FD_MEM_DRAW)
+    std::memset(buffer, 0, size);
+  else
+    template_copy(*template_file(f)->target, addr, size, static_cast<unsigned char*>(buffer),
+                  false);
+  return 0;
+}
+herr_t template_write(H5FD_t* f, H5FD_mem_t type, hid_t, haddr_t addr, size_t size,
+                      const void* buffer) {
+  TemplateFile* t = template_file(f);
+  if (type == H5FD_MEM_DRAW && t_dropping_raw_data)
+    t->target->dropped.emplace_back(addr, addr + size);
+  else
+    template_copy(*t->target, addr, size,
+                  const_cast<unsigned char*>(static_cast<const unsigned char*>(buffer)), true);
+  t->eof = std::max(t->eof, addr + size);
+  return 0;
+}
+herr_t template_truncate(H5FD_t* f, hid_t, hbool_t) {
+  template_file(f)->eof = template_file(f)->eoa;
+  return 0;
+}
+
+const H5FD_class_t kTemplateClass = {
+    .name = "rodend_template",
+    .maxaddr = (haddr_t{1} << 62) - 1,
+    .fc_degree = H5F_CLOSE_STRONG,
+    .terminate = nullptr,
+    .sb_size = nullptr,
+    .sb_encode = nullptr,
+    .sb_decode = nullptr,
+    .fapl_size = sizeof(TemplateTarget*),
+    .fapl_get = nullptr,
+    .fapl_copy = nullptr,
+    .fapl_free = nullptr,
+    .dxpl_size = 0,
+    .dxpl_copy = nullptr,
+    .dxpl_free = nullptr,
+    .open = template_open,
+    .close = template_close,
+    .cmp = sink_cmp,
+    .query = template_query,
+    .get_type_map = nullptr,
+    .alloc = nullptr,
+    .free = nullptr,
+    .get_eoa = template_get_eoa,
+    .set_eoa = template_set_eoa,
+    .get_eof = template_get_eof,
+    .get_handle = nullptr,
+    .read = template_read,
+    .write = template_write,
+    .flush = nullptr,
+    .truncate = template_truncate,
+    .lock = nullptr,
+    .unlock = nullptr,
+    .fl_map = H5FD_FLMAP_DICHOTOMY,
+};
+
+/// Creates a template file written through the template driver into `target`, runs
+/// build(file) and closes it. Call under Hdf5Lock.
+template <class Build>
+void build_template_file(const Context& cx, TemplateTarget& target, Build&& build) {
+  static const hid_t driver = H5FDregister(&kTemplateClass);
+  if (driver < 0) cx.fail("cannot register rodend's HDF5 template driver");
+  const Handle fapl = cx.own(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "cannot create the file");
+  TemplateTarget* info = &target;
+  cx.ok(H5Pset_driver(fapl.get(), driver, &info), "cannot create the file");
+  cx.ok(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG), "cannot create the file");
+  const Handle fcpl = cx.own(H5Pcreate(H5P_FILE_CREATE), H5Pclose, "cannot create the file");
+  cx.ok(H5Pset_userblock(fcpl.get(), kUserBlock), "cannot create the file");
+  Handle file = cx.own(H5Fcreate("rodend-template.h5", H5F_ACC_TRUNC, fcpl.get(), fapl.get()),
+                       H5Fclose, "cannot create the file");
+  build(file.get());
+  cx.ok(file.close(), "cannot close the file");
+}
+
+// ---------------------------------------------------------------------------------------------
 // Case file
 
 void check_history(const fs::path& path, const History& h) {
@@ -1003,6 +1181,7 @@ void write_signal(const Context& cx, hid_t group, const SignalSpec& s, const Enc
   Handle d = cx.own(H5Dcreate2(group, std::string(s.name).c_str(), file_type, space.get(),
                                H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
                     H5Dclose, what);
+  const DroppingRawData dropping(raw != nullptr);  // a template's: each case writes its own
   for (std::size_t k = 0; k < e.chunks.size(); ++k) {
     const hsize_t offset[2] = {static_cast<hsize_t>(k) * e.chunk_rows, 0};
     cx.ok(H5Dwrite_chunk(d.get(), H5P_DEFAULT, 0, offset, e.chunks[k].size(), e.chunks[k].data()),
@@ -1116,9 +1295,11 @@ void write_case_arrays(const Context& cx, hid_t root, const History& h, CaseSlot
     Handle d = cx.own(H5Dcreate2(it->second.get(), a.name.c_str(), H5T_IEEE_F64LE, space.get(),
                                  H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
                       H5Dclose, what);
-    if (n > 0)
+    if (n > 0) {
+      const DroppingRawData dropping(raw != nullptr);  // a template's: each case writes its own
       cx.ok(H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, a.values.data()),
             what);
+    }
     if (raw && n > 0) {  // H5Dget_offset counts the user block, image offsets do not
       const haddr_t addr = H5Dget_offset(d.get());
       if (addr == HADDR_UNDEF || addr < kUserBlock) cx.fail(what + ": no address");
@@ -1622,18 +1803,47 @@ void write_case_attributes(const Context& cx, hid_t root, const CaseParts& c) {
   write_case_metrics(cx, root, c.record.metrics);
 }
 
-/// HDF5 builds the case file with placeholders (under the lock), and the template is made of
-/// that image (outside it). nullptr: the image cannot be a template.
+/// The image of a template file (without its user block) in the calling thread's
+/// ScratchSlot::image: its metadata where HDF5 wrote it, zeros between, the raw regions of
+/// `built` left as they are (each case fills them). Empty when a dropped write is not all in
+/// a raw region (then it held something else).
+ByteSpan template_image(const TemplateTarget& target, const CaseSlots& built) {
+  const haddr_t base = kUserBlock;
+  if (target.eoa < base + 64) return {};
+  const std::size_t size = static_cast<std::size_t>(target.eoa - base);
+  std::vector<std::pair<haddr_t, haddr_t>> raw;  // image offsets, sorted
+  for (const auto& [offset, bytes] : built.raw_regions()) raw.emplace_back(offset, offset + bytes);
+  std::sort(raw.begin(), raw.end());
+  for (const auto& [begin, end] : target.dropped) {
+    if (begin < base) return {};
+    const auto after =
+        std::upper_bound(raw.begin(), raw.end(), std::pair{begin - base, ~haddr_t{0}});
+    if (after == raw.begin() || std::prev(after)->second < end - base) return {};
+  }
+  unsigned char* const image = thread_scratch(ScratchSlot::image, size);
+  haddr_t at = 0;
+  auto& t = const_cast<TemplateTarget&>(target);  // template_copy out of it only reads
+  for (std::size_t k = 0; k <= raw.size(); ++k) {
+    const haddr_t end = k < raw.size() ? raw[k].first : size;
+    if (end < at || end > size) return {};
+    template_copy(t, base + at, static_cast<size_t>(end - at), image + at, false);
+    if (k < raw.size()) at = raw[k].second;
+  }
+  return ByteSpan(image, size);
+}
+
+/// HDF5 builds the case file with placeholders (under the lock, without its histories: the
+/// template driver), and the template is made of it (outside the lock). nullptr: the file
+/// cannot be a template.
 std::shared_ptr<const CaseTemplate> build_case_template(const fs::path& path, const CaseParts& c,
-                                                        const std::vector<CaseTemplate::Bytes>& raw,
                                                         const CaseSlots& values) {
   CaseSlots built(CaseSlots::Mode::placeholders);
-  ByteSpan image;
+  TemplateTarget target;
   {
     Hdf5Lock lock;
     const Context plain(path, "cannot write results file");
     const Context cx(path, "cannot write results file", &built);
-    image = build_image(plain, kUserBlock, c.estimate, [&](hid_t file) {
+    build_template_file(plain, target, [&](hid_t file) {
       const Handle root = plain.own(H5Gopen2(file, "/", H5P_DEFAULT), H5Gclose, "no root");
       // in the order of write_case_file's build: the attributes' slots, the raw data
       write_case_root(cx, root.get(), c.spec, c.record, c.prov);
@@ -1643,8 +1853,9 @@ std::shared_ptr<const CaseTemplate> build_case_template(const fs::path& path, co
       write_case_metrics(cx, root.get(), c.record.metrics);
     });
   }
-  if (built.key() != values.key()) return nullptr;
-  return CaseTemplate::analyse(image, built, raw);
+  const ByteSpan image = template_image(target, built);
+  if (image.empty() || built.key() != values.key()) return nullptr;
+  return CaseTemplate::analyse(image, built);
 }
 
 /// The templates by key (a case's slots and history_shape), the most recently used last.
@@ -1673,7 +1884,7 @@ ByteSpan image_from_template(const fs::path& path, const CaseParts& c) {
     auto it = std::find_if(e.begin(), e.end(), [&](const auto& x) { return x.first == key; });
     if (it == e.end()) {
       if (e.size() == kTemplatesKept) e.erase(e.begin());
-      e.emplace_back(key, build_case_template(path, c, raw, values));
+      e.emplace_back(key, build_case_template(path, c, values));
       it = std::prev(e.end());
     }
     std::rotate(it, std::next(it), e.end());  // the most recently used last
