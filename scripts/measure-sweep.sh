@@ -56,7 +56,7 @@ for c in "${configs[@]}"; do
   awk -v c="$c" -v m="$m" -v b="$base" -v n="$cases" -v runs="${times[$c]}" \
     'BEGIN {printf "%-14s %10.3f %14.0f %9.2fx   %s\n", c, m, n * 3600 / m, b / m, runs}'
 done
-# the serial section: how long the process-wide HDF5 lock was held (sweep/results.cpp)
+# the serial section: how long the process-wide HDF5 lock was held (sweep/results/lock.cpp)
 for j in 1 2; do
   rm -rf "$tmp/l"
   RODEND_LOCK_STATS=1 "$rodend" run "$study" --results-root "$tmp/l" -q --threads "$j" 2>&1 >/dev/null |

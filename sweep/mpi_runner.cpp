@@ -33,6 +33,8 @@
 #include <string>
 #include <thread>
 
+#include "sweep/results_dir.hpp"
+
 namespace rodend::mpi {
 namespace fs = std::filesystem;
 
@@ -72,11 +74,6 @@ void bcast_int_polled(int& value) {
     MPI_Ibcast(&value, 1, MPI_INT, 0, MPI_COMM_WORLD, &req);
   }
   wait_polled(req);
-}
-
-std::string host_name() {
-  char host[256] = {};
-  return ::gethostname(host, sizeof host - 1) == 0 ? std::string(host) : std::string("?");
 }
 
 /// Ends the whole job: the message on stderr, then MPI_Abort. Callable from any thread.

@@ -1,14 +1,29 @@
 // Results on disk: one HDF5 file per case plus a summary table (HDF5 and CSV) per study.
 //
-// Thread-safety rule: every HDF5 call in the process is made by the functions of this file
-// while they hold one process-wide mutex, for the whole open-write-close (or open-read-close) of
-// a file. (Debian's HDF5 is thread-safe, but through one global lock of its own, so HDF5 work is
-// serial either way.) Nothing else may call HDF5. The expensive part of writing a case file,
-// compressing its histories, runs before the lock in the calling thread (results.cpp).
+// Thread-safety rule: every HDF5 call in the process is made by the functions of sweep/results/
+// while they hold one process-wide mutex (Hdf5Lock), for the whole open-write-close (or
+// open-read-close) of a file. (Debian's HDF5 is thread-safe, but through one global lock of its
+// own, so HDF5 work is serial either way.) Nothing else may call HDF5. The expensive part of
+// writing a case file, compressing its histories, runs before the lock in the calling thread
+// (sweep/results/chunks.hpp).
 //
 // Crash-safety rule: a file appears under its final name only when complete: it is written to
-// a hidden temporary name in the same directory, closed, then renamed (atomic on POSIX). A case
-// file carries a checksum of its bytes (verify_case_file), checked before it is accepted.
+// a hidden temporary name in the same directory, closed, then renamed (atomic on POSIX;
+// sweep/results/atomic_file.hpp, the one writer of every results file). A case file carries a
+// checksum of its bytes (verify_case_file), checked before it is accepted.
+//
+// The rooms of sweep/results/ (this header is their public face):
+//   lock.cpp, hdf5_handles.cpp  the HDF5 lock; handles, errors, attributes (hdf5.hpp)
+//   atomic_file.cpp             the atomic writer; WriteFailureInjection
+//   checksum.cpp                the checksum header: written, verified
+//   memory_file.cpp             case files built in memory; sink_driver.cpp: summary.h5 streamed
+//   chunks.cpp                  history chunks encoded off the lock; /signals
+//   case_file.cpp               write_case_file; case_reader.cpp: records and signals read back
+//   case_from_template.cpp      case files patched from a template built once per shape (issue
+//                               33): case_template.cpp (bytes), template_driver.cpp (HDF5)
+//   summary_table.cpp           the summary's columns and CSV text; summary.cpp writes it,
+//                               summary_read.cpp reads (and repairs) it
+//   spool.cpp                   RecordSpool; text.cpp: shortest_decimal, utc_now, provenance
 #pragma once
 
 #include <filesystem>
@@ -121,7 +136,7 @@ long long hdf5_lock_count();
 
 /// Writes results/<study>/cases/<id>.h5 (temporary name, then rename). With uncompressed
 /// histories (output.compression_level 0), HDF5 builds a case file once per shape of case (a
-/// template, sweep/case_template.hpp) and the other cases of that shape are written without
+/// template, sweep/results/case_template.hpp) and the other cases of that shape are written without
 /// HDF5, outside its lock; RODEND_CASE_TEMPLATES=0 in the environment has HDF5 build every one
 /// (to compare the two).
 void write_case_file(const std::filesystem::path& path, const CaseSpec& spec,

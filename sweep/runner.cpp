@@ -42,12 +42,6 @@ std::string format_duration(double s) {
   return buf;
 }
 
-/// Writes `text` to `path` atomically, as every results file (write_text_file_atomically: a
-/// fresh file under an unpredictable temporary name, never through a link, then a rename).
-void write_text_atomically(const fs::path& path, const std::string& text) {
-  write_text_file_atomically(path, "study file", text, /*durable=*/false);
-}
-
 /// SIGINT / SIGTERM during a run: the first stops the run from taking new cases (the cases in
 /// flight finish and are written); a second one ends the process at once (its temporary files
 /// are removed by the next run).
@@ -436,11 +430,15 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
     for (const std::string& u : unreadable) m += "\n  " + u;
     throw std::runtime_error(m);
   }
-  write_text_atomically(plan.dir / "study.json", study.source.dump(2) + "\n");
+  // written as every results file is (sweep/results/atomic_file.hpp): a fresh file under an
+  // unpredictable temporary name, never through a link, then renamed
+  write_text_file_atomically(plan.dir / "study.json", "study file", study.source.dump(2) + "\n",
+                             /*durable=*/false);
   // the resolved design, where the analysis finds it (docs/uncertainty.md)
   if (study.design)
-    write_text_atomically(plan.dir / "design.json",
-                          study.design->to_json(study.design_units).dump(2) + "\n");
+    write_text_file_atomically(plan.dir / "design.json", "study file",
+                               study.design->to_json(study.design_units).dump(2) + "\n",
+                               /*durable=*/false);
   return plan;
 }
 

@@ -1,6 +1,6 @@
-// Tests of case files written from a template (sweep/case_template.hpp, issue 33): HDF5 builds
-// one file per shape of case, every other case of that shape is written without entering HDF5,
-// and the files read back exactly as the ones HDF5 builds case by case.
+// Tests of case files written from a template (sweep/results/case_template.hpp, issue 33): HDF5
+// builds one file per shape of case, every other case of that shape is written without entering
+// HDF5, and the files read back exactly as the ones HDF5 builds case by case.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdlib>

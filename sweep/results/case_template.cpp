@@ -1,4 +1,4 @@
-// A case file's HDF5 image built once and patched per case (sweep/case_template.hpp).
+// A case file's HDF5 image built once and patched per case (sweep/results/case_template.hpp).
 //
 // The HDF5 structures this file reads and writes (HDF5 file format specification 3.0, as HDF5
 // 1.10 writes them by default):
@@ -12,7 +12,7 @@
 //   4096), then objects: index (2), reference count (2), reserved (4), size (8), the bytes
 //   padded with zeros to a multiple of 8; last the free space, object 0, whose size counts its
 //   own 16-byte header.
-#include "sweep/case_template.hpp"
+#include "sweep/results/case_template.hpp"
 
 #include <algorithm>
 #include <cstdio>

@@ -1,6 +1,6 @@
 // A case file's HDF5 image built once and patched per case (issue 33: the serial section).
 //
-// HDF5 builds case files under one process-wide lock (sweep/results.cpp), and building one
+// HDF5 builds case files under one process-wide lock (sweep/results/), and building one
 // (datasets, attributes, dimension scales, the chunks copied in) took 12-16 ms a case, a fifth
 // of a one-thread sweep. The cases of a study share their file's structure, so HDF5 builds it
 // once, with placeholders where a case's values go, and every case's image is that template
@@ -35,7 +35,7 @@
 namespace rodend {
 
 /// The values a case file's attributes take, in the order they are written (the slots), and
-/// the file's shape (the key). Filled by the writers of sweep/results.cpp: `collect` records a
+/// the file's shape (the key). Filled by the writers of sweep/results/: `collect` records a
 /// case's values without HDF5; `placeholders` records them while HDF5 writes the placeholders,
 /// and where HDF5 put the raw data.
 class CaseSlots {
