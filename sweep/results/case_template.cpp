@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <map>
 #include <numeric>
 #include <stdexcept>
 #include <string_view>
@@ -152,7 +153,9 @@ bool CaseTemplate::find_slots(Bytes image, const CaseSlots& built, const Gaps& g
     numbers_.push_back({slot, q - 4});
     found[slot] = true;
   }
+  // the placeholders in the global heap: (collection, object index) -> slot
   const std::vector<std::size_t> collections = find_all(image, gaps, "GCOL", 4);
+  std::map<std::pair<std::uint64_t, std::uint32_t>, std::size_t> objects;
   for (const std::size_t q :
        find_all(image, gaps, kPlaceholderPrefix.data(), kPlaceholderPrefix.size())) {
     if (q < kHeapHeader || q + kPlaceholderSize > image.size()) continue;
@@ -162,15 +165,20 @@ bool CaseTemplate::find_slots(Bytes image, const CaseSlots& built, const Gaps& g
         load<std::uint64_t>(image.data() + q - 8) != kPlaceholderSize)
       continue;
     const auto in = std::lower_bound(collections.begin(), collections.end(), q);
-    if (in == collections.begin()) continue;
-    // the string's reference in an attribute: its length, collection and object index
-    unsigned char needle[16];
-    store<std::uint32_t>(needle, static_cast<std::uint32_t>(kPlaceholderSize));
-    store<std::uint64_t>(needle + 4, static_cast<std::uint64_t>(*(in - 1)));
-    store<std::uint32_t>(needle + 12, load<std::uint16_t>(image.data() + q - kHeapHeader));
-    for (const std::size_t r : find_all(image, gaps, needle, sizeof needle)) {
-      references_.push_back({slot, r});
-      found[slot] = true;
+    if (in != collections.begin())
+      objects[{*(in - 1), load<std::uint16_t>(image.data() + q - kHeapHeader)}] = slot;
+  }
+  // their references in the attributes: length (4 bytes), collection (8), object index (4)
+  for (const std::size_t c : collections) {
+    const auto address = static_cast<std::uint64_t>(c);
+    for (const std::size_t q : find_all(image, gaps, &address, 8)) {
+      if (q < 4 || q + 12 > image.size() ||
+          load<std::uint32_t>(image.data() + q - 4) != kPlaceholderSize)
+        continue;
+      const auto it = objects.find({address, load<std::uint32_t>(image.data() + q + 8)});
+      if (it == objects.end()) continue;
+      references_.push_back({it->second, q - 4});
+      found[it->second] = true;
     }
   }
   return std::all_of(found.begin(), found.end(), [](bool f) { return f; });
