@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <cstring>
+#include <new>
 
 #include "sweep/results/memory_file.hpp"
 
@@ -87,12 +88,16 @@ herr_t template_read(H5FD_t* f, H5FD_mem_t type, hid_t, haddr_t addr, size_t siz
 herr_t template_write(H5FD_t* f, H5FD_mem_t type, hid_t, haddr_t addr, size_t size,
                       const void* buffer) {
   TemplateFile* t = template_file(f);
-  if (type == H5FD_MEM_DRAW && t_dropping_raw_data)
-    t->target->dropped.emplace_back(addr, addr + size);
-  else
-    template_copy(*t->target, addr, size,
-                  const_cast<unsigned char*>(static_cast<const unsigned char*>(buffer)), true);
   t->eof = std::max(t->eof, addr + size);
+  try {  // no exception may cross HDF5's C frames
+    if (type == H5FD_MEM_DRAW && t_dropping_raw_data)
+      t->target->dropped.emplace_back(addr, addr + size);
+    else
+      template_copy(*t->target, addr, size,
+                    const_cast<unsigned char*>(static_cast<const unsigned char*>(buffer)), true);
+  } catch (const std::bad_alloc&) {
+    t->target->out_of_memory = true;
+  }
   return 0;
 }
 herr_t template_truncate(H5FD_t* f, hid_t, hbool_t) {
@@ -158,6 +163,7 @@ void build_template_file(const Context& cx, TemplateTarget& target, hsize_t user
                        H5Fclose, "cannot create the file");
   build(file.get());
   cx.ok(file.close(), "cannot close the file");
+  if (target.out_of_memory) throw std::bad_alloc();
 }
 
 ByteSpan template_image(const TemplateTarget& target, const CaseSlots& built, hsize_t user_block) {

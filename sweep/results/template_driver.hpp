@@ -29,6 +29,9 @@ struct TemplateTarget {
   std::map<haddr_t, std::unique_ptr<unsigned char[]>> pages;  ///< by address / kPage
   std::vector<std::pair<haddr_t, haddr_t>> dropped;  ///< [begin, end) of each dropped write
   haddr_t eoa = 0;                                   ///< at close
+  /// Memory ran out in a write: the write was dropped (HDF5 is never told: it does not
+  /// survive a failed write), and build_template_file throws std::bad_alloc after the close.
+  bool out_of_memory = false;
 };
 
 /// While alive (and `on`), the template driver drops the raw data HDF5 writes in this thread:
