@@ -21,20 +21,22 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <map>
 #include <stdexcept>
+#include <string_view>
 
 #include "sweep/results.hpp"
 #include "sweep/results/atomic_file.hpp"
+#include "sweep/results/case_file.hpp"
 #include "sweep/results/checksum.hpp"
 #include "sweep/results/chunks.hpp"
 #include "sweep/results/hdf5.hpp"
 #include "sweep/results/memory_file.hpp"
+#include "sweep/results/template_driver.hpp"
 
-namespace rodend {
+namespace rodend::results_detail {
 namespace {
-
-using namespace results_detail;
 
 // histories are copied into the file's little-endian types byte for byte
 static_assert(std::endian::native == std::endian::little, "rodend writes HDF5 chunks on LE hosts");
@@ -71,6 +73,7 @@ template <class T>  // json, features: their text
 void write_record_attribute(const Context& cx, hid_t root, const std::string& name, const T& v) {
   attr_string(cx, root, name, record_field_text(v));
 }
+}  // namespace
 
 void write_case_root(const Context& cx, hid_t root, const CaseSpec& spec, const CaseRecord& r,
                      const Json& prov) {
@@ -105,6 +108,9 @@ void write_case_parameters(const Context& cx, hid_t root, const ParameterSet& pa
   }
   attr_string(cx, g.get(), "units_json", units.dump());
 }
+
+namespace {
+
 /// The netCDF dimensions of the per-case arrays (CaseArray::dim_names): a dimension named
 /// after a 1-D array of the group is that array (a coordinate), else one without a variable.
 void attach_array_dimensions(const Context& cx, const History& h,
@@ -140,15 +146,23 @@ void attach_array_dimensions(const Context& cx, const History& h,
   }
 }
 
-void write_case_arrays(const Context& cx, hid_t root, const History& h) {
+}  // namespace
+
+void check_case_array(const Context& cx, const CaseArray& a) {
+  const std::string what = "cannot write " + a.group + "/" + a.name;
+  std::size_t n = 1;
+  for (std::size_t d : a.dims) n *= d;
+  if (a.dims.empty() || a.dims.size() > 2 || n != a.values.size()) cx.fail(what + ": bad shape");
+  for (double v : a.values)
+    if (!std::isfinite(v)) cx.fail(what + ": a value is not finite");
+}
+
+void write_case_arrays(const Context& cx, hid_t root, const History& h, CaseSlots* raw) {
   std::map<std::string, Handle> groups;
   for (const CaseArray& a : h.arrays) {
     const std::string what = "cannot write " + a.group + "/" + a.name;
-    std::size_t n = 1;
-    for (std::size_t d : a.dims) n *= d;
-    if (a.dims.empty() || a.dims.size() > 2 || n != a.values.size()) cx.fail(what + ": bad shape");
-    for (double v : a.values)
-      if (!std::isfinite(v)) cx.fail(what + ": a value is not finite");
+    check_case_array(cx, a);
+    const std::size_t n = a.values.size();
     auto it = groups.find(a.group);
     if (it == groups.end()) it = groups.emplace(a.group, create_group(cx, root, a.group)).first;
     hsize_t dims[2] = {0, 0};
@@ -158,9 +172,16 @@ void write_case_arrays(const Context& cx, hid_t root, const History& h) {
     Handle d = cx.own(H5Dcreate2(it->second.get(), a.name.c_str(), H5T_IEEE_F64LE, space.get(),
                                  H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
                       H5Dclose, what);
-    if (n > 0)
+    if (n > 0) {
+      const DroppingRawData dropping(raw != nullptr);  // a template's: each case writes its own
       cx.ok(H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, a.values.data()),
             what);
+    }
+    if (raw && n > 0) {  // H5Dget_offset counts the user block, image offsets do not
+      const haddr_t addr = H5Dget_offset(d.get());
+      if (addr == HADDR_UNDEF || addr < kUserBlock) cx.fail(what + ": no address");
+      raw->raw(addr - kUserBlock, 8 * n);
+    }
     attr_units(cx, d.get(), a.unit, a.description);
     cx.ok(d.close(), what);
   }
@@ -179,7 +200,11 @@ void write_case_metrics(const Context& cx, hid_t root, const MetricValues& m) {
   attr_string(cx, g.get(), "units_json", units.dump());
 }
 
-}  // namespace
+}  // namespace rodend::results_detail
+
+namespace rodend {
+
+using namespace results_detail;
 
 void write_case_file(const fs::path& path, const CaseSpec& spec, const CaseRecord& record,
                      const History& history, const Json& prov) {
@@ -198,8 +223,12 @@ void write_case_file(const fs::path& path, const CaseSpec& spec, const CaseRecor
   // 4-9 kB): an estimate too small makes the core driver grow its buffer by a whole estimate
   // (a copy and a clear of the file so far, under the lock)
   estimate += history.signals.size() * (1 << 14);
+  // chunks of a fixed size (not compressed): the case's image from its template, no HDF5
   ByteSpan image;
-  {
+  const char* const templates = std::getenv("RODEND_CASE_TEMPLATES");
+  if (spec.output.compression_level == 0 && !(templates && std::string_view(templates) == "0"))
+    image = image_from_template(path, {spec, record, history, prov, encoded, estimate});
+  if (image.empty()) {
     Hdf5Lock lock;  // held for the in-memory build: cheap calls only, the chunks are ready
     const Context cx(path, "cannot write results file");
     image = build_image(cx, kUserBlock, estimate, [&](hid_t file) {

@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <mutex>
 #include <new>
+#include <string_view>
 
 #include "sweep/results/hdf5.hpp"
 
@@ -15,9 +16,12 @@ namespace {
 std::mutex g_hdf5_mutex;
 
 /// Diagnostics (RODEND_LOCK_STATS=1 in the environment): how long g_hdf5_mutex is held, summed
-/// over the run, printed on stderr at exit: the serial section of a sweep (bench/README.md).
+/// over the run, printed on stderr at exit: the serial section of a sweep (bench/README.md);
+/// RODEND_LOCK_STATS=2 also prints each time it is released. The count is always kept
+/// (hdf5_lock_count).
 struct LockStats {
   const bool enabled = std::getenv("RODEND_LOCK_STATS") != nullptr;
+  const bool each = enabled && std::string_view(std::getenv("RODEND_LOCK_STATS")) == "2";
   std::atomic<long long> held_ns{0}, held_cpu_ns{0}, count{0};
   ~LockStats() {
     if (enabled)
@@ -60,15 +64,23 @@ Hdf5Lock::Hdf5Lock() : lock_(g_hdf5_mutex), reserve_(kHdf5Headroom) {
 Hdf5Lock::~Hdf5Lock() {
   // blocks HDF5 keeps on its free lists would keep a drawn reserve mapped after the session
   if (reserve_.drawn() > 0) H5garbage_collect();
+  ++g_lock_stats.count;
   if (!g_lock_stats.enabled) return;
   g_lock_stats.held_ns += clock_ns(CLOCK_MONOTONIC) - t0_;
   g_lock_stats.held_cpu_ns += clock_ns(CLOCK_THREAD_CPUTIME_ID) - cpu0_;
-  ++g_lock_stats.count;
+  if (g_lock_stats.each)
+    std::fprintf(stderr, "rodend: HDF5 lock held %.3f ms wall, %.3f ms CPU\n",
+                 1e-6 * static_cast<double>(clock_ns(CLOCK_MONOTONIC) - t0_),
+                 1e-6 * static_cast<double>(clock_ns(CLOCK_THREAD_CPUTIME_ID) - cpu0_));
 }
 
 }  // namespace rodend::results_detail
 
 namespace rodend {
+
+long long hdf5_lock_count() {
+  return results_detail::g_lock_stats.count.load();
+}
 
 void prepare_results_io() {
   const results_detail::Hdf5Lock lock;  // H5open on first use, the free-list limits, this
