@@ -14,9 +14,9 @@
 
 namespace rodend {
 
-/// Appends the record of case `slot` (its position in Study::cases) to `out`: its id, status,
-/// message, times, step counts and metrics (the rest, index, scene and grid coordinates, is the
-/// study's and is taken from the receiver's own copy of the case).
+/// Appends the record of case `slot` (its position in Study::cases) to `out`: every field of
+/// sweep/case_record.def and the metrics, as the spool encodes them (encode_record). The
+/// receiver takes index, scene and grid coordinates from its own copy of the case.
 void pack_record(std::size_t slot, const CaseRecord& rec, std::string& out);
 
 /// Reads one record packed by pack_record from the front of `in` and advances it. Returns the

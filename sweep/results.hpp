@@ -136,6 +136,12 @@ void for_each_record_field(Record& r, F&& f) {
 #include "sweep/case_record.def"
 #undef RODEND_RECORD_FIELD
 }
+/// The record as bytes (every field of sweep/case_record.def, then the metrics), led by its
+/// size [bytes] as a uint32: the spool's rows and the MPI runner's messages. decode_record reads
+/// `n` bytes so written; throws std::runtime_error when they are short or malformed.
+std::string encode_record(const CaseRecord& r);
+CaseRecord decode_record(const char* p, std::size_t n);
+
 /// A summary table read back from summary.h5.
 struct SummaryTable {
   std::vector<std::string> columns;                       ///< in table order

@@ -98,6 +98,9 @@ void get_field(SpoolReader& in, T& v) {
   record_field_from_text(in.text(), v);
 }
 
+
+}  // namespace
+
 std::string encode_record(const CaseRecord& r) {
   std::string out;
   put_raw(out, std::uint32_t{0});  // the size, set below
@@ -118,8 +121,6 @@ CaseRecord decode_record(const char* p, std::size_t n) {
   for (double& m : r.metrics) m = in.raw<double>();
   return r;
 }
-
-}  // namespace
 
 struct RecordSpool::Impl {
   fs::path summary;  ///< dir/summary.h5, named in messages (the spool is the summary's rows)
