@@ -12,6 +12,12 @@
  * does (HDF5 1.10 dereferences one in H5SL_insert while initialising; libgomp prints "out of
  * memory" and exits 1), and neither do the GnuTLS constructors that run before main.
  *
+ * RODEND_FAIL_ALLOC_SPARE="lo-hi,lo-hi,...": address ranges (offsets in the executable, from its
+ * symbol table) of functions an allocation inside which is never failed: nlohmann::json's
+ * destructor (json_value::destroy) allocates its work stack inside a noexcept destructor, so a
+ * failure there ends any program in std::terminate whatever it does (a limit of the library, like
+ * HDF5's above). When the K-th allocation is made inside one of them, the next one fails instead.
+ *
  * The real allocators are glibc's own entry points (__libc_malloc, ...), so no dlsym (which
  * allocates) is needed. Test code only: never linked into rodend. */
 #define _GNU_SOURCE
@@ -23,6 +29,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include <unwind.h>
 
 extern void* __libc_malloc(size_t);
 extern void* __libc_calloc(size_t, size_t);
@@ -60,6 +67,52 @@ static int from_counted(const void* caller) {
     if (a >= range_lo[i] && a < range_hi[i]) return 1;
   return 0;
 }
+/* RODEND_FAIL_ALLOC_SPARE, as absolute addresses */
+#define MAX_SPARE 64
+static uintptr_t spare_lo[MAX_SPARE], spare_hi[MAX_SPARE];
+static int spares = 0;
+
+static int exe_base(struct dl_phdr_info* info, size_t size, void* data) {
+  (void)size;
+  if (info->dlpi_name[0] != '\0') return 0;
+  *(uintptr_t*)data = info->dlpi_addr;
+  return 1;
+}
+
+static void read_spares(void) {
+  const char* s = getenv("RODEND_FAIL_ALLOC_SPARE");
+  if (!s) return;
+  uintptr_t base = 0;
+  dl_iterate_phdr(exe_base, &base);
+  while (*s && spares < MAX_SPARE) {
+    char* end;
+    const unsigned long lo = strtoul(s, &end, 16);
+    if (*end != '-') break;
+    const unsigned long hi = strtoul(end + 1, &end, 16);
+    spare_lo[spares] = base + lo;
+    spare_hi[spares] = base + hi;
+    ++spares;
+    s = *end == ',' ? end + 1 : end;
+  }
+}
+
+/* _Unwind_Backtrace does not allocate once libgcc_s is loaded (it is: C++ exceptions) */
+static _Unwind_Reason_Code spare_frame(struct _Unwind_Context* cx, void* found) {
+  const uintptr_t ip = (uintptr_t)_Unwind_GetIP(cx);
+  for (int i = 0; i < spares; ++i)
+    if (ip > spare_lo[i] && ip <= spare_hi[i]) {
+      *(int*)found = 1;
+      return _URC_END_OF_STACK;
+    }
+  return _URC_NO_REASON;
+}
+
+static int in_spared_function(void) {
+  int found = 0;
+  if (spares > 0) _Unwind_Backtrace(spare_frame, &found);
+  return found;
+}
+
 static int persist = 0;
 static long calls = 0;
 
@@ -94,6 +147,7 @@ static int fail_now(const void* caller) {
     const char* p = getenv("RODEND_FAIL_ALLOC_PERSIST");
     const char* count = getenv("RODEND_FAIL_ALLOC_COUNT");
     persist = p && strcmp(p, "1") == 0;
+    read_spares();
     __atomic_store_n(&fail_at, at ? atol(at) : -1, __ATOMIC_RELEASE);
     /* after fail_at is set: atexit may allocate, which comes back here */
     if (count && strcmp(count, "1") == 0) atexit(report_count);
@@ -101,6 +155,10 @@ static int fail_now(const void* caller) {
   if (!__atomic_load_n(&in_main, __ATOMIC_ACQUIRE) || !from_counted(caller)) return 0;
   const long n = __atomic_add_fetch(&calls, 1, __ATOMIC_RELAXED);
   if (fail_at < 0) return 0;
+  if (n == fail_at && !persist && in_spared_function()) {
+    __atomic_add_fetch(&fail_at, 1, __ATOMIC_RELAXED); /* the next one fails instead */
+    return 0;
+  }
   if (n == fail_at || (persist && n > fail_at)) {
     errno = ENOMEM;
     return 1;
