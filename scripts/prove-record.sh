@@ -79,7 +79,7 @@ with h5py.File(f"{out}/summary.h5", "r") as f:
     print("summary.h5: throwaway_s", list(col[:]), "units", col.attrs["units"])
 print("case files: root attribute throwaway_s present in each")
 import rodend
-case = rodend.run_case("gravity-drop", time={"end": 0.01})
+case = rodend.run_case("gravity-drop", time={"end": 0.01, "sample_interval": 1e-3})
 assert case.throwaway_s == 0.0, case.throwaway_s
 print("rodend.run_case(...).throwaway_s =", case.throwaway_s)
 print("prove-record: ok")
