@@ -98,7 +98,6 @@ void get_field(SpoolReader& in, T& v) {
   record_field_from_text(in.text(), v);
 }
 
-
 }  // namespace
 
 std::string encode_record(const CaseRecord& r) {
