@@ -76,7 +76,7 @@ std::size_t count_ok(const SummaryTable& t) {
   std::size_t ok = 0;
   if (t.texts.count("status"))
     for (const std::string& s : t.texts.at("status"))
-      if (run_status_from_name(s) == RunStatus::ok) ++ok;
+      if (choice_from_name<RunStatus>(s) == RunStatus::ok) ++ok;
   return ok;
 }
 

@@ -4,11 +4,23 @@
 //
 // Each menu is one catalogue, an X-macro .def file (core/run_statuses.def,
 // core/integrator_methods.def, core/contact_onsets.def, core/laws/friction_laws.def,
-// core/contact_geometries.def, core/damping_caps.def, core/wear_models.def): one line per
-// choice, from which come the enum's values, in order, and `choice_names(E{})` /
-// `choice_descriptions(E{})`. Adding a choice is one line there (and its code). The templates
-// below are the only place a name is compared with a string.
-#pragma once
+// core/contact_geometries.def, core/damping_caps.def, core/wear_models.def) of lines
+//   RODEND_CHOICE(identifier, "name", "description"[, further columns of that catalogue])
+// one per choice, in the enum's order. A header makes the catalogue's enum E, choice_names(E{})
+// and choice_descriptions(E{}) in three lines, inside namespace rodend, by including this file
+// again (its second part, below):
+//   #define RODEND_CHOICE_ENUM RunStatus
+//   #define RODEND_CHOICE_FILE "core/run_statuses.def"
+//   #include "core/choice.hpp"
+// The templates of the first part (name, parse, values, allowed names) then serve every
+// catalogue. Adding a choice is one line of its .def (and its code); the templates are the only
+// place a name is compared with a string.
+#if defined(RODEND_CHOICE_ENUM) && !defined(RODEND_CORE_CHOICE_HPP)
+#error "core/choice.hpp: include it at the top of the header before including it for a catalogue"
+#endif
+
+#ifndef RODEND_CORE_CHOICE_HPP
+#define RODEND_CORE_CHOICE_HPP
 
 #include <concepts>
 #include <cstddef>
@@ -34,6 +46,12 @@ std::string_view choice_name(E e) {
   const std::span<const std::string_view> names = choice_names(E{});
   const auto i = static_cast<std::size_t>(e);
   return i < names.size() ? names[i] : std::string_view("unknown");
+}
+
+/// The name of a choice (the generic to_string of every catalogue's enum).
+template <Choice E>
+std::string_view to_string(E e) {
+  return choice_name(e);
 }
 
 /// The choice called `name`, or nullopt.
@@ -82,3 +100,40 @@ std::string choice_list() {
 }
 
 }  // namespace rodend
+
+#endif  // RODEND_CORE_CHOICE_HPP
+
+// The second part: one catalogue's enum and name tables, when a header includes this file with
+// RODEND_CHOICE_ENUM (the enum's name) and RODEND_CHOICE_FILE (its .def) defined, inside
+// namespace rodend (the first part included before, at the top of that header).
+#ifdef RODEND_CHOICE_ENUM
+#ifndef RODEND_CHOICE_FILE
+#error "core/choice.hpp: RODEND_CHOICE_ENUM without RODEND_CHOICE_FILE (the catalogue's .def)"
+#endif
+
+/// The choices of RODEND_CHOICE_FILE, in its order.
+enum class RODEND_CHOICE_ENUM {
+#define RODEND_CHOICE(identifier, name, ...) identifier,
+#include RODEND_CHOICE_FILE
+#undef RODEND_CHOICE
+};
+inline std::span<const std::string_view> choice_names(RODEND_CHOICE_ENUM) {
+  static constexpr std::string_view kNames[] = {
+#define RODEND_CHOICE(identifier, name, ...) name,
+#include RODEND_CHOICE_FILE
+#undef RODEND_CHOICE
+  };
+  return kNames;
+}
+inline std::span<const std::string_view> choice_descriptions(RODEND_CHOICE_ENUM) {
+  static constexpr std::string_view kDescriptions[] = {
+#define RODEND_CHOICE(identifier, name, description, ...) description,
+#include RODEND_CHOICE_FILE
+#undef RODEND_CHOICE
+  };
+  return kDescriptions;
+}
+
+#undef RODEND_CHOICE_ENUM
+#undef RODEND_CHOICE_FILE
+#endif  // RODEND_CHOICE_ENUM

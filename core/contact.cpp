@@ -9,42 +9,6 @@
 
 namespace rodend {
 
-std::span<const std::string_view> choice_names(ContactGeometry) {
-  static constexpr std::string_view kNames[] = {
-#define RODEND_CONTACT_GEOMETRY(name, description) #name,
-#include "core/contact_geometries.def"
-#undef RODEND_CONTACT_GEOMETRY
-  };
-  return kNames;
-}
-
-std::span<const std::string_view> choice_descriptions(ContactGeometry) {
-  static constexpr std::string_view kDescriptions[] = {
-#define RODEND_CONTACT_GEOMETRY(name, description) description,
-#include "core/contact_geometries.def"
-#undef RODEND_CONTACT_GEOMETRY
-  };
-  return kDescriptions;
-}
-
-std::span<const std::string_view> choice_names(DampingCap) {
-  static constexpr std::string_view kNames[] = {
-#define RODEND_DAMPING_CAP(name, description) #name,
-#include "core/damping_caps.def"
-#undef RODEND_DAMPING_CAP
-  };
-  return kNames;
-}
-
-std::span<const std::string_view> choice_descriptions(DampingCap) {
-  static constexpr std::string_view kDescriptions[] = {
-#define RODEND_DAMPING_CAP(name, description) description,
-#include "core/damping_caps.def"
-#undef RODEND_DAMPING_CAP
-  };
-  return kDescriptions;
-}
-
 double effective_modulus(double Eb, double nub, double Es, double nus) {
   return 1.0 / ((1.0 - nub * nub) / Eb + (1.0 - nus * nus) / Es);
 }

@@ -75,13 +75,9 @@ class FrictionLaw {
 };
 
 /// The friction laws (friction.law), from core/laws/friction_laws.def.
-enum class FrictionLawKind {
-#define RODEND_FRICTION_LAW(name, maker, ordered_speeds, description) name,
-#include "core/laws/friction_laws.def"
-#undef RODEND_FRICTION_LAW
-};
-std::span<const std::string_view> choice_names(FrictionLawKind);
-std::span<const std::string_view> choice_descriptions(FrictionLawKind);
+#define RODEND_CHOICE_ENUM FrictionLawKind
+#define RODEND_CHOICE_FILE "core/laws/friction_laws.def"
+#include "core/choice.hpp"
 /// Whether the law needs dynamic_speed > static_speed (its catalogue line).
 bool needs_ordered_speeds(FrictionLawKind law);
 
@@ -102,26 +98,15 @@ double smooth_step(double x, double x0, double f0, double x1, double f1);
 
 /// Upper limit on the hysteresis damping term (thesis eq. 3.14), contact.damping_cap, from
 /// core/damping_caps.def: none (eq. 3.6-3.8 as written), elastic (damping <= F_el, eq. 3.14).
-enum class DampingCap {
-#define RODEND_DAMPING_CAP(name, description) name,
-#include "core/damping_caps.def"
-#undef RODEND_DAMPING_CAP
-};
-std::span<const std::string_view> choice_names(DampingCap);
-std::span<const std::string_view> choice_descriptions(DampingCap);
+#define RODEND_CHOICE_ENUM DampingCap
+#define RODEND_CHOICE_FILE "core/damping_caps.def"
+#include "core/choice.hpp"
 
 /// Shape of the contacting surfaces (contact.geometry), from core/contact_geometries.def: it
 /// alone decides the elastic force F_el(delta).
-enum class ContactGeometry {
-#define RODEND_CONTACT_GEOMETRY(name, description) name,
-#include "core/contact_geometries.def"
-#undef RODEND_CONTACT_GEOMETRY
-};
-std::span<const std::string_view> choice_names(ContactGeometry);
-std::span<const std::string_view> choice_descriptions(ContactGeometry);
-inline std::string_view to_string(ContactGeometry g) {
-  return choice_name(g);
-}
+#define RODEND_CHOICE_ENUM ContactGeometry
+#define RODEND_CHOICE_FILE "core/contact_geometries.def"
+#include "core/choice.hpp"
 
 /// Immutable model of one clearance contact (sphere in sphere, or cylinder in cylinder).
 struct ClearanceContactModel {

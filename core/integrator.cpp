@@ -19,67 +19,13 @@ using detail::ScaledSystem;
 using detail::state_t;
 using detail::Stepper;
 
-std::span<const std::string_view> choice_names(IntegratorMethod) {
-  static constexpr std::string_view kNames[] = {
-#define RODEND_INTEGRATOR_METHOD(name, fixed_step, description) #name,
-#include "core/integrator_methods.def"
-#undef RODEND_INTEGRATOR_METHOD
-  };
-  return kNames;
-}
-
-std::span<const std::string_view> choice_descriptions(IntegratorMethod) {
-  static constexpr std::string_view kDescriptions[] = {
-#define RODEND_INTEGRATOR_METHOD(name, fixed_step, description) description,
-#include "core/integrator_methods.def"
-#undef RODEND_INTEGRATOR_METHOD
-  };
-  return kDescriptions;
-}
-
 bool fixed_step(IntegratorMethod m) {
   static constexpr bool kFixed[] = {
-#define RODEND_INTEGRATOR_METHOD(name, fixed_step, description) fixed_step,
+#define RODEND_CHOICE(identifier, name, description, fixed_step) fixed_step,
 #include "core/integrator_methods.def"
-#undef RODEND_INTEGRATOR_METHOD
+#undef RODEND_CHOICE
   };
   return kFixed[static_cast<std::size_t>(m)];
-}
-
-std::span<const std::string_view> choice_names(ContactOnset) {
-  static constexpr std::string_view kNames[] = {
-#define RODEND_CONTACT_ONSET(id, name, description) name,
-#include "core/contact_onsets.def"
-#undef RODEND_CONTACT_ONSET
-  };
-  return kNames;
-}
-
-std::span<const std::string_view> choice_descriptions(ContactOnset) {
-  static constexpr std::string_view kDescriptions[] = {
-#define RODEND_CONTACT_ONSET(id, name, description) description,
-#include "core/contact_onsets.def"
-#undef RODEND_CONTACT_ONSET
-  };
-  return kDescriptions;
-}
-
-std::span<const std::string_view> choice_names(RunStatus) {
-  static constexpr std::string_view kNames[] = {
-#define RODEND_RUN_STATUS(name, description) #name,
-#include "core/run_statuses.def"
-#undef RODEND_RUN_STATUS
-  };
-  return kNames;
-}
-
-std::span<const std::string_view> choice_descriptions(RunStatus) {
-  static constexpr std::string_view kDescriptions[] = {
-#define RODEND_RUN_STATUS(name, description) description,
-#include "core/run_statuses.def"
-#undef RODEND_RUN_STATUS
-  };
-  return kDescriptions;
 }
 
 void validate(const IntegratorSettings& s) {

@@ -15,30 +15,16 @@
 namespace rodend {
 
 /// The integration methods (README "The integrator menu"), from core/integrator_methods.def.
-enum class IntegratorMethod {
-#define RODEND_INTEGRATOR_METHOD(name, fixed_step, description) name,
-#include "core/integrator_methods.def"
-#undef RODEND_INTEGRATOR_METHOD
-};
-std::span<const std::string_view> choice_names(IntegratorMethod);
-std::span<const std::string_view> choice_descriptions(IntegratorMethod);
-inline std::string_view to_string(IntegratorMethod m) {
-  return choice_name(m);
-}
+#define RODEND_CHOICE_ENUM IntegratorMethod
+#define RODEND_CHOICE_FILE "core/integrator_methods.def"
+#include "core/choice.hpp"
 /// Whether the method takes integrator.step throughout (no error control).
 bool fixed_step(IntegratorMethod m);
 
 /// How contact onset is latched (integrator.contact_onset), from core/contact_onsets.def.
-enum class ContactOnset {
-#define RODEND_CONTACT_ONSET(id, name, description) id,
-#include "core/contact_onsets.def"
-#undef RODEND_CONTACT_ONSET
-};
-std::span<const std::string_view> choice_names(ContactOnset);
-std::span<const std::string_view> choice_descriptions(ContactOnset);
-inline std::string_view to_string(ContactOnset o) {
-  return choice_name(o);
-}
+#define RODEND_CHOICE_ENUM ContactOnset
+#define RODEND_CHOICE_FILE "core/contact_onsets.def"
+#include "core/choice.hpp"
 
 /// Integrator settings (a plain struct: one field per setting, with its unit).
 struct IntegratorSettings {
@@ -98,20 +84,9 @@ inline double energy_audit_scale(double input_work, double dissipated, double ki
 }
 
 /// How a run ended, from core/run_statuses.def (descriptions there).
-enum class RunStatus {
-#define RODEND_RUN_STATUS(name, description) name,
-#include "core/run_statuses.def"
-#undef RODEND_RUN_STATUS
-};
-std::span<const std::string_view> choice_names(RunStatus);
-std::span<const std::string_view> choice_descriptions(RunStatus);
-inline std::string_view to_string(RunStatus s) {
-  return choice_name(s);
-}
-/// The status a stored record names (results files, summaries); nullopt for another name.
-inline std::optional<RunStatus> run_status_from_name(std::string_view name) {
-  return choice_from_name<RunStatus>(name);
-}
+#define RODEND_CHOICE_ENUM RunStatus
+#define RODEND_CHOICE_FILE "core/run_statuses.def"
+#include "core/choice.hpp"
 
 struct RunStats {
   long long steps_accepted = 0;

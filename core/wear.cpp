@@ -7,23 +7,6 @@
 
 namespace rodend {
 
-std::span<const std::string_view> choice_names(WearModelKind) {
-  static constexpr std::string_view kNames[] = {
-#define RODEND_WEAR_MODEL(name, description) #name,
-#include "core/wear_models.def"
-#undef RODEND_WEAR_MODEL
-  };
-  return kNames;
-}
-
-std::span<const std::string_view> choice_descriptions(WearModelKind) {
-  static constexpr std::string_view kDescriptions[] = {
-#define RODEND_WEAR_MODEL(name, description) description,
-#include "core/wear_models.def"
-#undef RODEND_WEAR_MODEL
-  };
-  return kDescriptions;
-}
 namespace {
 
 constexpr double kPi = std::numbers::pi;

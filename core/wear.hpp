@@ -104,13 +104,9 @@ struct WornSurfaces {
 
 /// Wear model of a clearance contact (immutable).
 /// The wear models (wear.model), from core/wear_models.def.
-enum class WearModelKind {
-#define RODEND_WEAR_MODEL(name, description) name,
-#include "core/wear_models.def"
-#undef RODEND_WEAR_MODEL
-};
-std::span<const std::string_view> choice_names(WearModelKind);
-std::span<const std::string_view> choice_descriptions(WearModelKind);
+#define RODEND_CHOICE_ENUM WearModelKind
+#define RODEND_CHOICE_FILE "core/wear_models.def"
+#include "core/choice.hpp"
 
 struct WearModel {
   WearMaterial ball, socket;

@@ -13,7 +13,7 @@ FIELD = re.compile(r'^RODEND_RECORD_FIELD\((\w+), (\w+), (\w+), "([^"]*)", "([^"
 PLACE = {"identity": "summary (before the grid keys)", "run": "summary (after the grid keys)",
          "file": "case file only"}
 TYPE = {"text": "string", "integer": "int64", "real": "float64", "json": "string (JSON)",
-        "features": "string (JSON array)"}
+        "features": "string (JSON array)", "run_status": "string"}
 print("| name | type | unit | in | description |")
 print("|---|---|---|---|---|")
 for line in (root / "sweep/case_record.def").read_text().splitlines():

@@ -203,7 +203,7 @@ int take_records(std::string_view in, Rank0& r0) {
       rec.scene = c.scene;
       rec.coordinates = c.coordinates;
       r0.plan.spool->put(i, rec);
-      r0.progress.case_done(run_status_from_name(rec.status) != RunStatus::ok);
+      r0.progress.case_done(rec.status != RunStatus::ok);
     }
   } catch (const std::bad_alloc&) {
     fatal_out_of_memory(0);
@@ -359,7 +359,7 @@ void work_local(Rank0& r0) {
     } catch (const std::exception& e) {
       fatal(0, e.what());
     }
-    r0.progress.case_done(run_status_from_name(rec.status) != RunStatus::ok);
+    r0.progress.case_done(rec.status != RunStatus::ok);
   }
 }
 

@@ -70,14 +70,15 @@ struct History {
 };
 
 /// The types and places of the case record's fields (sweep/case_record.def).
-enum class RecordType { text, integer, real, json, features };
+enum class RecordType { text, integer, real, json, features, run_status };
 enum class RecordPlace { identity, run, file };
 /// The C++ type of each RecordType (the member types of CaseRecord).
 using record_text = std::string;
 using record_integer = long long;
 using record_real = double;
-using record_json = Json;          ///< an object unless set
-using record_features = Features;  ///< stored as a JSON array of names
+using record_json = Json;             ///< an object unless set
+using record_features = Features;     ///< stored as a JSON array of names
+using record_run_status = RunStatus;  ///< a choice (core/choice.hpp), stored as its name
 inline record_text record_default_text() {
   return {};
 }
@@ -92,6 +93,9 @@ inline record_json record_default_json() {
 }
 inline record_features record_default_features() {
   return {};
+}
+inline record_run_status record_default_run_status() {
+  return RunStatus::ok;
 }
 
 /// One field of the case record: a line of sweep/case_record.def.
@@ -113,18 +117,26 @@ struct CaseRecord {
   MetricValues metrics{};
 };
 
-/// The stored text of a json or features field (a case file attribute, a summary cell, the
-/// spool, the Python dictionary): compact JSON; features as the array of their names.
+/// The stored text of a json, features or choice field (a case file attribute, a summary cell,
+/// the spool, the Python dictionary): compact JSON; features as the array of their names; a
+/// choice (the run status) as its name.
 std::string record_field_text(const Json& v);
 std::string record_field_text(const Features& v);
-/// A json or features field back from its stored text; throws std::runtime_error when it is not
-/// JSON of that kind (unknown feature names are dropped: a newer rodend's features).
+template <Choice E>
+std::string record_field_text(E v) {
+  return std::string(choice_name(v));
+}
+/// A json, features or choice field back from its stored text; throws std::runtime_error when it
+/// is not JSON of that kind (unknown feature names are dropped: a newer rodend's features), or
+/// not one of the choice's names (naming the ones allowed).
 void record_field_from_text(const std::string& text, Json& v);
 void record_field_from_text(const std::string& text, Features& v);
-
-/// True when the record's run ended well (its status names RunStatus::ok).
-inline bool record_ok(const CaseRecord& r) {
-  return r.status == to_string(RunStatus::ok);
+template <Choice E>
+void record_field_from_text(const std::string& text, E& v) {
+  const std::optional<E> choice = choice_from_name<E>(text);
+  if (!choice)
+    throw std::runtime_error("unknown name \"" + text + "\"; expected " + choice_alternatives<E>());
+  v = *choice;
 }
 
 /// Calls f(spec, value) for each field of `r` (a CaseRecord, const or not), in catalogue order.

@@ -106,7 +106,7 @@ CaseRecord run_single_case(const CaseSpec& spec, History& history) {
   const RunResult r = simulate(*scene, spec.integrator, spec.time, obs, spec.health);
   rec.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   rec.finished_utc = utc_now();
-  rec.status = std::string(to_string(r.status));
+  rec.status = r.status;
   rec.message = r.message;
   rec.t_reached = r.stats.t_reached;
   rec.steps_accepted = r.stats.steps_accepted;
@@ -131,7 +131,7 @@ CaseRecord run_case(const CaseSpec& spec, History& history) {
     // not the study's; what it recorded so far is dropped.
     CaseRecord rec = start_record(spec);
     rec.finished_utc = rec.started_utc;
-    rec.status = std::string(to_string(RunStatus::internal_error));
+    rec.status = RunStatus::internal_error;
     rec.message = std::string("internal error outside the integration, at t = 0 s: ") + e.what();
     history = History{};
     return rec;
@@ -385,7 +385,7 @@ void collect_done(const Study& study, const RunOptions& opt, RunPlan& plan) {
       unreadable.push_back(e.what());
       continue;
     }
-    if (rec && (run_status_from_name(rec->status) == RunStatus::ok || !opt.rerun_failed)) {
+    if (rec && (rec->status == RunStatus::ok || !opt.rerun_failed)) {
       // a file reused from another grid of the study: its row takes this grid's place
       rec->index = c.index;
       rec->coordinates = c.coordinates;
@@ -515,7 +515,7 @@ void run_cases(const Study& study, const RunPlan& plan, int threads, Progress& p
       try {
         const CaseRecord rec = run_and_write_case(study, plan, i);
         plan.spool->put(i, rec);
-        progress.case_done(run_status_from_name(rec.status) != RunStatus::ok);
+        progress.case_done(rec.status != RunStatus::ok);
       } catch (const std::bad_alloc&) {
         fail.out_of_memory.store(true);  // nothing allocated here
       } catch (const std::exception& e) {

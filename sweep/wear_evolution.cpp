@@ -128,7 +128,7 @@ bool run_update(const CaseSpec& spec, const Scene& base, Evolution& e, CaseRecor
 
 /// The record's status, metrics and the evolution arrays, once the loop has ended.
 void record_evolution(const Evolution& e, CaseRecord& rec, History& history) {
-  rec.status = std::string(to_string(e.status));
+  rec.status = e.status;
   rec.message = e.message;
   rec.metrics = e.first;
   metric(rec.metrics, MetricId::sliding_work) = e.sliding_work;

@@ -63,7 +63,7 @@ CaseRecord template_record(const CaseSpec& spec) {
   r.index = spec.index;
   r.scene = spec.scene;
   r.coordinates = spec.coordinates;
-  r.status = spec.index % 2 == 0 ? "ok" : "penetration_limit";
+  r.status = spec.index % 2 == 0 ? RunStatus::ok : RunStatus::penetration_limit;
   for (long i = 0; i < spec.index * spec.index * 40; ++i) r.message += i % 7 == 0 ? "µ" : "m";
   r.t_reached = 0.25 + static_cast<double>(spec.index);
   r.wall_time = 1.0 / static_cast<double>(spec.index + 1);

@@ -51,7 +51,7 @@ void check_matrix(const std::string& scene, double end, int impacts) {
       CAPTURE(scene, method, dt);
       const CaseRecord r = run_default(scene, method, end, dt);
       INFO(r.message);
-      REQUIRE(r.status == "ok");
+      REQUIRE(r.status == RunStatus::ok);
       CHECK(metric_of(r, MetricId::impact_count) == impacts);
       const double e = metric_of(r, MetricId::first_impact_restitution);
       m_lo = std::min(m_lo, e), m_hi = std::max(m_hi, e);
@@ -103,7 +103,7 @@ TEST_CASE("events: a ball coming to rest on the wall never stalls the driver",
     History h;
     const CaseRecord r = run_case(s.cases.at(0), h);
     CAPTURE(e, r.message, r.steps_accepted);
-    REQUIRE(r.status == "ok");
+    REQUIRE(r.status == RunStatus::ok);
     CHECK(r.steps_accepted < 7000);
   }
 }

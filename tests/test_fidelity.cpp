@@ -32,7 +32,7 @@ CaseRecord run_one(Json doc, History* history = nullptr) {
   History h;
   const CaseRecord r = run_case(s.cases.at(0), history ? *history : h);
   INFO(r.message);
-  REQUIRE(r.status == "ok");
+  REQUIRE(r.status == RunStatus::ok);
   return r;
 }
 

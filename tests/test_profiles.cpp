@@ -68,7 +68,7 @@ CaseRecord run_first(const Study& s) {
   History h;
   CaseRecord r = run_case(s.cases[0], h);
   INFO(r.message);
-  REQUIRE(r.status == "ok");
+  REQUIRE(r.status == RunStatus::ok);
   return r;
 }
 

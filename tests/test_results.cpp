@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -19,6 +20,7 @@
 
 #include "fixture.hpp"
 #include "sweep/results.hpp"
+#include "sweep/results/checksum.hpp"
 
 namespace fs = std::filesystem;
 using rodend::test::TempDir;
@@ -70,7 +72,7 @@ CaseRecord make_record(const CaseSpec& spec) {
   r.index = spec.index;
   r.scene = spec.scene;
   r.coordinates = spec.coordinates;
-  r.status = spec.index == 0 ? "ok" : "penetration_limit";
+  r.status = spec.index == 0 ? RunStatus::ok : RunStatus::penetration_limit;
   r.message = spec.index == 0 ? "" : "penetration, \"deep\", at t = 0.01 s";
   r.t_reached = 0.25 + static_cast<double>(spec.index);
   r.wall_time = 1.5;
@@ -175,14 +177,55 @@ TEST_CASE("a case file reads back as the record written", "[results]") {
 
   SECTION("rewriting replaces the file") {
     CaseRecord again = record;
-    again.status = "ok";
+    again.status = RunStatus::ok;
     again.message = "";
     write_case_file(file, spec, again, make_history(3), Json::object());
     const auto back2 = read_case_record(file);
     REQUIRE(back2.has_value());
-    CHECK(back2->status == "ok");
+    CHECK(back2->status == RunStatus::ok);
     CHECK(back2->message.empty());
     CHECK(entries(file.parent_path()) == std::vector<std::string>{spec.id + ".h5"});
+  }
+}
+
+TEST_CASE("a case file whose status is no run status is refused with the names allowed",
+          "[results]") {
+  // a case file intact but for its status attribute: "penetration_limit" (make_record, case 1)
+  // changed to a name no rodend has, its checksum made anew
+  TempDir tmp;
+  const CaseSpec spec = make_spec(1, 1e-3);
+  const fs::path file = tmp.path() / (spec.id + ".h5");
+  write_case_file(file, spec, make_record(spec), make_history(3), Json::object());
+  std::string bytes;
+  {
+    std::ifstream in(file, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const std::string was = "penetration_limit", now = "penetration_limiz";
+  const std::size_t at = bytes.find(was);
+  REQUIRE(at != std::string::npos);
+  REQUIRE(bytes.find(was, at + 1) == std::string::npos);  // the status attribute alone
+  bytes.replace(at, was.size(), now);
+  const auto* image = reinterpret_cast<const unsigned char*>(bytes.data());
+  const auto header =
+      rodend::results_detail::checksum_header({image + rodend::results_detail::kUserBlock,
+                                               bytes.size() - rodend::results_detail::kUserBlock});
+  std::copy(header.begin(), header.end(), bytes.begin());
+  std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes;
+  REQUIRE(verify_case_file(file));
+
+  CHECK_FALSE(read_case_record(file).has_value());  // resume: as if absent
+  try {
+    (void)read_case_record_strict(file);
+    FAIL("an unknown status was read back");
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    INFO(m);
+    CHECK(m.find(file.string()) != std::string::npos);
+    CHECK(m.find("attribute status") != std::string::npos);
+    CHECK(m.find("\"penetration_limiz\"") != std::string::npos);
+    for (const RunStatus s : choice_values<RunStatus>())
+      CHECK(m.find("\"" + std::string(to_string(s)) + "\"") != std::string::npos);
   }
 }
 
@@ -518,7 +561,7 @@ TEST_CASE("the record spool gives back every record exactly, in case order", "[r
   CHECK(entries(tmp.path()).empty());
   // stored in a scrambled order, slots n..n+4 left empty, slot 10 stored twice (the last wins)
   CaseRecord first_10 = rows[10];
-  first_10.status = "ok";
+  first_10.status = RunStatus::ok;
   first_10.message = "superseded";
   spool.put(10, first_10);
   for (std::size_t k = 0; k < n; ++k)
@@ -533,7 +576,7 @@ TEST_CASE("the record spool gives back every record exactly, in case order", "[r
     CHECK(two.text_coordinates() == std::set<std::string>{"parameters.contact.law"});
     CHECK(two.failed() == 1);
     r.coordinates["parameters.contact.law"] = 2.0;
-    r.status = "ok";
+    r.status = RunStatus::ok;
     two.put(1, r);
     CHECK(two.text_coordinates().empty());
     CHECK(two.failed() == 0);

@@ -132,7 +132,7 @@ TEST_CASE("a case whose scene throws is internal_error; the other cases go on", 
   // the case file says the same
   const auto rec = read_case_record(study.output_dir / "cases" / (study.cases[1].id + ".h5"));
   REQUIRE(rec.has_value());
-  CHECK(rec->status == "internal_error");
+  CHECK(rec->status == RunStatus::internal_error);
   CHECK(rec->message == message[1]);
   CHECK(rec->t_reached == t_reached);
 }
@@ -166,7 +166,7 @@ TEST_CASE("memory running out in a case stops the run; no case is recorded as fa
   CHECK(run_study(study, opt) == 0);  // the resume runs it, with memory
   const auto rec = read_case_record(faulty);
   REQUIRE(rec.has_value());
-  CHECK(rec->status == "ok");
+  CHECK(rec->status == RunStatus::ok);
 }
 
 TEST_CASE("the resume command names every option that changes what a run does", "[runner]") {
@@ -191,7 +191,7 @@ TEST_CASE("a scene that cannot be built at run time is internal_error", "[runner
   const SceneFactoryOverride unbuildable("gravity-drop", &make_unbuildable_scene);
   History h;
   const CaseRecord r = run_case(study.cases[0], h);
-  CHECK(r.status == "internal_error");
+  CHECK(r.status == RunStatus::internal_error);
   CHECK_THAT(r.message, Catch::Contains("test scene: cannot be built") &&
                             Catch::Contains("outside the integration, at t = 0 s"));
   CHECK(r.t_reached == 0.0);
@@ -254,7 +254,7 @@ TEST_CASE("a full disk (injected write failure) stops the run with one message",
     CHECK(verify_case_file(cases / (study.cases[0].id + ".h5")));
     const auto rec = read_case_record_strict(cases / (study.cases[0].id + ".h5"));
     REQUIRE(rec.has_value());
-    CHECK(rec->status == "ok");
+    CHECK(rec->status == RunStatus::ok);
     CHECK_FALSE(fs::exists(cases / (study.cases[1].id + ".h5")));
     CHECK_FALSE(fs::exists(cases / (study.cases[2].id + ".h5")));  // no case after the failure
     CHECK_FALSE(fs::exists(study.output_dir / "summary.h5"));

@@ -228,7 +228,7 @@ TEST_CASE("wear evolution: halving the update interval changes cycles-to-limit b
     History h;
     const CaseRecord r = run_case(s.cases.at(0), h);
     INFO(r.message);
-    REQUIRE(r.status == "ok");
+    REQUIRE(r.status == RunStatus::ok);
     updates = static_cast<long>(r.metrics[static_cast<std::size_t>(MetricId::wear_updates)]);
     // the evolution's axial clearance grows monotonically from the nominal clearance
     for (const CaseArray& a : h.arrays)

@@ -74,30 +74,13 @@ struct Entry {
   bool ordered_speeds;
 };
 constexpr Entry kLaws[] = {
-#define RODEND_FRICTION_LAW(name, maker, ordered_speeds, description) {&maker, ordered_speeds},
+#define RODEND_CHOICE(identifier, name, description, maker, ordered_speeds) \
+  {&maker, ordered_speeds},
 #include "core/laws/friction_laws.def"
-#undef RODEND_FRICTION_LAW
+#undef RODEND_CHOICE
 };
 
 }  // namespace
-
-std::span<const std::string_view> choice_names(FrictionLawKind) {
-  static constexpr std::string_view kNames[] = {
-#define RODEND_FRICTION_LAW(name, maker, ordered_speeds, description) #name,
-#include "core/laws/friction_laws.def"
-#undef RODEND_FRICTION_LAW
-  };
-  return kNames;
-}
-
-std::span<const std::string_view> choice_descriptions(FrictionLawKind) {
-  static constexpr std::string_view kDescriptions[] = {
-#define RODEND_FRICTION_LAW(name, maker, ordered_speeds, description) description,
-#include "core/laws/friction_laws.def"
-#undef RODEND_FRICTION_LAW
-  };
-  return kDescriptions;
-}
 
 bool needs_ordered_speeds(FrictionLawKind law) {
   return kLaws[static_cast<std::size_t>(law)].ordered_speeds;

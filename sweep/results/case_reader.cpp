@@ -30,9 +30,14 @@ void read_record_attribute(const Context& cx, hid_t g, const char* name, record_
 void read_record_attribute(const Context& cx, hid_t g, const char* name, record_real& v) {
   v = read_attr_double(cx, g, name);
 }
-template <class T>  // json, features: from their text
+template <class T>  // json, features, run_status: from their text
 void read_record_attribute(const Context& cx, hid_t g, const char* name, T& v) {
-  record_field_from_text(read_attr_string(cx, g, name), v);
+  const std::string text = read_attr_string(cx, g, name);
+  try {
+    record_field_from_text(text, v);
+  } catch (const std::runtime_error& e) {
+    cx.fail("attribute " + std::string(name) + ": " + e.what());
+  }
 }
 
 /// The fields of the case record from the root attributes of `g`. A field the file does not

@@ -203,13 +203,13 @@ void RecordSpool::put(std::size_t slot, const CaseRecord& record) {
     ++impl_->count;
   } else {  // replaced: what the old record counted no longer holds
     const CaseRecord old = impl_->load(impl_->offsets[slot]);
-    if (!record_ok(old)) --impl_->failed;
+    if (old.status != RunStatus::ok) --impl_->failed;
     for (const std::string& k : text_coordinate_keys(old))
       if (--impl_->text_keys[k] == 0) impl_->text_keys.erase(k);
   }
   if (impl_->buffer.size() + bytes.size() > Impl::kBufferBytes) impl_->flush();
   impl_->offsets[slot] = impl_->written + static_cast<std::int64_t>(impl_->buffer.size());
-  if (!record_ok(record)) ++impl_->failed;
+  if (record.status != RunStatus::ok) ++impl_->failed;
   impl_->buffer += bytes;
   for (const std::string& k : text_coordinate_keys(record)) ++impl_->text_keys[k];
   impl_->cursor_row = impl_->cursor_slot = 0;

@@ -5,6 +5,7 @@
 // round-off; measured difference below 1e-9), 1 otherwise.
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "sweep/runner.hpp"
 #include "sweep/study.hpp"
@@ -25,8 +26,8 @@ int main() {
   std::printf(
       "status %s, %lld samples, first contact %.12g s (exact %.12g), speed %.12g m/s "
       "(exact %.12g)\n",
-      r.status.c_str(), history.samples, t, t_exact, v, v_exact);
-  const bool ok = r.status == "ok" && std::abs(t / t_exact - 1) < 1e-6 &&
+      std::string(to_string(r.status)).c_str(), history.samples, t, t_exact, v, v_exact);
+  const bool ok = r.status == RunStatus::ok && std::abs(t / t_exact - 1) < 1e-6 &&
                   std::abs(v / v_exact - 1) < 1e-6 && history.samples == 31;
   return ok ? 0 : 1;
 }
