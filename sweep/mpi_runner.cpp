@@ -33,7 +33,6 @@
 
 #include <mpi.h>
 #include <omp.h>
-#include <semaphore.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -53,8 +52,7 @@
 
 #include "sweep/record_bytes.hpp"
 #include "sweep/results_dir.hpp"
-
-#include "sweep/results_dir.hpp"
+#include "sweep/stop_signals.hpp"
 
 namespace rodend::mpi {
 namespace fs = std::filesystem;
@@ -93,14 +91,11 @@ struct DispatchStats {
 };
 DispatchStats g_stats;
 
-/// The stop signal (SIGINT or SIGTERM) a rank received, 0 before any; g_wake wakes RankWatch.
-std::atomic<int> g_stop_signal{0};
-sem_t g_wake;
-
-/// A rank being stopped by a signal: whatever fails on its threads now (a case file whose
-/// temporary was removed under it) is part of the stop, not an error; RankWatch ends the rank.
+/// A rank being stopped by a signal (stop_signal(), sweep/stop_signals.hpp): whatever fails on
+/// its threads now (a case file whose temporary was removed under it) is part of the stop, not
+/// an error; RankWatch ends the rank.
 void defer_to_stop() {
-  if (g_stop_signal.load() == 0) return;
+  if (stop_signal() == 0) return;
   for (;;) sleep_us(1000000);
 }
 
@@ -382,12 +377,6 @@ void await_visible(const fs::path& cases_dir, const CaseSpec& c) {
   }
 }
 
-extern "C" void on_rank_stop_signal(int sig) {
-  int none = 0;
-  g_stop_signal.compare_exchange_strong(none, sig);
-  sem_post(&g_wake);  // async-signal-safe
-}
-
 /// What rank 0 prints when a signal stops the run (set once it knows the study); nothing on the
 /// other ranks.
 using StopReport = std::function<void(int signal)>;
@@ -403,22 +392,12 @@ using StopReport = std::function<void(int signal)>;
 class RankWatch {
  public:
   RankWatch() : parent_(::getppid()) {
-    sem_init(&g_wake, 0, 0);
-    struct sigaction sa {};
-    sa.sa_handler = on_rank_stop_signal;
-    sa.sa_flags = SA_RESTART;  // the other threads' system calls go on until the rank ends
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, &old_int_);
-    sigaction(SIGTERM, &sa, &old_term_);
     thread_ = std::thread([this] { watch(); });
   }
   ~RankWatch() {
     done_.store(true);
-    sem_post(&g_wake);
+    wake_stop_signal_waiters();
     thread_.join();
-    sigaction(SIGINT, &old_int_, nullptr);
-    sigaction(SIGTERM, &old_term_, nullptr);
-    sem_destroy(&g_wake);
   }
   RankWatch(const RankWatch&) = delete;
   RankWatch& operator=(const RankWatch&) = delete;
@@ -430,15 +409,7 @@ class RankWatch {
  private:
   void watch() {
     for (;;) {
-      timespec until{};
-      clock_gettime(CLOCK_REALTIME, &until);
-      until.tv_nsec += 200000000L;  // 0.2 s
-      if (until.tv_nsec >= 1000000000L) {
-        until.tv_nsec -= 1000000000L;
-        ++until.tv_sec;
-      }
-      sem_timedwait(&g_wake, &until);
-      if (const int sig = g_stop_signal.load(); sig != 0) stop(sig);
+      if (const int sig = wait_for_stop_signal(std::chrono::milliseconds(200)); sig != 0) stop(sig);
       if (done_.load()) return;
       if (::getppid() != parent_) {
         std::fprintf(stderr, "rodend: the MPI launcher is gone; this rank stops\n");
@@ -456,8 +427,8 @@ class RankWatch {
     std::_Exit(128 + sig);
   }
   const pid_t parent_;
-  struct sigaction old_int_ {
-  }, old_term_{};
+  /// SIGINT and SIGTERM recorded (the first) and waking watch(), for the rank's whole run
+  const StopSignalScope signals_{StopSignalScope::Kind::rank};
   std::atomic<bool> done_{false};
   std::mutex mutex_;
   StopReport report_;

@@ -1,9 +1,12 @@
 #include "sweep/stop_signals.hpp"
 
+#include <semaphore.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <csignal>
+#include <ctime>
 #include <mutex>
 
 #include "sweep/case_observer.hpp"
@@ -13,7 +16,7 @@ namespace {
 
 std::atomic<int> g_stop_signal{0};
 // open scopes of each kind; read by the handler (lock-free), written under g_mutex
-std::atomic<int> g_batches{0}, g_cases{0};
+std::atomic<int> g_batches{0}, g_cases{0}, g_ranks{0};
 // open batch scopes whose messages go elsewhere (Python's logging): the handler's notice on file
 // descriptor 2 is written only while some batch scope is not quiet
 std::atomic<int> g_quiet_batches{0};
@@ -21,9 +24,20 @@ static_assert(std::atomic<int>::is_always_lock_free);
 std::mutex g_mutex;
 struct sigaction g_old_int {
 }, g_old_term{};
+/// Posted by the handler in a rank (sem_post is async-signal-safe): wait_for_stop_signal.
+struct Wake {
+  sem_t sem;
+  Wake() { sem_init(&sem, 0, 0); }
+} g_wake;
 
 extern "C" void on_stop_signal(int sig) {
   if (sig == SIGINT && g_cases.load() > 0) case_interrupt().store(true);
+  if (g_ranks.load() > 0) {  // the rank's watch thread ends it
+    int none = 0;
+    g_stop_signal.compare_exchange_strong(none, sig);
+    sem_post(&g_wake.sem);
+    return;
+  }
   if (g_batches.load() == 0) return;
   g_stop_signal.store(sig);
   static const char msg[] =
@@ -36,11 +50,17 @@ extern "C" void on_stop_signal(int sig) {
   std::signal(sig, SIG_DFL);
 }
 
-void install(int sig, struct sigaction* old) {
+void install(int sig, struct sigaction* old, bool restart) {
   struct sigaction sa {};
   sa.sa_handler = on_stop_signal;
+  sa.sa_flags = restart ? SA_RESTART : 0;
   sigemptyset(&sa.sa_mask);
   sigaction(sig, &sa, old);
+}
+
+std::atomic<int>& open_scopes(StopSignalScope::Kind kind) {
+  using Kind = StopSignalScope::Kind;
+  return kind == Kind::batch ? g_batches : kind == Kind::rank ? g_ranks : g_cases;
 }
 
 }  // namespace
@@ -49,27 +69,45 @@ StopSignalScope::StopSignalScope(Kind kind, bool quiet_notice)
     : kind_(kind), quiet_(kind == Kind::batch && quiet_notice) {
   const std::lock_guard lock(g_mutex);
   if (quiet_) g_quiet_batches.fetch_add(1);
-  const bool first = g_batches.load() + g_cases.load() == 0;
-  if (kind == Kind::batch && g_batches.load() == 0) {
+  const bool first = g_batches.load() + g_cases.load() + g_ranks.load() == 0;
+  const bool restart = kind == Kind::rank;
+  if (kind != Kind::one_case && g_batches.load() + g_ranks.load() == 0) {
     g_stop_signal.store(0);
-    install(SIGTERM, &g_old_term);
+    install(SIGTERM, &g_old_term, restart);
   }
   if (kind == Kind::one_case && g_cases.load() == 0) case_interrupt().store(false);
-  (kind == Kind::batch ? g_batches : g_cases).fetch_add(1);
-  if (first) install(SIGINT, &g_old_int);
+  open_scopes(kind).fetch_add(1);
+  if (first) install(SIGINT, &g_old_int, restart);
 }
 
 StopSignalScope::~StopSignalScope() {
   const std::lock_guard lock(g_mutex);
-  const int left = (kind_ == Kind::batch ? g_batches : g_cases).fetch_sub(1) - 1;
+  const int left = open_scopes(kind_).fetch_sub(1) - 1;
   if (quiet_) g_quiet_batches.fetch_sub(1);
-  if (kind_ == Kind::batch && left == 0) sigaction(SIGTERM, &g_old_term, nullptr);
+  if (kind_ != Kind::one_case && g_batches.load() + g_ranks.load() == 0)
+    sigaction(SIGTERM, &g_old_term, nullptr);
   if (kind_ == Kind::one_case && left == 0) case_interrupt().store(false);
-  if (g_batches.load() + g_cases.load() == 0) sigaction(SIGINT, &g_old_int, nullptr);
+  if (g_batches.load() + g_cases.load() + g_ranks.load() == 0)
+    sigaction(SIGINT, &g_old_int, nullptr);
 }
 
 int stop_signal() {
   return g_stop_signal.load();
+}
+
+int wait_for_stop_signal(std::chrono::milliseconds timeout) {
+  timespec until{};
+  clock_gettime(CLOCK_REALTIME, &until);
+  const long long ns = until.tv_nsec + std::chrono::nanoseconds(timeout).count();
+  until.tv_sec += static_cast<time_t>(ns / 1000000000LL);
+  until.tv_nsec = static_cast<long>(ns % 1000000000LL);
+  while (sem_timedwait(&g_wake.sem, &until) != 0 && errno == EINTR) {
+  }
+  return stop_signal();
+}
+
+void wake_stop_signal_waiters() {
+  sem_post(&g_wake.sem);
 }
 
 }  // namespace rodend

@@ -1,8 +1,10 @@
-// Stop signals (SIGINT, SIGTERM) while rodend runs cases: one process-wide handler, installed
-// by the first scope to open and replaced by what it found when the last one closes, whatever
-// the order in which scopes of different threads (two Python threads, a run_study and a
-// run_case) open and close.
+// Stop signals (SIGINT, SIGTERM) while rodend runs cases: one process-wide handler and one
+// record of the signal, installed by the first scope to open and replaced by what it found when
+// the last one closes, whatever the order in which scopes of different threads (two Python
+// threads, a run_study and a run_case) open and close.
 #pragma once
+
+#include <chrono>
 
 namespace rodend {
 
@@ -13,8 +15,12 @@ class StopSignalScope {
   ///    taking new cases (stop_signal(); the cases in flight finish and are written), says so
   ///    on stderr, and restores the default action, so that a second signal ends the process;
   ///  - one_case: the Python module's run_case: SIGINT interrupts the case at its next sample
-  ///    (case_interrupt(), sweep/case_observer.hpp), SIGTERM is left alone.
-  enum class Kind { batch, one_case };
+  ///    (case_interrupt(), sweep/case_observer.hpp), SIGTERM is left alone;
+  ///  - rank: a rank of a distributed run (sweep/mpi_runner.cpp), which its watch thread ends at
+  ///    once: SIGINT or SIGTERM is recorded (the first one; stop_signal()) and wakes
+  ///    wait_for_stop_signal(), nothing is written, the handler stays, and the system calls of
+  ///    the rank's other threads go on (SA_RESTART) until it ends.
+  enum class Kind { batch, one_case, rank };
   /// `quiet_notice` (batch only): the run's messages go elsewhere (Python's logging), so the
   /// handler's "stopping" notice is not written on file descriptor 2 for it.
   explicit StopSignalScope(Kind kind, bool quiet_notice = false);
@@ -27,7 +33,14 @@ class StopSignalScope {
   bool quiet_;
 };
 
-/// The signal that stopped the batch runs since the first batch scope opened; 0: none.
+/// The signal that stopped the batch runs (or the rank) since the first batch or rank scope
+/// opened; 0: none.
 int stop_signal();
+
+/// Waits until a stop signal arrives while a rank scope is open, wake_stop_signal_waiters() is
+/// called or `timeout` passes, and returns stop_signal().
+int wait_for_stop_signal(std::chrono::milliseconds timeout);
+/// Ends the waits of wait_for_stop_signal() (a rank's watch thread, when it is to finish).
+void wake_stop_signal_waiters();
 
 }  // namespace rodend
