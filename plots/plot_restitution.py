@@ -3,8 +3,8 @@
 
     /usr/bin/python3 plots/plot_restitution.py RESULTS_DIR [--out DIR] [--dpi N]
 
-Reads RESULTS_DIR/summary.h5 (through plots/rodend_results.py) and draws, into
-RESULTS_DIR/plots/ (or --out):
+Reads RESULTS_DIR/summary.h5 (through the package's reader, python/rodend/study.py) and draws,
+into RESULTS_DIR/plots/ (or --out):
 
   restitution.png        left: achieved restitution -delta'+/delta'- (summary metric
                          first_impact_restitution) against the requested c_r
@@ -30,7 +30,8 @@ import math
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+# the package rodend beside plots/ (its reader needs no compiled module), else an installed one
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "python"))
 
 import matplotlib  # noqa: E402
 
@@ -38,7 +39,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from rodend_results import NotAStudy, format_value, open_study, read_summary  # noqa: E402
+from rodend.naming import format_value  # noqa: E402
+from rodend.study import NotAStudy, Study, open_study  # noqa: E402
 
 LAW = "parameters.contact.law"
 CR = "parameters.contact.restitution"
@@ -203,7 +205,7 @@ def main():
     global SHOW_TITLES
     SHOW_TITLES = not a.no_title
     try:
-        summary = read_summary(a.results_dir)[0]
+        summary = Study(a.results_dir).summary
     except NotAStudy as e:
         print(f"plot_restitution: {e}", file=sys.stderr)
         return 2

@@ -46,7 +46,8 @@ import time
 import traceback
 import warnings
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+# the package rodend beside plots/ (its reader needs no compiled module), else an installed one
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "python"))
 
 import matplotlib  # noqa: E402
 
@@ -55,11 +56,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
-from rodend_results import (DISPLAY_UNITS, NotAStudy, coordinate_label, format_value,  # noqa: E402
-                            open_study, short_key)
+from rodend.naming import DISPLAY_UNITS, coordinate_label, format_value, short_key  # noqa: E402
+from rodend.study import NotAStudy, open_study  # noqa: E402
 
-# how each SI unit is shown on an axis: (shown unit, factor)
-# display units (value * factor): one table, shared with the legend labels of rodend_results
+# how each SI unit is shown on an axis: (shown unit, factor), one table shared with the legend
+# labels (rodend.naming)
 DISPLAY = DISPLAY_UNITS
 POLAR_BINS = 72
 NONZERO_Z = 1e-9          # [m] a case with |z| above this leaves the xy-plane

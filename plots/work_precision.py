@@ -39,7 +39,6 @@ import os
 import subprocess
 import sys
 
-import h5py
 import numpy as np
 
 import matplotlib
@@ -47,7 +46,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from rodend_results import guess_features, verify_checksum  # noqa: E402
+# the package rodend beside plots/ (its reader needs no compiled module), else an installed one
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "python"))
+from rodend.study import Study  # noqa: E402
 
 METRICS = ["first_contact_time", "first_impact_speed", "first_impact_peak_force",
            "max_contact_force", "wear_integral", "max_eccentricity", "final_surface_angle",
@@ -61,43 +62,30 @@ def run(rodend, study, root, threads):
         sys.exit(f"work_precision: {study}: {r.stderr.strip()}")
 
 
-def summary(study_dir):
-    path = os.path.join(study_dir, "summary.h5")
-    verify_checksum(path, "summary file")  # a damaged file never reaches HDF5
-    with h5py.File(path, "r") as f:
-        g = f["summary"]
-        out = {}
-        for k in json.loads(g.attrs["columns"]):
-            v = g[k][()]
-            if v.dtype.kind in "OS":
-                v = np.array([x.decode() if isinstance(x, bytes) else x for x in v])
-            out[k] = v
-    return out
+_STUDIES = {}
+
+
+def study(study_dir):
+    """The results folder read once (the package's reader: rodend/study.py)."""
+    if study_dir not in _STUDIES:
+        _STUDIES[study_dir] = Study(study_dir)
+    return _STUDIES[study_dir]
 
 
 def rows(study_dir):
-    s = summary(study_dir)
+    s = study(study_dir).summary
     n = len(s["case_id"])
     return [{k: s[k][i] for k in s} for i in range(n)]
 
 
 def history(study_dir, case_id, name):
-    path = os.path.join(study_dir, "cases", case_id + ".h5")
-    verify_checksum(path)  # a damaged file never reaches HDF5
-    with h5py.File(path, "r") as f:
-        return f["signals/time"][()], f["signals/" + name][()]
+    return study(study_dir).case(case_id).signals("time", name)
 
 
 def case_features(study_dir, case_id):
     """The features of a case's scene (root attribute features_json; guessed from the recorded
     signals for files written before it)."""
-    path = os.path.join(study_dir, "cases", case_id + ".h5")
-    verify_checksum(path)  # a damaged file never reaches HDF5
-    with h5py.File(path, "r") as f:
-        if "features_json" in f.attrs:
-            v = f.attrs["features_json"]
-            return set(json.loads(v.decode() if isinstance(v, bytes) else v))
-        return set(guess_features(f["signals"].keys()))
+    return set(study(study_dir).case(case_id).features)
 
 
 def main():

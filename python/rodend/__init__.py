@@ -22,7 +22,9 @@ write=path)`; `run_study` writes its results folder as `rodend run` does).
 
 The compiled part (rodend._rodend) is built by `bash scripts/main.sh` (or setup.sh) into
 <repo>/build/python/; this package finds it there, or in $RODEND_BUILD_DIR/python (a build
-directory of another name), or next to itself.
+directory of another name), or next to itself. It is loaded when first needed (running, the
+catalogues, InputError, __version__): reading results (open_results, rodend.study, the figures
+of plots/) works without it.
 """
 import glob
 import importlib.util
@@ -32,13 +34,30 @@ import os
 import signal
 import sys
 import tempfile
+import threading
 
 from . import naming
 from .naming import UnknownName
 
 __all__ = ["InputError", "run_case", "run_study", "load_study", "open_results", "Case",
            "Results", "CorruptFile", "UnknownName", "schema", "scenes", "parameters",
-           "signal_catalogue", "analyze", "Progress"]
+           "signal_catalogue", "analyze", "Progress", "open_study", "NotAStudy"]
+
+# what the compiled module gives, as attributes of this package once it is loaded
+_FROM_EXTENSION = {"_ext": None, "InputError": "InputError", "__version__": "__version__",
+                   "SCHEMA_VERSION": "schema_version"}
+_LOADING = threading.Lock()
+
+
+def _extension():
+    """The compiled module, loaded on first use (ImportError naming where it was looked for
+    when it is not built); its names become attributes of the package."""
+    with _LOADING:  # once, whichever thread asks first
+        if "_ext" not in globals():
+            ext = _load_extension()
+            globals().update({k: getattr(ext, v) if v else ext
+                              for k, v in _FROM_EXTENSION.items()})
+    return globals()["_ext"]
 
 
 def _load_extension():
@@ -62,30 +81,25 @@ def _load_extension():
     raise ImportError(
         "rodend: the compiled module _rodend was not found in " + ", ".join(places) +
         ": build it with `bash scripts/setup.sh` (needs pybind11-dev), or set RODEND_BUILD_DIR "
-        "to the build directory")
-
-
-_ext = _load_extension()
-InputError = _ext.InputError
-__version__ = _ext.__version__
-SCHEMA_VERSION = _ext.schema_version
+        "to the build directory (reading results needs no compiled module: "
+        "rodend.open_results, rodend.study)")
 
 
 def schema():
     """The JSON Schema (draft 2020-12) of study files, as a dict (`rodend schema`)."""
-    return json.loads(_ext.schema())
+    return json.loads(_extension().schema())
 
 
 def scenes():
     """The scene names (`rodend scenes`)."""
-    return list(_ext.scenes())
+    return list(_extension().scenes())
 
 
 def parameters(scene):
     """A scene's default parameters: {dotted path: {value, unit, source, note}}. An unknown
     scene raises UnknownName naming the nearest scenes."""
     _check_scene(scene)
-    return _ext.parameters(scene)
+    return _extension().parameters(scene)
 
 
 def _check_scene(scene):
@@ -96,7 +110,7 @@ def _check_scene(scene):
 
 def signal_catalogue():
     """[(name, unit, width, description)] of every signal (`rodend signals`)."""
-    return list(_ext.signal_catalogue())
+    return list(_extension().signal_catalogue())
 
 
 class Case:
@@ -169,7 +183,7 @@ def run_case(scene, parameters=None, *, time=None, integrator=None, signals=None
         doc["signals"] = _signal_names(signals)
     if write is not None:
         _check_type("write", write, (str, os.PathLike), "a path")
-    return Case(_ext.run_case(_json(doc), "run_case()", "" if write is None else os.fspath(write)))
+    return Case(_extension().run_case(_json(doc), "run_case()", "" if write is None else os.fspath(write)))
 
 
 def load_study(study, *, results_root="results", set=None):
@@ -178,7 +192,7 @@ def load_study(study, *, results_root="results", set=None):
     `study` is a study file's path or the study itself as a dict."""
     root = _path_arg("results_root", results_root)
     with _StudyFile(study, root) as path:
-        return _ext.load_study(path, root, _overrides(set))
+        return _extension().load_study(path, root, _overrides(set))
 
 
 def run_study(study, *, threads=1, results_root="results", set=None, rerun_failed=False,
@@ -206,7 +220,7 @@ def run_study(study, *, threads=1, results_root="results", set=None, rerun_faile
         with _StudyFile(study, root) as path:
             if isinstance(study, dict):  # the resume hint names the study.json the run keeps
                 reporter.rename = (path, _kept_study_json(study, root))
-            rc, folder = _ext.run_study(path, int(threads), root, overrides, bool(rerun_failed),
+            rc, folder = _extension().run_study(path, int(threads), root, overrides, bool(rerun_failed),
                                         True, reporter.message, reporter.progress)
     finally:
         reporter.close()
@@ -241,7 +255,7 @@ def _json(value, key=""):
     try:
         return json.dumps(value, allow_nan=False, default=_json_default)
     except RecursionError:
-        raise InputError(f"{key or 'the document'}: nested too deep (the loader takes at most 64 "
+        raise _extension().InputError(f"{key or 'the document'}: nested too deep (the loader takes at most 64 "
                          "levels); expected a value a study can hold") from None
 
 
@@ -292,9 +306,10 @@ class _StudyFile:
         if self.tmp:
             import shutil
             shutil.rmtree(self.tmp, ignore_errors=True)
-            if isinstance(error, InputError):
+            ext = sys.modules.get("rodend._rodend")
+            if ext is not None and isinstance(error, ext.InputError):
                 # the temporary file is gone: name the dict instead
-                raise InputError(str(error).replace(self.path, "<study dict>")) from None
+                raise ext.InputError(str(error).replace(self.path, "<study dict>")) from None
 
 
 def _overrides(s):
@@ -327,6 +342,12 @@ def open_results(folder, signals=None):
 
 
 def __getattr__(name):
+    if name in _FROM_EXTENSION:
+        _extension()
+        return globals()[name]
+    if name in ("open_study", "NotAStudy"):
+        from . import study
+        return getattr(study, name)
     if name in ("Results", "CorruptFile"):
         from . import results
         return getattr(results, name)

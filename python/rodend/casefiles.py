@@ -1,6 +1,9 @@
-"""A study's case files and summary.h5 on disk: the checksum every reader checks first
-(docs/results.md, "Crash safety"), the attributes' text and units, and the case files opened
-one at a time, each checked the first time it is read (rodend.open_results reads them lazily)."""
+"""A study's files on disk, read once for every reader (rodend.open_results' pandas and xarray,
+rodend.study's numpy for the figures of plots/): the checksum every reader checks first
+(docs/results.md, "Crash safety"), the attributes' text and units (schema 1's `unit` too),
+summary.h5's table, the study document, and the case files opened one at a time, each checked
+the first time it is read."""
+import json
 import os
 
 import h5py
@@ -14,6 +17,11 @@ _HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
 
 class CorruptFile(ValueError):
     """A results file (case file or summary.h5) whose bytes are damaged; the message names it."""
+
+
+class NotAStudy(ValueError):
+    """The folder or file is not (readable as) a rodend study's results; a one-line message
+    naming it."""
 
 
 def verify_checksum(path, kind="case file"):
@@ -52,8 +60,12 @@ def verify_checksum(path, kind="case file"):
 
 
 def _text(v):
+    """str from whatever h5py hands back for a string (bytes, numpy bytes, a 0-d array or str:
+    it depends on how the string was written and on the h5py version)."""
     if isinstance(v, (bytes, np.bytes_)):
         return v.decode("utf-8", "replace")
+    if isinstance(v, np.ndarray) and v.shape == ():
+        return _text(v[()])
     return str(v)
 
 
@@ -63,6 +75,58 @@ def _units(ds):
 
 def _long_name(ds):
     return _text(ds.attrs.get("long_name", ds.attrs.get("description", "")))
+
+
+def _column(ds):
+    """A summary dataset as a 1-D numpy array; string columns become arrays of str."""
+    data = np.atleast_1d(ds[()])
+    if data.dtype.kind in "OSU":
+        return np.array([_text(v) for v in data], dtype=object)
+    return data
+
+
+def _attr_value(v):
+    return _text(v) if isinstance(v, (bytes, str, np.bytes_)) else v
+
+
+def read_summary(path):
+    """summary.h5 at `path`, its checksum checked first: (columns {name: 1-D array} in the
+    order of the /summary group's `columns` attribute, one row per case, strings as str;
+    units {name: str}; long_names {name: str}; the root attributes {name: value}, strings as
+    str). Raises CorruptFile for damaged bytes, NotAStudy for an HDF5 file that is no rodend
+    summary (no /summary group, no case_id column), OSError when HDF5 cannot read it."""
+    verify_checksum(path, "summary file")  # a damaged file never reaches HDF5
+    with h5py.File(path, "r") as f:
+        if "summary" not in f:
+            raise NotAStudy(f"{path}: no /summary group: not a rodend summary file")
+        g = f["summary"]
+        try:
+            names = json.loads(_text(g.attrs["columns"]))
+        except (KeyError, ValueError):
+            names = None
+        columns, units, long_names = {}, {}, {}
+        for name in names or list(g.keys()):
+            if name in g:
+                columns[name] = _column(g[name])
+                units[name], long_names[name] = _units(g[name]), _long_name(g[name])
+        attrs = {k: _attr_value(v) for k, v in f.attrs.items()}
+    if "case_id" not in columns:
+        raise NotAStudy(f"{path}: no case_id column: not a rodend summary file")
+    return columns, units, long_names, attrs
+
+
+def study_document(folder, attrs):
+    """The study document as run: `folder`/study.json, else the summary's root attribute
+    study_json (`attrs` from read_summary); {} when neither is readable."""
+    try:
+        with open(os.path.join(folder, "study.json"), encoding="utf-8") as fh:
+            return json.load(fh)
+    except (OSError, ValueError):
+        pass
+    try:
+        return json.loads(_text(attrs.get("study_json", "")) or "{}")
+    except ValueError:
+        return {}
 
 
 class CaseFiles:

@@ -1,8 +1,12 @@
 """Names and labels of what rodend returns from Python (issue 35 items 5 and 6): the CF
 `Conventions` attribute, short `long_name`s (the sentence kept in `description`), the labels of
-vector components, and the error raised for an unknown name, which names the nearest valid ones.
-Nothing here touches a file: the results layout on disk is unchanged."""
+vector components, the labels of grid coordinates in the figures' display units, and the error
+raised for an unknown name, which names the nearest valid ones. Nothing here touches a file:
+the results layout on disk is unchanged."""
 import difflib
+import math
+
+import numpy as np
 
 # the CF version whose attribute names the results use (units, long_name; docs/results.md)
 CONVENTIONS = "CF-1.8"
@@ -88,3 +92,49 @@ class Names(dict):
 
     def __missing__(self, key):
         raise unknown(self._kind, key, self.keys())
+
+
+def short_key(key):
+    """A grid key without the 'parameters.' prefix (contact.clearance)."""
+    return key[len("parameters."):] if key.startswith("parameters.") else key
+
+
+def format_value(value):
+    """A coordinate value for a label: its shortest readable form (0.0001, 5e-05, constant)."""
+    if isinstance(value, (bool, np.bool_)):
+        return str(bool(value)).lower()
+    if isinstance(value, (int, np.integer)):
+        return str(int(value))
+    if isinstance(value, (float, np.floating)):
+        v = float(value)
+        if math.isfinite(v) and v == int(v) and abs(v) < 1e15:
+            return str(int(v))
+        return f"{v:.6g}"
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return "[" + ", ".join(format_value(v) for v in value) + "]"
+    if isinstance(value, (bytes, np.bytes_)):
+        return value.decode("utf-8", "replace")
+    return str(value)
+
+
+def unit_suffix(unit):
+    """' m' for a unit worth printing, '' for none or dimensionless."""
+    return "" if unit in ("", "1", "-", None) else " " + unit
+
+
+# the display units of the figures (value * factor): axes and legend labels say the same unit
+DISPLAY_UNITS = {
+    "m": ("mm", 1e3),
+    "rad": ("deg", 180.0 / math.pi),
+    "Pa": ("bar", 1e-5),
+    "m^3/s": ("L/min", 6e4),
+}
+
+
+def coordinate_label(key, value, unit):
+    """"contact.clearance = 0.1 mm": a grid coordinate in the display unit of the figures."""
+    if unit in DISPLAY_UNITS and isinstance(value, (int, float, np.integer, np.floating)) \
+            and not isinstance(value, (bool, np.bool_)):
+        name, factor = DISPLAY_UNITS[unit]
+        return f"{short_key(key)} = {format_value(float(value) * factor)} {name}"
+    return f"{short_key(key)} = {format_value(value)}{unit_suffix(unit)}"

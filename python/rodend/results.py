@@ -9,11 +9,11 @@ what is returned adds the study's grid as dimensions, labelled components and CF
 import json
 import os
 
-import h5py
 import numpy as np
 
 from . import naming
-from .casefiles import CaseFiles, CorruptFile, _long_name, _text, _units, verify_checksum
+from .casefiles import (CaseFiles, CorruptFile, _long_name, _text, _units, read_summary,
+                        study_document, verify_checksum)
 
 __all__ = ["Results", "CorruptFile", "verify_checksum"]
 
@@ -27,25 +27,6 @@ def _axis_size(entry):
         if form in entry:
             return int(entry[form][2])
     raise ValueError(f"grid axis without values: {entry}")
-
-
-def _read_summary(path):
-    """(columns {name: array}, names in order, units, long names, root attributes)."""
-    with h5py.File(path, "r") as f:
-        g = f["summary"]
-        names = json.loads(_text(g.attrs["columns"]))
-        cols, units, long_names = {}, {}, {}
-        for n in names:
-            d = g[n][()]
-            if d.dtype.kind in "OS":
-                d = np.array([_text(x) for x in d], dtype=object)
-            cols[n] = d
-            units[n] = _units(g[n])
-            long_names[n] = _long_name(g[n])
-        root = {"provenance": json.loads(_text(f.attrs.get("provenance_json", "{}")) or "{}"),
-                "schema_version": int(f.attrs.get("schema_version", 1)),
-                "study_json": _text(f.attrs.get("study_json", "")) or None}
-    return cols, names, units, long_names, root
 
 
 class Results:
@@ -66,19 +47,14 @@ class Results:
         path = os.path.join(self.folder, "summary.h5")
         if not os.path.isfile(path):
             raise FileNotFoundError(f"{self.folder}: not a rodend results folder (no summary.h5)")
-        verify_checksum(path, "summary file")  # a damaged file never reaches HDF5
-        cols, names, units, long_names, root = _read_summary(path)
-        self.provenance, self.schema_version = root["provenance"], root["schema_version"]
+        cols, units, long_names, attrs = read_summary(path)  # its checksum first
+        self.provenance = json.loads(_text(attrs.get("provenance_json", "{}")) or "{}")
+        self.schema_version = int(attrs.get("schema_version", 1))
         import pandas as pd
-        self.summary = pd.DataFrame(cols, columns=names)
+        self.summary = pd.DataFrame(cols, columns=list(cols))
         self.summary.attrs["units"] = units
         self.summary.attrs["long_names"] = long_names
-        study_json = os.path.join(self.folder, "study.json")
-        if os.path.isfile(study_json):
-            with open(study_json, encoding="utf-8") as fh:
-                self.study = json.load(fh)
-        else:
-            self.study = json.loads(root["study_json"]) if root["study_json"] else {}
+        self.study = study_document(self.folder, attrs)
         ids = self.summary["case_id"] if "case_id" in self.summary else []
         self._files = CaseFiles(self.folder, ids)
         self._recorded_signals = None

@@ -148,6 +148,7 @@ def planted_temporaries(tmp):
 def python_write(tmp):
     try:
         import rodend
+        rodend.scenes()  # loads the compiled module (on first use)
     except ImportError as e:  # the module is not built: the command-line checks only
         print(f"note: no Python module ({e}); run_case(write=...) not checked")
         return

@@ -129,10 +129,14 @@ def main():
         check(r.returncode == 0, f"resume over schema-1 files: {r.stderr}")
         after = {p: os.path.getmtime(p) for p in before}
         check(before == after, "resume reran cases whose schema-1 files were complete")
-        sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "plots"))
-        import rodend_results
-        cols, units, _ = rodend_results.read_summary(old)
-        check(units["max_penetration"] == "m", f"plots read schema-1 units as {units['max_penetration']!r}")
+        # the figures' reader (the package's, which needs no compiled module)
+        sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "python"))
+        from rodend.study import open_study
+        study = open_study(old)
+        check(study.units["max_penetration"] == "m",
+              f"plots read schema-1 summary units as {study.units['max_penetration']!r}")
+        units = {study.cases()[0].unit(n) for n in ("eccentricity", "contact_force")}
+        check(units == {"m", "N"}, f"plots read schema-1 signal units as {units}")
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     finish("netcdf")

@@ -154,8 +154,9 @@ with tempfile.TemporaryDirectory() as tmp:
     sys.path.insert(0, PLOTS)
     import matplotlib
     matplotlib.use("Agg")
-    import plot_study
-    from rodend_results import coordinate_label, open_study
+    import plot_study  # puts the package rodend beside plots/ on the path
+    from rodend.naming import coordinate_label
+    from rodend.study import open_study
     check(coordinate_label("parameters.contact.clearance", 1e-4, "m") ==
           "contact.clearance = 0.1 mm", "legend label of a length is not in mm")
     check(coordinate_label("parameters.contact.restitution", 0.8, "1") ==
@@ -172,6 +173,19 @@ with tempfile.TemporaryDirectory() as tmp:
         check(any("mm" in t for t in legend) and not any(t.endswith(" m") for t in legend),
               f"eccentricity_force legend units: {legend}")
         matplotlib.pyplot.close(fig)
+    # the figures read through the package's reader, which needs no compiled module: drawn
+    # above without loading it, and drawn again with it withheld (as where it is not built)
+    check("rodend._rodend" not in sys.modules, "the figures loaded the compiled module")
+    withheld = os.path.join(tmp, "withheld")
+    code = ("import runpy, sys, rodend\n"
+            "def absent():\n    raise ImportError('compiled module withheld by test_plots')\n"
+            "rodend._load_extension = absent\n"
+            f"sys.argv = [{SCRIPT!r}, {kin!r}, '--out', {withheld!r}]\n"
+            f"runpy.run_path({SCRIPT!r}, run_name='__main__')\n")
+    env = dict(os.environ, PYTHONPATH=os.path.join(PLOTS, os.pardir, "python"))
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+    check(r.returncode == 0 and len(glob.glob(os.path.join(withheld, "*.png"))) >= 5,
+          f"figures without the compiled module: exit {r.returncode}\n{r.stderr[-2000:]}")
     # the figures ask the scene's features (case attribute features_json), not its signals: the
     # same gravity-drop files declared to have a mechanism lose ball_motion; files without the
     # attribute (older rodend) fall back to guessing from the signals

@@ -9,7 +9,7 @@ no crash (a signal, an exit code other than 0-2, an exception of another kind), 
   .histories` (rodend.CorruptFile), the plots' reader (the case listed as unreadable);
 - random single-bit flips anywhere in summary.h5: `rodend compare` (exit 2), `rodend report`
   (exit 2, no report.html), `rodend.open_results` (rodend.CorruptFile), the plots' reader
-  (plots/rodend_results.py: NotAStudy); `rodend merge` and `rodend run` (a resume with every
+  (rodend.study.Study, as plots/ uses it: NotAStudy); `rodend merge` and `rodend run` (a resume with every
   case complete), every other flip each, write the summary again from the case files instead,
   the reference's summary.csv byte for byte;
 - an intact case file copied over another case's file: `rodend merge` refuses it (exit 1, no
@@ -37,13 +37,11 @@ CASE_FLIPS = int(sys.argv[1]) if len(sys.argv) > 1 else 200
 SUMMARY_FLIPS = int(sys.argv[2]) if len(sys.argv) > 2 else 100
 SEED = int(sys.argv[3]) if len(sys.argv) > 3 else 1
 POOL = ThreadPoolExecutor(2)
-PLOTS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "plots")
 
 WORKER = r"""
 import json, sys
-sys.path.insert(0, sys.argv[1])
 import rodend
-import rodend_results
+from rodend.study import NotAStudy, Study
 for line in sys.stdin:
     req = json.loads(line)
     out = {}
@@ -58,16 +56,16 @@ for line in sys.stdin:
         out["result"], out["message"] = "other " + type(e).__name__, str(e)
     if req["plots"] == "cases":
         try:
-            study = rodend_results.Study(req["folder"])
+            study = Study(req["folder"])
             study.cases()
             out["plots"], out["plots_message"] = "listed", " ".join(study.missing)
         except Exception as e:
             out["plots"], out["plots_message"] = "other " + type(e).__name__, str(e)
     elif req["plots"]:
         try:
-            rodend_results.read_summary(req["folder"])
+            Study(req["folder"])  # reads summary.h5
             out["plots"] = "pass"
-        except rodend_results.NotAStudy as e:
+        except NotAStudy as e:
             out["plots"], out["plots_message"] = "NotAStudy", str(e)
         except Exception as e:
             out["plots"], out["plots_message"] = "other " + type(e).__name__, str(e)
@@ -83,7 +81,7 @@ class Worker:
 
     def ask(self, folder, histories, plots=False):
         if self.proc is None:
-            self.proc = subprocess.Popen([sys.executable, "-c", WORKER, PLOTS], text=True,
+            self.proc = subprocess.Popen([sys.executable, "-c", WORKER], text=True,
                                          stdin=subprocess.PIPE, stdout=subprocess.PIPE)
         self.proc.stdin.write(json.dumps({"folder": folder, "histories": histories,
                                           "plots": plots}) + "\n")
@@ -198,7 +196,7 @@ def summary_flips(s, ref, work_root, work, worker, tally, rng):
         if os.path.exists(report):
             os.remove(report)
         tally.py(f"open_results, {where}", got, "CorruptFile", "summary.h5")
-        tally.py(f"plots' read_summary, {where}", got, "NotAStudy", "summary.h5", key="plots")
+        tally.py(f"plots' Study, {where}", got, "NotAStudy", "summary.h5", key="plots")
         # merge, or a resume (every case complete), writes the summary again from the cases
         cmd = ["merge", s, "--results-root", work_root] if k % 2 == 0 else \
             ["run", s, "--results-root", work_root, "-q"]

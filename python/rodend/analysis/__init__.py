@@ -11,5 +11,4 @@ stats      a metric's distribution: mean, std, quantiles, exceedance, with inter
 bands      quantile bands of histories over time across the ok cases
 figures    the analysis-*.png figures
 output     analysis.json, bands.h5 and the table printed to stdout
-results_io a helper of reading HDF5 text
 """

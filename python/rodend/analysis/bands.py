@@ -15,7 +15,7 @@ import os
 import h5py
 import numpy as np
 
-from .results_io import text
+from ..casefiles import _units
 
 LEVELS = (0.05, 0.5, 0.95)
 MEMORY = 512 * 2 ** 20
@@ -44,7 +44,7 @@ def _survey(folder, case_ids, signals):
                 if sig not in g:
                     raise ValueError(f"history {sig!r}: not recorded in {path}; recorded: "
                                      f"{', '.join(sorted(n for n in g if n != 'time'))}")
-                units.setdefault(sig, text(g[sig].attrs.get("units", "")))
+                units.setdefault(sig, _units(g[sig]))
                 shape.setdefault(sig, g[sig].shape[1:])
             if i == 0:
                 size = 8 * len(t) * len(case_ids) * sum(
