@@ -188,23 +188,18 @@ TEST_CASE("a case file reads back as the record written", "[results]") {
   }
 }
 
-TEST_CASE("a case file whose status is no run status is refused with the names allowed",
-          "[results]") {
-  // a case file intact but for its status attribute: "penetration_limit" (make_record, case 1)
-  // changed to a name no rodend has, its checksum made anew
-  TempDir tmp;
-  const CaseSpec spec = make_spec(1, 1e-3);
-  const fs::path file = tmp.path() / (spec.id + ".h5");
-  write_case_file(file, spec, make_record(spec), make_history(3), Json::object());
+namespace {
+/// Replaces the one occurrence of `was` in the bytes of a case file by `now` (same length) and
+/// signs the file anew: a file intact but for that change.
+void patch_case_file(const fs::path& file, const std::string& was, const std::string& now) {
   std::string bytes;
   {
     std::ifstream in(file, std::ios::binary);
     bytes.assign(std::istreambuf_iterator<char>(in), {});
   }
-  const std::string was = "penetration_limit", now = "penetration_limiz";
   const std::size_t at = bytes.find(was);
   REQUIRE(at != std::string::npos);
-  REQUIRE(bytes.find(was, at + 1) == std::string::npos);  // the status attribute alone
+  REQUIRE(bytes.find(was, at + 1) == std::string::npos);  // that one place alone
   bytes.replace(at, was.size(), now);
   const auto* image = reinterpret_cast<const unsigned char*>(bytes.data());
   const auto header =
@@ -213,6 +208,18 @@ TEST_CASE("a case file whose status is no run status is refused with the names a
   std::copy(header.begin(), header.end(), bytes.begin());
   std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes;
   REQUIRE(verify_case_file(file));
+}
+}  // namespace
+
+TEST_CASE("a case file whose status is no run status is refused with the names allowed",
+          "[results]") {
+  // a case file intact but for its status attribute: "penetration_limit" (make_record, case 1)
+  // changed to a name no rodend has, its checksum made anew
+  TempDir tmp;
+  const CaseSpec spec = make_spec(1, 1e-3);
+  const fs::path file = tmp.path() / (spec.id + ".h5");
+  write_case_file(file, spec, make_record(spec), make_history(3), Json::object());
+  patch_case_file(file, "penetration_limit", "penetration_limiz");
 
   CHECK_FALSE(read_case_record(file).has_value());  // resume: as if absent
   try {
@@ -226,6 +233,27 @@ TEST_CASE("a case file whose status is no run status is refused with the names a
     CHECK(m.find("\"penetration_limiz\"") != std::string::npos);
     for (const RunStatus s : choice_values<RunStatus>())
       CHECK(m.find("\"" + std::string(to_string(s)) + "\"") != std::string::npos);
+  }
+}
+
+TEST_CASE("a case file without its status attribute is refused, not read as ok", "[results]") {
+  // the attribute's name changed ("status" -> "statuz"; the attribute "status" is the only
+  // "status" followed by its terminating NUL in the file), its checksum made anew
+  TempDir tmp;
+  const CaseSpec spec = make_spec(1, 1e-3);
+  const fs::path file = tmp.path() / (spec.id + ".h5");
+  write_case_file(file, spec, make_record(spec), make_history(3), Json::object());
+  patch_case_file(file, std::string("status\0", 7), std::string("statuz\0", 7));
+
+  CHECK_FALSE(read_case_record(file).has_value());  // resume: as if absent, so it runs again
+  try {
+    (void)read_case_record_strict(file);
+    FAIL("a case file without a status was read back");
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    INFO(m);
+    CHECK(m.find(file.string()) != std::string::npos);
+    CHECK(m.find("attribute status is missing") != std::string::npos);
   }
 }
 

@@ -41,12 +41,16 @@ void read_record_attribute(const Context& cx, hid_t g, const char* name, T& v) {
 }
 
 /// The fields of the case record from the root attributes of `g`. A field the file does not
-/// have (a file written before the field was added to the catalogue) keeps its default.
+/// have (a file written before the field was added to the catalogue) keeps its default, except
+/// a run status: no default is safe there (every schema wrote one, and a missing one read as
+/// "ok" would pass a damaged file off as a good run).
 void read_record_attributes(const Context& cx, hid_t g, CaseRecord& r) {
   for_each_record_field(r, [&](const RecordFieldSpec& f, auto& v) {
     const std::string name(f.name);
     if (cx.yes(H5Aexists(g, name.c_str()), "cannot look up attribute " + name))
       read_record_attribute(cx, g, name.c_str(), v);
+    else if (f.type == RecordType::run_status)
+      cx.fail("attribute " + name + " is missing (every case file records its run status)");
   });
 }
 
