@@ -236,7 +236,7 @@ TEST_CASE("a case file whose status is no run status is refused with the names a
   }
 }
 
-TEST_CASE("a case file without its status attribute is refused, not read as ok", "[results]") {
+TEST_CASE("a case file without its status attribute is refused and not read as ok", "[results]") {
   // the attribute's name changed ("status" -> "statuz"; the attribute "status" is the only
   // "status" followed by its terminating NUL in the file), its checksum made anew
   TempDir tmp;
