@@ -60,8 +60,12 @@ struct Dual {
   }
   friend Dual operator-(const Dual& a) { return Dual(-a.v, -a.d); }
   friend Dual operator+(const Dual& a) { return a; }
-  friend EIGEN_STRONG_INLINE Dual operator+(const Dual& a, const Dual& b) { return Dual(a.v + b.v, a.d + b.d); }
-  friend EIGEN_STRONG_INLINE Dual operator-(const Dual& a, const Dual& b) { return Dual(a.v - b.v, a.d - b.d); }
+  friend EIGEN_STRONG_INLINE Dual operator+(const Dual& a, const Dual& b) {
+    return Dual(a.v + b.v, a.d + b.d);
+  }
+  friend EIGEN_STRONG_INLINE Dual operator-(const Dual& a, const Dual& b) {
+    return Dual(a.v - b.v, a.d - b.d);
+  }
   friend EIGEN_STRONG_INLINE Dual operator*(const Dual& a, const Dual& b) {
     return Dual(a.v * b.v, a.d * b.v + b.d * a.v);
   }
