@@ -72,6 +72,9 @@ class FrictionLaw {
   virtual std::string_view name() const = 0;
   /// Friction coefficient at slip speed `v` >= 0 [m/s]; 0 at v = 0 so the force is continuous.
   virtual double coefficient(double slip_speed) const = 0;
+  /// Its derivative d mu / d v at slip speed `v` >= 0 [s/m] (the exact Jacobians; at a join of
+  /// two pieces, the slope of the piece coefficient() evaluates there).
+  virtual double slope(double slip_speed) const = 0;
 };
 
 /// The friction laws (friction.law), from core/laws/friction_laws.def.
@@ -95,6 +98,8 @@ std::unique_ptr<FrictionLaw> make_friction_law(const FrictionParams& p);
 
 /// Cubic blend of thesis eq. 3.10.
 double smooth_step(double x, double x0, double f0, double x1, double f1);
+/// Its derivative with respect to x (0 outside [x0, x1]).
+double smooth_step_slope(double x, double x0, double f0, double x1, double f1);
 
 /// Upper limit on the hysteresis damping term (thesis eq. 3.14), contact.damping_cap, from
 /// core/damping_caps.def: none (eq. 3.6-3.8 as written), elastic (damping <= F_el, eq. 3.14).
@@ -148,26 +153,29 @@ double elastic_force(const ClearanceContactModel& m, double penetration);
 /// `force` is elastic_force(m, delta) (the sphere's energy is F_el delta / (n + 1)).
 double elastic_energy(const ClearanceContactModel& m, double penetration, double force);
 
-/// Everything the contact computes at one instant.
-struct ContactEval {
-  Vec3 normal = Vec3::UnitX();               ///< unit vector from socket centre to ball centre
-  double eccentricity = 0.0;                 ///< |p_socket - p_ball| [m]
-  double penetration = 0.0;                  ///< delta [m], negative for a gap
-  double penetration_rate = 0.0;             ///< delta' [m/s]
-  double elastic_force = 0.0;                ///< F_el [N]
-  double normal_force = 0.0;                 ///< F_n >= 0 [N]
-  Vec3 normal_force_on_ball = Vec3::Zero();  ///< [N]
-  Vec3 friction_on_ball = Vec3::Zero();      ///< [N]
-  Vec3 moment_on_ball = Vec3::Zero();        ///< friction moment about ball centre [N m]
-  Vec3 moment_on_socket = Vec3::Zero();      ///< friction moment about socket centre [N m]
-  double slip_speed = 0.0;                   ///< |v_t| [m/s]
-  double potential = 0.0;        ///< elastic energy, the integral of F_el over delta [J]
-  double damping_power = 0.0;    ///< power dissipated by hysteresis damping [W], >= 0
-  double friction_power = 0.0;   ///< power dissipated by friction [W], >= 0
-  double local_clearance = 0.0;  ///< clearance in the contact direction, worn surfaces included [m]
+/// Everything the contact computes at one instant. On a scalar S (double, or a dual number of
+/// core/dual.hpp, core/contact_eval.hpp); ContactEval is the double one.
+template <class S>
+struct ContactEvalT {
+  Vec3T<S> normal = Vec3T<S>::UnitX();  ///< unit vector from socket centre to ball centre
+  S eccentricity = 0.0;                 ///< |p_socket - p_ball| [m]
+  S penetration = 0.0;                  ///< delta [m], negative for a gap
+  S penetration_rate = 0.0;             ///< delta' [m/s]
+  S elastic_force = 0.0;                ///< F_el [N]
+  S normal_force = 0.0;                 ///< F_n >= 0 [N]
+  Vec3T<S> normal_force_on_ball = Vec3T<S>::Zero();  ///< [N]
+  Vec3T<S> friction_on_ball = Vec3T<S>::Zero();      ///< [N]
+  Vec3T<S> moment_on_ball = Vec3T<S>::Zero();        ///< friction moment about ball centre [N m]
+  Vec3T<S> moment_on_socket = Vec3T<S>::Zero();      ///< friction moment about socket centre [N m]
+  S slip_speed = 0.0;                                ///< |v_t| [m/s]
+  S potential = 0.0;        ///< elastic energy, the integral of F_el over delta [J] (double only)
+  S damping_power = 0.0;    ///< power dissipated by hysteresis damping [W], >= 0
+  S friction_power = 0.0;   ///< power dissipated by friction [W], >= 0
+  S local_clearance = 0.0;  ///< clearance in the contact direction, worn surfaces included [m]
 
-  Vec3 force_on_ball() const { return normal_force_on_ball + friction_on_ball; }
+  Vec3T<S> force_on_ball() const { return normal_force_on_ball + friction_on_ball; }
 };
+using ContactEval = ContactEvalT<double>;
 
 /// Penetration and its rate only (cheap; used by the driver to latch onsets).
 struct ContactGap {

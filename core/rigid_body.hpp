@@ -20,29 +20,31 @@ struct BodyStateLayout {
 };
 
 /// Read-only view of a body's state with the quaternion normalised (used everywhere a rotation
-/// is needed, so a small drift of |q| never distorts the dynamics).
-struct BodyKinematics {
-  Vec3 p_W;   ///< position of the mass centre [m]
-  Vec3 v_W;   ///< velocity of the mass centre [m/s]
-  Quat q_WB;  ///< orientation, normalised
-  Mat3 R_WB;  ///< rotation matrix body -> inertial
-  Vec3 w_B;   ///< angular velocity in the body frame [rad/s]
-  Vec3 w_W;   ///< angular velocity in the inertial frame [rad/s]
+/// is needed, so a small drift of |q| never distorts the dynamics). On a scalar S (double, or a
+/// dual number of core/dual.hpp); BodyKinematics is the double one.
+template <class S>
+struct BodyKinematicsT {
+  Vec3T<S> p_W;   ///< position of the mass centre [m]
+  Vec3T<S> v_W;   ///< velocity of the mass centre [m/s]
+  QuatT<S> q_WB;  ///< orientation, normalised
+  Mat3T<S> R_WB;  ///< rotation matrix body -> inertial
+  Vec3T<S> w_B;   ///< angular velocity in the body frame [rad/s]
+  Vec3T<S> w_W;   ///< angular velocity in the inertial frame [rad/s]
 
-  static BodyKinematics from_state(const double* x) {
-    BodyKinematics k;
-    k.p_W = Vec3(x[0], x[1], x[2]);
-    k.v_W = Vec3(x[3], x[4], x[5]);
-    k.q_WB = Quat(x[6], x[7], x[8], x[9]).normalized();
+  static BodyKinematicsT from_state(const S* x) {
+    BodyKinematicsT k;
+    k.p_W = Vec3T<S>(x[0], x[1], x[2]);
+    k.v_W = Vec3T<S>(x[3], x[4], x[5]);
+    k.q_WB = QuatT<S>(x[6], x[7], x[8], x[9]).normalized();
     k.R_WB = k.q_WB.toRotationMatrix();
-    k.w_B = Vec3(x[10], x[11], x[12]);
+    k.w_B = Vec3T<S>(x[10], x[11], x[12]);
     k.w_W = k.R_WB * k.w_B;
     return k;
   }
   /// A body held fixed at `p` with identity orientation (ground).
-  static BodyKinematics fixed(const Vec3& p) {
-    BodyKinematics k;
-    k.p_W = p;
+  static BodyKinematicsT fixed(const Vec3& p) {
+    BodyKinematicsT k;
+    k.p_W = p.template cast<S>();
     k.v_W.setZero();
     k.q_WB.setIdentity();
     k.R_WB.setIdentity();
@@ -51,6 +53,7 @@ struct BodyKinematics {
     return k;
   }
 };
+using BodyKinematics = BodyKinematicsT<double>;
 
 /// Writes the initial state of a body at rest at `p_W` with identity orientation.
 inline void body_initial_state(double* x, const Vec3& p_W, const Vec3& v_W = Vec3::Zero(),
@@ -73,17 +76,19 @@ inline void body_initial_state(double* x, const Vec3& p_W, const Vec3& v_W = Vec
 ///   q' = 1/2 q (x) (0, w_B)                              (replaces thesis 3.36-3.40)
 ///   I w_B' + w_B x (I w_B) = M_B                         (Euler, thesis 3.31-3.35 with the
 ///                                                         missing dot of 3.33 restored)
-inline void body_derivatives(const RigidBodyParams& body, const BodyKinematics& k, const Vec3& F_W,
-                             const Vec3& M_W, const double* x, double* dxdt) {
-  const Vec3 a_W = F_W / body.mass;
-  const Vec3 M_B = k.R_WB.transpose() * M_W;
+template <class S>
+void body_derivatives(const RigidBodyParams& body, const BodyKinematicsT<S>& k,
+                      const nondeduced_t<Vec3T<S>>& F_W, const nondeduced_t<Vec3T<S>>& M_W,
+                      const S* x, S* dxdt) {
+  const Vec3T<S> a_W = F_W / body.mass;
+  const Vec3T<S> M_B = k.R_WB.transpose() * M_W;
   const Vec3& I = body.inertia;
-  const Vec3& w = k.w_B;
-  const Vec3 Iw = I.cwiseProduct(w);
-  const Vec3 dw = (M_B - w.cross(Iw)).cwiseQuotient(I);
+  const Vec3T<S>& w = k.w_B;
+  const Vec3T<S> Iw = I.cwiseProduct(w);
+  const Vec3T<S> dw = (M_B - w.cross(Iw)).cwiseQuotient(I);
   // quaternion kinematics on the stored (not normalised) quaternion keeps the ODE smooth
-  const Quat q(x[6], x[7], x[8], x[9]);
-  const Quat dq = q * Quat(0.0, w.x(), w.y(), w.z());
+  const QuatT<S> q(x[6], x[7], x[8], x[9]);
+  const QuatT<S> dq = q * QuatT<S>(S(0.0), w.x(), w.y(), w.z());
   for (int i = 0; i < 3; ++i) {
     dxdt[i] = k.v_W[i];
     dxdt[3 + i] = a_W[i];

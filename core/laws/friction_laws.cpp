@@ -22,6 +22,14 @@ class ThesisFriction final : public FrictionLaw {
                             : smooth_step(v, p_.static_speed, st, p_.dynamic_speed, dyn);
     return base + p_.viscous_coefficient * v;
   }
+  double slope(double v) const override {
+    const double st = p_.static_coefficient - p_.viscous_coefficient * p_.static_speed;
+    const double dyn = p_.dynamic_coefficient - p_.viscous_coefficient * p_.dynamic_speed;
+    const double base = (v <= p_.static_speed)
+                            ? smooth_step_slope(v, -p_.static_speed, -st, p_.static_speed, st)
+                            : smooth_step_slope(v, p_.static_speed, st, p_.dynamic_speed, dyn);
+    return base + p_.viscous_coefficient;
+  }
 
  private:
   FrictionParams p_;
@@ -37,6 +45,10 @@ class AmbrosioFriction final : public FrictionLaw {
     const double cd = v <= v0 ? 0.0 : (v >= v1 ? 1.0 : (v - v0) / (v1 - v0));
     return p_.dynamic_coefficient * cd;
   }
+  double slope(double v) const override {
+    const double v0 = p_.static_speed, v1 = p_.dynamic_speed;
+    return v <= v0 || v >= v1 ? 0.0 : p_.dynamic_coefficient / (v1 - v0);
+  }
 
  private:
   FrictionParams p_;
@@ -49,6 +61,10 @@ class CoulombFriction final : public FrictionLaw {
   std::string_view name() const override { return "coulomb"; }
   double coefficient(double v) const override {
     return p_.dynamic_coefficient * std::tanh(v / p_.static_speed);
+  }
+  double slope(double v) const override {
+    const double t = std::tanh(v / p_.static_speed);
+    return p_.dynamic_coefficient * (1.0 - t * t) / p_.static_speed;
   }
 
  private:

@@ -159,6 +159,10 @@ struct HingeMoment {
   }
 
   double at(double t, double theta) const;
+  /// d at / d theta [N m/rad] (the exact Jacobians).
+  double slope() const {
+    return kind == Kind::proportional ? -stiffness : 0.0;
+  }
 };
 
 /// The catalogue of hinge-moment kinds: the allowed values of hinge.kind, in the order of

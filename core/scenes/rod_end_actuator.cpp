@@ -55,15 +55,18 @@ class RodEndActuatorScene final : public RodEndScene<RodEndActuatorScene, ServoA
     act_.state_scale(s + kAct);
   }
 
-  struct Eval {
-    Mech::Eval mech;
-    ServoActuator::Eval act;
-    double external_force;  ///< on the piston along the rod [N]
+  template <class S>
+  struct EvalT {
+    Mech::EvalT<S> mech;
+    ServoActuator::EvalT<S> act;
+    S external_force;  ///< on the piston along the rod [N]
   };
-  Eval evaluate(double t, const double* x, const ContactLatch& l) const {
-    const double u = x[kAct + ServoActuator::kPos], u_dot = x[kAct + ServoActuator::kVel];
-    Eval e{mech_.evaluate(t, u, u_dot, x + kMech, l),
-           act_.evaluate(command_.at(t).position, x + kAct), 0.0};
+  using Eval = EvalT<double>;
+  template <class S>
+  EvalT<S> evaluate(double t, const S* x, const ContactLatch& l) const {
+    const S u = x[kAct + ServoActuator::kPos], u_dot = x[kAct + ServoActuator::kVel];
+    EvalT<S> e{mech_.evaluate(t, u, u_dot, x + kMech, l),
+               act_.evaluate(command_.at(t).position, x + kAct), S(0.0)};
     // the slider spring pulls the rod end with the opposite of its force on the socket
     e.external_force = -mech_.rod_axial_force(e.mech);
     return e;
@@ -72,20 +75,19 @@ class RodEndActuatorScene final : public RodEndScene<RodEndActuatorScene, ServoA
     return evaluate(t, x, l).mech;
   }
 
-  void derivatives(double t, const double* x, const DiscreteState& d, double* dxdt) const override {
-    const Eval e = evaluate(t, x, d.contacts[0]);
+  template <class S>
+  void rhs(double t, const S* x, const DiscreteState& d, S* dxdt) const {
+    const EvalT<S> e = evaluate(t, x, d.contacts[0]);
     mech_.derivatives(e.mech, x + kMech, dxdt + kMech);
     act_.derivatives(e.act, x + kAct, e.external_force, 0.0, dxdt + kAct);
-    const double* xa = x + kAct;
-    const double u_dot = xa[ServoActuator::kVel];
+    const S* xa = x + kAct;
+    const S u_dot = xa[ServoActuator::kVel];
     // inputs: the hydraulics (long route, see ServoActuator), the hinge moment, and the power
     // of the ideal rod pivot that turns the rod end about O (the slider spring's anchor power
     // less what the piston itself delivers along the rod)
-    const double hydraulic = act_.hydraulic_net_power(e.act) - act_.orifice_loss(e.act, xa) -
-                             act_.leak_loss(e.act, xa) -
-                             act_.compression_power(e.act, xa, dxdt + kAct);
-    const double constraint =
-        e.mech.slider_spring.anchor_power - mech_.rod_axial_force(e.mech) * u_dot;
+    const S hydraulic = act_.hydraulic_net_power(e.act) - act_.orifice_loss(e.act, xa) -
+                        act_.leak_loss(e.act, xa) - act_.compression_power(e.act, xa, dxdt + kAct);
+    const S constraint = e.mech.slider_spring.anchor_power - mech_.rod_axial_force(e.mech) * u_dot;
     dxdt[kWork] = hydraulic + constraint + e.mech.hinge_moment * e.mech.theta_dot;
     dxdt[kDissipated] = mech_.dissipated_power(e.mech) + act_.dissipated_power(e.act, xa);
     if (wears()) dxdt[kSliding] = Mech::sliding_power(e.mech);

@@ -43,8 +43,11 @@ class RodEndKinematicScene final : public RodEndScene<RodEndKinematicScene, 0> {
     return mech_.evaluate(t, m.position, m.velocity, x + kMech, l);
   }
 
-  void derivatives(double t, const double* x, const DiscreteState& d, double* dxdt) const override {
-    const Mech::Eval e = mechanism_eval(t, x, d.contacts[0]);
+  template <class S>
+  void rhs(double t, const S* x, const DiscreteState& d, S* dxdt) const {
+    const auto m = motion_.at(t);
+    const Mech::EvalT<S> e =
+        mech_.evaluate(t, S(m.position), S(m.velocity), x + kMech, d.contacts[0]);
     mech_.derivatives(e, x + kMech, dxdt + kMech);
     dxdt[kWork] = mech_.input_power(e);
     dxdt[kDissipated] = mech_.dissipated_power(e);

@@ -5,6 +5,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "core/contact_eval.hpp"
 #include "core/scenes/parts.hpp"
 
 namespace rodend {
@@ -48,13 +49,17 @@ std::optional<WearModel> read_wear(const ParameterSet& p) {
 
 /// The rotation about z by the angle whose cosine and sine are c, s: the unit quaternion of
 /// the half angle, from the half-angle identities (the branch that does not cancel).
-Quat about_z(double c, double s) {
+template <class S>
+QuatT<S> about_z(const S& c, const S& s) {
+  using std::sqrt;
   if (c >= 0.0) {
-    const double ch = std::sqrt(0.5 * (1.0 + c));  // cos(angle/2) >= 1/sqrt(2)
-    return Quat(ch, 0.0, 0.0, 0.5 * s / ch);
+    const S ch = sqrt(0.5 * (1.0 + c));  // cos(angle/2) >= 1/sqrt(2)
+    return QuatT<S>(ch, S(0.0), S(0.0), 0.5 * s / ch);
   }
-  const double sh = std::copysign(std::sqrt(0.5 * (1.0 - c)), s);  // |sin(angle/2)| >= 1/sqrt(2)
-  return Quat(0.5 * s / sh, 0.0, 0.0, sh);
+  const S root = sqrt(0.5 * (1.0 - c));
+  // copysign(root, s) (root > 0); |sin(angle/2)| >= 1/sqrt(2)
+  const S sh = std::signbit(value_of(s)) ? S(-root) : root;
+  return QuatT<S>(0.5 * s / sh, S(0.0), S(0.0), sh);
 }
 
 }  // namespace
@@ -233,31 +238,45 @@ ContactSnapshot RodEndMechanism::contact_snapshot(const double* x, const Contact
   return {c.penetration, c.penetration_rate, c.eccentricity, c.normal_force};
 }
 
-RodEndMechanism::Eval RodEndMechanism::evaluate(double t, double u, double u_dot, const double* x,
-                                                const ContactLatch& latch) const {
-  Eval e;
-  e.ball = BodyKinematics::from_state(x + kBall);
-  e.socket = BodyKinematics::from_state(x + kSocket);
+namespace {
+
+/// The hinge moment at (t, theta), and for a dual its derivative through HingeMoment::slope.
+double hinge_at(const HingeMoment& h, double t, double theta) {
+  return h.at(t, theta);
+}
+template <int N>
+Dual<N> hinge_at(const HingeMoment& h, double t, const Dual<N>& theta) {
+  return Dual<N>::chain(theta, h.at(t, theta.v), h.slope());
+}
+
+}  // namespace
+
+template <class S>
+RodEndMechanism::EvalT<S> RodEndMechanism::evaluate(double t, const S& u, const S& u_dot,
+                                                    const S* x, const ContactLatch& latch) const {
+  EvalT<S> e;
+  e.ball = BodyKinematicsT<S>::from_state(x + kBall);
+  e.socket = BodyKinematicsT<S>::from_state(x + kSocket);
   e.theta = x[kTheta];
   e.theta_dot = x[kThetaDot];
 
   // rod end from the rod length (eq. 4.1-4.3, differentiated for the velocity): one law of
   // cosines gives the rod's direction; its rotation about z is the half-angle quaternion
   e.rod_length = geometry_.rod_zero() + u;
-  const RodKinematics rod = geometry_.rod_kinematics(e.rod_length, u_dot);
+  const RodKinematicsT<S> rod = geometry_.rod_kinematics(e.rod_length, u_dot);
   e.rod_angle_rate = rod.angle_rate;
   e.rod_direction = rod.direction();
   e.slider_anchor.p_W = rod.end + Vec3(0.0, 0.0, misalignment_z_);
   e.slider_anchor.v_W = rod.end_velocity;
   e.slider_anchor.q_ref = about_z(rod.cos_angle, rod.sin_angle);  // rod angle 0 at actuator zero
-  e.slider_anchor.w_ref_W = Vec3(0.0, 0.0, e.rod_angle_rate);
+  e.slider_anchor.w_ref_W = Vec3T<S>(S(0.0), S(0.0), e.rod_angle_rate);
 
   // crank end from the crank angle (eq. 4.17-4.21)
-  const CrankKinematics crank = geometry_.crank_kinematics(e.theta, e.theta_dot);
+  const CrankKinematicsT<S> crank = geometry_.crank_kinematics(e.theta, e.theta_dot);
   e.crank_anchor.p_W = crank.end;
   e.crank_anchor.v_W = crank.end_velocity;
-  e.crank_anchor.q_ref = Quat(crank.cos_half, 0.0, 0.0, crank.sin_half);
-  e.crank_anchor.w_ref_W = Vec3(0.0, 0.0, e.theta_dot);
+  e.crank_anchor.q_ref = QuatT<S>(crank.cos_half, S(0.0), S(0.0), crank.sin_half);
+  e.crank_anchor.w_ref_W = Vec3T<S>(S(0.0), S(0.0), e.theta_dot);
 
   e.contact = evaluate_contact(contact_, e.ball, e.socket, latch);
   e.slider_spring = evaluate_spring(slider_spring_, e.slider_anchor, e.socket);
@@ -265,19 +284,20 @@ RodEndMechanism::Eval RodEndMechanism::evaluate(double t, double u, double u_dot
 
   // the crank takes the reaction of the ball spring at its end; only the in-plane components
   // do work (the hinge bearing takes the rest) (thesis eq. 4.12-4.14 in vector form)
-  const Vec3 arm = e.crank_anchor.p_W - geometry_.crank_pivot();
+  const Vec3T<S> arm = e.crank_anchor.p_W - geometry_.crank_pivot();
   e.crank_torque = arm.cross(-e.crank_spring.force_on_body).z() - e.crank_spring.moment_on_body.z();
-  e.hinge_moment = hinge_.at(t, e.theta);
+  e.hinge_moment = hinge_at(hinge_, t, e.theta);
   return e;
 }
 
-void RodEndMechanism::derivatives(const Eval& e, const double* x, double* dxdt) const {
-  const Vec3 F_ball =
+template <class S>
+void RodEndMechanism::derivatives(const EvalT<S>& e, const S* x, S* dxdt) const {
+  const Vec3T<S> F_ball =
       ball_.mass * gravity_ + e.contact.force_on_ball() + e.crank_spring.force_on_body;
-  const Vec3 M_ball = e.contact.moment_on_ball + e.crank_spring.moment_on_body;
-  const Vec3 F_socket =
+  const Vec3T<S> M_ball = e.contact.moment_on_ball + e.crank_spring.moment_on_body;
+  const Vec3T<S> F_socket =
       socket_.mass * gravity_ - e.contact.force_on_ball() + e.slider_spring.force_on_body;
-  const Vec3 M_socket = e.contact.moment_on_socket + e.slider_spring.moment_on_body;
+  const Vec3T<S> M_socket = e.contact.moment_on_socket + e.slider_spring.moment_on_body;
   body_derivatives(ball_, e.ball, F_ball, M_ball, x + kBall, dxdt + kBall);
   body_derivatives(socket_, e.socket, F_socket, M_socket, x + kSocket, dxdt + kSocket);
   // crank and surface: (m (s/3)^2 + I) theta'' = F s - c theta' + M_hinge (eq. 4.16, fixed)
@@ -285,6 +305,28 @@ void RodEndMechanism::derivatives(const Eval& e, const double* x, double* dxdt) 
   dxdt[kThetaDot] =
       (e.crank_torque - surface_damping_ * e.theta_dot + e.hinge_moment) / surface_inertia_;
 }
+
+template <class S>
+S RodEndMechanism::input_power(const EvalT<S>& e) const {
+  return e.slider_spring.anchor_power + e.hinge_moment * e.theta_dot;
+}
+
+template <class S>
+S RodEndMechanism::dissipated_power(const EvalT<S>& e) const {
+  return e.contact.damping_power + e.contact.friction_power + e.slider_spring.damping_power +
+         e.crank_spring.damping_power + surface_damping_ * e.theta_dot * e.theta_dot;
+}
+
+#define RODEND_MECHANISM_SCALAR(S)                                                 \
+  template RodEndMechanism::EvalT<S> RodEndMechanism::evaluate(                    \
+      double, const S&, const S&, const S*, const ContactLatch&) const;            \
+  template void RodEndMechanism::derivatives(const EvalT<S>&, const S*, S*) const; \
+  template S RodEndMechanism::input_power(const EvalT<S>&) const;                  \
+  template S RodEndMechanism::dissipated_power(const EvalT<S>&) const;
+RODEND_MECHANISM_SCALAR(double)
+RODEND_MECHANISM_SCALAR(RodEndMechanism::KinematicDual)
+RODEND_MECHANISM_SCALAR(RodEndMechanism::ActuatorDual)
+#undef RODEND_MECHANISM_SCALAR
 
 double RodEndMechanism::kinetic_energy(const Eval& e) const {
   return rodend::kinetic_energy(ball_, e.ball) + rodend::kinetic_energy(socket_, e.socket) +
@@ -296,19 +338,6 @@ double RodEndMechanism::mechanical_energy(const Eval& e) const {
          0.5 * surface_inertia_ * e.theta_dot * e.theta_dot -
          ball_.mass * gravity_.dot(e.ball.p_W) - socket_.mass * gravity_.dot(e.socket.p_W) +
          e.contact.potential + e.slider_spring.potential + e.crank_spring.potential;
-}
-
-double RodEndMechanism::input_power(const Eval& e) const {
-  return e.slider_spring.anchor_power + e.hinge_moment * e.theta_dot;
-}
-
-double RodEndMechanism::dissipated_power(const Eval& e) const {
-  return e.contact.damping_power + e.contact.friction_power + e.slider_spring.damping_power +
-         e.crank_spring.damping_power + surface_damping_ * e.theta_dot * e.theta_dot;
-}
-
-double RodEndMechanism::rod_axial_force(const Eval& e) const {
-  return e.slider_spring.force_on_body.dot(e.rod_direction);
 }
 
 void RodEndMechanism::step_outputs(const Eval& e, double command, SignalFrame& f) const {

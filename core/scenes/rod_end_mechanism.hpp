@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/contact.hpp"
+#include "core/dual.hpp"
 #include "core/params.hpp"
 #include "core/rigid_body.hpp"
 #include "core/scene.hpp"
@@ -26,6 +27,11 @@ namespace rodend {
 
 class RodEndMechanism {
  public:
+  /// The dual numbers of the rod-end scenes' exact Jacobians: one derivative per state ahead
+  /// of the audit states (the mechanism's 28; with the actuator's 10, 38). The templates below
+  /// are instantiated for double and these (rod_end_mechanism.cpp).
+  using KinematicDual = Dual<28>;
+  using ActuatorDual = Dual<38>;
   static constexpr int kBall = 0;
   static constexpr int kSocket = BodyStateLayout::size;
   static constexpr int kTheta = 2 * BodyStateLayout::size;
@@ -36,37 +42,49 @@ class RodEndMechanism {
   /// crank_spring.*, surface.*, hinge.*, gravity, wear.*. Throws InputError.
   explicit RodEndMechanism(const ParameterSet& p);
 
-  /// Everything the mechanism computes at one instant, for rod extension u and rate u'.
-  struct Eval {
-    BodyKinematics ball, socket;
-    double theta = 0.0, theta_dot = 0.0;
-    double rod_length = 0.0, rod_angle_rate = 0.0;
-    Vec3 rod_direction = Vec3::UnitX();  ///< unit vector along the rod, O -> P
+  /// Everything the mechanism computes at one instant, for rod extension u and rate u'. On a
+  /// scalar S (double, or a dual number of core/dual.hpp for the exact Jacobians).
+  template <class S>
+  struct EvalT {
+    BodyKinematicsT<S> ball, socket;
+    S theta = 0.0, theta_dot = 0.0;
+    S rod_length = 0.0, rod_angle_rate = 0.0;
+    Vec3T<S> rod_direction = Vec3T<S>::UnitX();  ///< unit vector along the rod, O -> P
     /// Rod inclination to the x-axis [rad] (an output: the dynamics use the direction).
-    double rod_angle() const { return std::atan2(rod_direction.y(), rod_direction.x()); }
-    SpringAnchor slider_anchor, crank_anchor;
-    ContactEval contact;
-    SpringEval slider_spring, crank_spring;
-    double hinge_moment = 0.0;
-    double crank_torque = 0.0;  ///< spring torque on the crank about its pivot [N m]
+    double rod_angle() const {
+      return std::atan2(value_of(rod_direction.y()), value_of(rod_direction.x()));
+    }
+    SpringAnchorT<S> slider_anchor, crank_anchor;
+    ContactEvalT<S> contact;
+    SpringEvalT<S> slider_spring, crank_spring;
+    S hinge_moment = 0.0;
+    S crank_torque = 0.0;  ///< spring torque on the crank about its pivot [N m]
   };
-  Eval evaluate(double t, double u, double u_dot, const double* x, const ContactLatch& l) const;
+  using Eval = EvalT<double>;
+  template <class S>
+  EvalT<S> evaluate(double t, const S& u, const S& u_dot, const S* x, const ContactLatch& l) const;
 
   void initial_state(double* x) const;
   void state_scale(double* s) const;
   /// Writes the 28 derivatives.
-  void derivatives(const Eval& e, const double* x, double* dxdt) const;
+  template <class S>
+  void derivatives(const EvalT<S>& e, const S* x, S* dxdt) const;
   /// Kinetic energy of the spheres and the surface [J].
   double kinetic_energy(const Eval& e) const;
   /// Kinetic + potential energy of the mechanism [J].
   double mechanical_energy(const Eval& e) const;
   /// Power delivered by the rod end (through the slider spring) and the hinge moment [W].
-  double input_power(const Eval& e) const;
+  template <class S>
+  S input_power(const EvalT<S>& e) const;
   /// Power dissipated by contact damping, friction, spring dampers and the crank damper [W].
-  double dissipated_power(const Eval& e) const;
+  template <class S>
+  S dissipated_power(const EvalT<S>& e) const;
   /// Force the rod end exerts on the slider spring along the rod: the actuator's external load
   /// (compression positive) [N].
-  double rod_axial_force(const Eval& e) const;
+  template <class S>
+  S rod_axial_force(const EvalT<S>& e) const {
+    return e.slider_spring.force_on_body.dot(e.rod_direction);
+  }
   /// Writes the mechanism's signals (contact, spheres, springs, crank/surface); `command` is the
   /// commanded rod extension [m] (the surface_angle_command signal).
   void outputs(const Eval& e, const double* x, double command, SignalFrame& f) const;
@@ -86,6 +104,8 @@ class RodEndMechanism {
   /// What the mechanism brings to a rod-end scene: the mechanism, its contact and, with a wear
   /// model, wear.
   const HingeMoment& hinge() const { return hinge_; }
+  /// Whether the exact Jacobian applies (not on worn surfaces, which are read in double only).
+  bool exact_jacobian() const { return !contact_.worn; }
   Features features() const {
     return Features{Feature::mechanism, Feature::contact}.set(Feature::wear, wear_.has_value());
   }
@@ -96,7 +116,8 @@ class RodEndMechanism {
   double worn_volume_per_work() const;
   WearSource wear_source(const Eval& e) const;
   /// F_N v_slip, the rate of the scene's sliding-work state [W].
-  static double sliding_power(const Eval& e) {
+  template <class S>
+  static S sliding_power(const EvalT<S>& e) {
     return e.contact.normal_force * e.contact.slip_speed;
   }
   /// Writes sliding_work and worn_volume from the sliding-work state [J] (with a wear model).

@@ -7,7 +7,10 @@
 // with wear.model "archard", the sliding work F_N v_slip [J] (core/wear.hpp).
 //
 // Derived provides `RodEndMechanism::Eval mechanism_eval(double t, const double* x,
-// const ContactLatch& l) const`, the mechanism at time t and state x.
+// const ContactLatch& l) const`, the mechanism at time t and state x, and the right-hand side
+// as a template on the scalar, `template <class S> void rhs(double t, const S* x,
+// const DiscreteState& d, S* dxdt) const`: derivatives() is rhs<double>, and the exact
+// Jacobian is rhs on dual numbers (core/dual.hpp) seeded in every state ahead of the audit's.
 #pragma once
 
 #include <array>
@@ -16,6 +19,7 @@
 #include <span>
 #include <vector>
 
+#include "core/dual.hpp"
 #include "core/scene.hpp"
 #include "core/scenes/parts.hpp"
 #include "core/scenes/rod_end_mechanism.hpp"
@@ -56,6 +60,18 @@ class RodEndScene : public OneContactScene<RodEndScene<Derived, kOwnStates>> {
     return mech_.contact_snapshot(x + kMech, d.contacts[0]);
   }
   std::span<const SignalId> signals() const override { return signals_; }
+
+  void derivatives(double t, const double* x, const DiscreteState& d, double* dxdt) const override {
+    self().rhs(t, x, d, dxdt);
+  }
+  bool exact_jacobian() const override { return mech_.exact_jacobian(); }
+  /// Forward-mode differentiation of rhs (one pass carrying kWork derivatives); the audit
+  /// states' columns are zero (nothing reads them). On worn surfaces the default's differences.
+  void jacobian(double t, const double* x, const DiscreteState& d, double* J) const override {
+    if (!exact_jacobian()) return Scene::jacobian(t, x, d, J);
+    dual_jacobian<kWork>(state_size(), x, J,
+                         [&](const Dual<kWork>* xd, Dual<kWork>* fd) { self().rhs(t, xd, d, fd); });
+  }
 
   // wear: the mechanism's model; the state's sliding work gives the worn-volume signal
   const WearModel* wear_model() const override { return mech_.wear_model(); }

@@ -5,13 +5,16 @@
 
 #include "core/scenes/drivers.hpp"
 #include "core/scenes/parts.hpp"
+#include "core/scenes/rod_end_mechanism.hpp"
 
 namespace rodend {
 namespace {
 
 /// Smooth opening of a metering edge: x for x >> e, e/2 at x = 0, -> 0 for x << -e.
-double opening(double x, double e) {
-  return 0.5 * (x + std::sqrt(x * x + e * e));
+template <class S>
+S opening(const S& x, double e) {
+  using std::sqrt;
+  return 0.5 * (x + sqrt(x * x + e * e));
 }
 
 constexpr std::array<std::string_view, 2> kTorqueMotorNames{"linear", "solenoid"};
@@ -97,41 +100,47 @@ void check_command_within_stroke(const ActuatorMotion& m, const ServoActuatorPar
                          format_number(a.half_stroke) + " m");
 }
 
-double ServoActuator::motor_force(double current) const {
+template <class S>
+S ServoActuator::motor_force(const S& current) const {
+  using std::abs;
   if (p_.torque_motor == TorqueMotor::solenoid) {  // eq. 6.1: B^2 S / (2 mu), B ~ i
-    const double u = current / p_.current_limit;
-    return p_.motor_gain * p_.current_limit * u * std::abs(u);
+    const S u = current / p_.current_limit;
+    return p_.motor_gain * p_.current_limit * u * abs(u);
   }
   return p_.motor_gain * current;
 }
 
-double ServoActuator::orifice_flow(double area, double dp) const {
+template <class S>
+S ServoActuator::orifice_flow(const S& area, const S& dp) const {
+  using std::pow, std::sqrt;
   // turbulent orifice Q = C_d A sqrt(2 |dp| / rho) sign(dp) (thesis 6.6), regularised with a
   // laminar region below the transition pressure so the slope at dp = 0 stays finite
   // (model-notes §6): Q = C_d A sqrt(2/rho) dp / (dp^2 + p_t^2)^(1/4)
   const double pt = p_.transition_pressure;
   return p_.discharge_coefficient * area * std::sqrt(2.0 / p_.density) * dp /
-         std::pow(dp * dp + pt * pt, 0.25);
+         pow(dp * dp + pt * pt, 0.25);
 }
 
-ServoActuator::Eval ServoActuator::evaluate(double command, const double* x) const {
-  Eval e;
-  const double P1 = x[kP1], P2 = x[kP2], xs = x[kSpool], pos = x[kPos];
+template <class S>
+ServoActuator::EvalT<S> ServoActuator::evaluate(double command, const S* x) const {
+  using std::abs, std::tanh;
+  EvalT<S> e;
+  const S P1 = x[kP1], P2 = x[kP2], xs = x[kSpool], pos = x[kPos];
   const double Ps = p_.supply_pressure, Pr = p_.return_pressure;
 
   // PI controller on the LVDT reading, smoothly saturated at the rated current
   e.command = command;
   e.error = command - x[kLvdt];
-  const double raw = p_.kp * e.error + p_.ki * x[kIntegral];
-  e.current = p_.current_limit * std::tanh(raw / p_.current_limit);
+  const S raw = p_.kp * e.error + p_.ki * x[kIntegral];
+  e.current = p_.current_limit * tanh(raw / p_.current_limit);
 
   // four-way spool: x_s > 0 connects supply -> 1 and 2 -> tank (thesis 6.4-6.6, fig. 6.4)
-  const double a_pos = p_.port_width * opening(xs, p_.leak_opening);
-  const double a_neg = p_.port_width * opening(-xs, p_.leak_opening);
-  e.supply_flow_1 = orifice_flow(a_pos, Ps - P1);
-  e.tank_flow_2 = orifice_flow(a_pos, P2 - Pr);
-  e.supply_flow_2 = orifice_flow(a_neg, Ps - P2);
-  e.tank_flow_1 = orifice_flow(a_neg, P1 - Pr);
+  const S a_pos = p_.port_width * opening(xs, p_.leak_opening);
+  const S a_neg = p_.port_width * opening(S(-xs), p_.leak_opening);
+  e.supply_flow_1 = orifice_flow(a_pos, S(Ps - P1));
+  e.tank_flow_2 = orifice_flow(a_pos, S(P2 - Pr));
+  e.supply_flow_2 = orifice_flow(a_neg, S(Ps - P2));
+  e.tank_flow_1 = orifice_flow(a_neg, S(P1 - Pr));
   e.q1 = e.supply_flow_1 - e.tank_flow_1;  // eq. 6.4
   e.q2 = e.tank_flow_2 - e.supply_flow_2;  // eq. 6.5 (front chamber; the text prints Q_1)
   e.internal_leak = p_.internal_leakage * (P1 - P2);
@@ -140,26 +149,28 @@ ServoActuator::Eval ServoActuator::evaluate(double command, const double* x) con
 
   // steady-state flow forces: each open edge pushes the spool closed (the F_fl of eq. 6.3)
   const double k = 2.0 * p_.discharge_coefficient * std::cos(p_.jet_angle);
-  e.flow_force = -k * (a_pos * (std::abs(Ps - P1) + std::abs(P2 - Pr)) -
-                       a_neg * (std::abs(Ps - P2) + std::abs(P1 - Pr)));
+  e.flow_force =
+      -k * (a_pos * (abs(Ps - P1) + abs(P2 - Pr)) - a_neg * (abs(Ps - P2) + abs(P1 - Pr)));
 
   // chamber volumes (eq. 6.8-6.9), measured from the end-of-stroke dead volumes
   const double vmin = 1e-3 * p_.dead_volume;
-  e.v1 = std::max(p_.dead_volume + p_.piston_area * (p_.half_stroke + pos), vmin);
-  e.v2 = std::max(p_.dead_volume + p_.piston_area * (p_.half_stroke - pos), vmin);
+  e.v1 = max_of(p_.dead_volume + p_.piston_area * (p_.half_stroke + pos), vmin);
+  e.v2 = max_of(p_.dead_volume + p_.piston_area * (p_.half_stroke - pos), vmin);
 
   // end stops: stiff, damped, never pulling
-  const double v = x[kVel];
-  const double over = pos - p_.half_stroke, under = -p_.half_stroke - pos;
-  if (over > 0.0) e.stop_force = -std::max(0.0, p_.stop_stiffness * over + p_.stop_damping * v);
-  if (under > 0.0) e.stop_force = std::max(0.0, p_.stop_stiffness * under - p_.stop_damping * v);
+  const S v = x[kVel];
+  const S over = pos - p_.half_stroke, under = -p_.half_stroke - pos;
+  if (over > 0.0) e.stop_force = -max_of(0.0, S(p_.stop_stiffness * over + p_.stop_damping * v));
+  if (under > 0.0) e.stop_force = max_of(0.0, S(p_.stop_stiffness * under - p_.stop_damping * v));
   return e;
 }
 
-void ServoActuator::derivatives(const Eval& e, const double* x, double external_force,
-                                double load_mass, double* dxdt) const {
-  const double xj = x[kJet], vj = x[kJetRate], xs = x[kSpool], vs = x[kSpoolRate];
-  const double v = x[kVel];
+template <class S>
+void ServoActuator::derivatives(const EvalT<S>& e, const S* x, const S& external_force,
+                                double load_mass, S* dxdt) const {
+  using std::tanh;
+  const S xj = x[kJet], vj = x[kJetRate], xs = x[kSpool], vs = x[kSpoolRate];
+  const S v = x[kVel];
   const double dP_range = p_.supply_pressure - p_.return_pressure;
   dxdt[kLvdt] = (x[kPos] - x[kLvdt]) / p_.lvdt_time_constant;
   dxdt[kIntegral] = e.error;
@@ -170,7 +181,7 @@ void ServoActuator::derivatives(const Eval& e, const double* x, double external_
                    p_.jet_mass;
   // spool (eq. 6.3): jet-pipe pressure difference on its ends (limited to the available
   // pressure), feedback wire, flow forces, viscous friction
-  const double dps = dP_range * std::tanh(p_.jet_pressure_gain * xj / dP_range);
+  const S dps = dP_range * tanh(p_.jet_pressure_gain * xj / dP_range);
   dxdt[kSpool] = vs;
   dxdt[kSpoolRate] =
       (p_.spool_area * dps - p_.wire_stiffness * (xs + xj) + e.flow_force - p_.spool_damping * vs) /
@@ -205,25 +216,30 @@ void ServoActuator::state_scale(double* s) const {
   s[kVel] = 1e-2;
 }
 
-double ServoActuator::hydraulic_net_power(const Eval& e) const {
+template <class S>
+S ServoActuator::hydraulic_net_power(const EvalT<S>& e) const {
   return p_.supply_pressure * (e.supply_flow_1 + e.supply_flow_2) -
          p_.return_pressure *
              (e.tank_flow_1 + e.tank_flow_2 + e.external_leak_1 + e.external_leak_2);
 }
 
-double ServoActuator::orifice_loss(const Eval& e, const double* x) const {
-  const double P1 = x[kP1], P2 = x[kP2], Ps = p_.supply_pressure, Pr = p_.return_pressure;
+template <class S>
+S ServoActuator::orifice_loss(const EvalT<S>& e, const S* x) const {
+  const S P1 = x[kP1], P2 = x[kP2];
+  const double Ps = p_.supply_pressure, Pr = p_.return_pressure;
   return e.supply_flow_1 * (Ps - P1) + e.tank_flow_1 * (P1 - Pr) + e.supply_flow_2 * (Ps - P2) +
          e.tank_flow_2 * (P2 - Pr);
 }
 
-double ServoActuator::leak_loss(const Eval& e, const double* x) const {
+template <class S>
+S ServoActuator::leak_loss(const EvalT<S>& e, const S* x) const {
   const double Pr = p_.return_pressure;
   return e.internal_leak * (x[kP1] - x[kP2]) + e.external_leak_1 * (x[kP1] - Pr) +
          e.external_leak_2 * (x[kP2] - Pr);
 }
 
-double ServoActuator::compression_power(const Eval& e, const double* x, const double* dxdt) const {
+template <class S>
+S ServoActuator::compression_power(const EvalT<S>& e, const S* x, const S* dxdt) const {
   return (e.v1 * x[kP1] * dxdt[kP1] + e.v2 * x[kP2] * dxdt[kP2]) / p_.bulk_modulus;
 }
 
@@ -234,12 +250,13 @@ double ServoActuator::mechanical_energy(const double* x, double load_mass) const
          0.5 * p_.stop_stiffness * (over * over + under * under);
 }
 
-double ServoActuator::dissipated_power(const Eval& e, const double* x) const {
-  const double v = x[kVel];
-  const double over = std::max(x[kPos] - p_.half_stroke, 0.0);
-  const double under = std::max(-p_.half_stroke - x[kPos], 0.0);
+template <class S>
+S ServoActuator::dissipated_power(const EvalT<S>& e, const S* x) const {
+  const S v = x[kVel];
+  const S over = max_of(x[kPos] - p_.half_stroke, 0.0);
+  const S under = max_of(-p_.half_stroke - x[kPos], 0.0);
   // stop dissipation: -F v - dU/dt with U = k (over^2 + under^2) / 2
-  const double stop = -e.stop_force * v - p_.stop_stiffness * (over - under) * v;
+  const S stop = -e.stop_force * v - p_.stop_stiffness * (over - under) * v;
   return p_.piston_friction * v * v + stop;
 }
 
@@ -258,5 +275,18 @@ void ServoActuator::outputs(const Eval& e, const double* x, double external_forc
   f.set(SignalId::actuator_position, x[kPos]);
   f.set(SignalId::actuator_velocity, x[kVel]);
 }
+
+#define RODEND_SERVO_SCALAR(S)                                                                     \
+  template S ServoActuator::motor_force(const S&) const;                                           \
+  template ServoActuator::EvalT<S> ServoActuator::evaluate(double, const S*) const;                \
+  template void ServoActuator::derivatives(const EvalT<S>&, const S*, const S&, double, S*) const; \
+  template S ServoActuator::hydraulic_net_power(const EvalT<S>&) const;                            \
+  template S ServoActuator::orifice_loss(const EvalT<S>&, const S*) const;                         \
+  template S ServoActuator::leak_loss(const EvalT<S>&, const S*) const;                            \
+  template S ServoActuator::compression_power(const EvalT<S>&, const S*, const S*) const;          \
+  template S ServoActuator::dissipated_power(const EvalT<S>&, const S*) const;
+RODEND_SERVO_SCALAR(double)
+RODEND_SERVO_SCALAR(RodEndMechanism::ActuatorDual)
+#undef RODEND_SERVO_SCALAR
 
 }  // namespace rodend

@@ -87,24 +87,31 @@ class ServoActuator {
   explicit ServoActuator(const ServoActuatorParams& p) : p_(p) {}
   const ServoActuatorParams& params() const { return p_; }
 
-  /// Everything computed at one instant.
-  struct Eval {
-    double command = 0.0, error = 0.0, current = 0.0;
-    double supply_flow_1 = 0.0, tank_flow_1 = 0.0;  ///< supply->1, 1->tank [m^3/s]
-    double supply_flow_2 = 0.0, tank_flow_2 = 0.0;  ///< supply->2, 2->tank [m^3/s]
-    double q1 = 0.0, q2 = 0.0;  ///< valve flow into 1 and out of 2 (6.4-6.5) [m^3/s]
-    double internal_leak = 0.0, external_leak_1 = 0.0, external_leak_2 = 0.0;  ///< [m^3/s]
-    double flow_force = 0.0;                                                   ///< on the spool [N]
-    double stop_force = 0.0;    ///< end stops on the piston [N]
-    double v1 = 0.0, v2 = 0.0;  ///< chamber volumes [m^3]
+  /// Everything computed at one instant. On a scalar S (double, or a dual number of
+  /// core/dual.hpp for the exact Jacobians: the templates below are instantiated for double and
+  /// RodEndMechanism::ActuatorDual, servo_actuator.cpp).
+  template <class S>
+  struct EvalT {
+    double command = 0.0;
+    S error = 0.0, current = 0.0;
+    S supply_flow_1 = 0.0, tank_flow_1 = 0.0;  ///< supply->1, 1->tank [m^3/s]
+    S supply_flow_2 = 0.0, tank_flow_2 = 0.0;  ///< supply->2, 2->tank [m^3/s]
+    S q1 = 0.0, q2 = 0.0;                      ///< valve flow into 1 and out of 2 (6.4-6.5) [m^3/s]
+    S internal_leak = 0.0, external_leak_1 = 0.0, external_leak_2 = 0.0;  ///< [m^3/s]
+    S flow_force = 0.0;                                                   ///< on the spool [N]
+    S stop_force = 0.0;    ///< end stops on the piston [N]
+    S v1 = 0.0, v2 = 0.0;  ///< chamber volumes [m^3]
   };
-  Eval evaluate(double command, const double* x) const;
+  using Eval = EvalT<double>;
+  template <class S>
+  EvalT<S> evaluate(double command, const S* x) const;
 
   /// Derivatives of the 10 states under the external force on the rod along its axis
   /// `external_force` [N] and a mass `load_mass` [kg] moving with the piston (the equivalent
   /// mass of the calibration; 0 when the mechanism is modelled).
-  void derivatives(const Eval& e, const double* x, double external_force, double load_mass,
-                   double* dxdt) const;
+  template <class S>
+  void derivatives(const EvalT<S>& e, const S* x, const S& external_force, double load_mass,
+                   S* dxdt) const;
 
   void initial_state(double* x, double position = 0.0) const;
   void state_scale(double* s) const;
@@ -112,22 +119,29 @@ class ServoActuator {
   /// Energy bookkeeping [W]. `hydraulic_net_power` - orifice - leak - compression equals the
   /// power of the pressure force on the piston, (P1 - P2) A_c x', when the chamber equations
   /// are consistent; the energy audit uses the long form as its check.
-  double hydraulic_net_power(const Eval& e) const;
-  double orifice_loss(const Eval& e, const double* x) const;
-  double leak_loss(const Eval& e, const double* x) const;
-  double compression_power(const Eval& e, const double* x, const double* dxdt) const;
+  template <class S>
+  S hydraulic_net_power(const EvalT<S>& e) const;
+  template <class S>
+  S orifice_loss(const EvalT<S>& e, const S* x) const;
+  template <class S>
+  S leak_loss(const EvalT<S>& e, const S* x) const;
+  template <class S>
+  S compression_power(const EvalT<S>& e, const S* x, const S* dxdt) const;
   /// Piston kinetic energy (with the load mass) and end-stop elastic energy [J].
   double mechanical_energy(const double* x, double load_mass) const;
   /// Piston friction and end-stop damping [W].
-  double dissipated_power(const Eval& e, const double* x) const;
+  template <class S>
+  S dissipated_power(const EvalT<S>& e, const S* x) const;
 
   void outputs(const Eval& e, const double* x, double external_force, SignalFrame& f) const;
 
   /// Torque-motor force on the jet pipe, referred to the nozzle, for current i [N] (eq. 6.1).
-  double motor_force(double current) const;
+  template <class S>
+  S motor_force(const S& current) const;
 
  private:
-  double orifice_flow(double area, double dp) const;
+  template <class S>
+  S orifice_flow(const S& area, const S& dp) const;
   ServoActuatorParams p_;
 };
 

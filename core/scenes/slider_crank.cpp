@@ -21,38 +21,6 @@ SliderCrank::SliderCrank(double s, double t, double l0) : s_(s), t_(t), l0_(l0) 
   sin_crank0_ = std::sin(crank_angle0_);
 }
 
-RodKinematics SliderCrank::rod_kinematics(double l, double l_dot) const {
-  // eq. 4.2: alpha, the angle at O between OQ and OP (P clockwise of OQ); the rod direction is
-  // OQ's turned back by alpha: (cos, sin)(frame - alpha) by the angle-difference identities
-  const double cos_a = std::clamp((l * l + t_ * t_ - s_ * s_) / (2.0 * l * t_), -1.0, 1.0);
-  const double sin_a = std::sqrt(std::max(1.0 - cos_a * cos_a, 0.0));
-  RodKinematics r;
-  r.cos_angle = cos_frame_ * cos_a + sin_frame_ * sin_a;
-  r.sin_angle = sin_frame_ * cos_a - cos_frame_ * sin_a;
-  // d(rod angle)/dl = -d(alpha)/dl = (d cos(alpha)/dl) / sin(alpha) (rod_angle_slope)
-  const double dcos_dl = (l * l - t_ * t_ + s_ * s_) / (2.0 * l * l * t_);
-  r.angle_rate = dcos_dl / sin_a * l_dot;
-  const Vec3 u = r.direction();
-  const Vec3 u_perp(-r.sin_angle, r.cos_angle, 0.0);
-  r.end = O_ + l * u;
-  r.end_velocity = l_dot * u + l * r.angle_rate * u_perp;
-  return r;
-}
-
-CrankKinematics SliderCrank::crank_kinematics(double theta, double theta_dot) const {
-  CrankKinematics c;
-  c.sin_half = std::sin(0.5 * theta);
-  c.cos_half = std::cos(0.5 * theta);
-  // theta from its half angle, then the crank direction crank_angle0 + theta
-  const double cos_t = 1.0 - 2.0 * c.sin_half * c.sin_half;
-  const double sin_t = 2.0 * c.sin_half * c.cos_half;
-  const double cos_a = cos_crank0_ * cos_t - sin_crank0_ * sin_t;
-  const double sin_a = sin_crank0_ * cos_t + cos_crank0_ * sin_t;
-  c.end = Q_ + s_ * Vec3(cos_a, sin_a, 0.0);
-  c.end_velocity = s_ * theta_dot * Vec3(-sin_a, cos_a, 0.0);  // eq. 4.21: |v| = theta' s
-  return c;
-}
-
 double SliderCrank::rod_angle(double l) const {
   // eq. 4.2: alpha, the angle at O between OQ and OP; P lies clockwise of OQ
   const double cos_a = (l * l + t_ * t_ - s_ * s_) / (2.0 * l * t_);

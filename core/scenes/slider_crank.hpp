@@ -14,29 +14,35 @@
 
 #include <cmath>
 
+#include "core/dual.hpp"
 #include "core/math.hpp"
 
 namespace rodend {
 
 /// The rod at one instant: its direction and the rod end's motion (eq. 4.1-4.3 differentiated),
-/// from one law of cosines, without inverse trigonometry.
-struct RodKinematics {
-  double cos_angle = 1.0, sin_angle = 0.0;  ///< direction of the rod O -> P: (cos, sin) [-]
-  double angle_rate = 0.0;                  ///< d(rod angle)/dt [rad/s]
-  Vec3 end = Vec3::Zero();                  ///< rod end (slider end) P [m]
-  Vec3 end_velocity = Vec3::Zero();         ///< [m/s]
-  Vec3 direction() const { return Vec3(cos_angle, sin_angle, 0.0); }
+/// from one law of cosines, without inverse trigonometry. On a scalar S (double, or a dual
+/// number of core/dual.hpp); RodKinematics is the double one.
+template <class S>
+struct RodKinematicsT {
+  S cos_angle = 1.0, sin_angle = 0.0;        ///< direction of the rod O -> P: (cos, sin) [-]
+  S angle_rate = 0.0;                        ///< d(rod angle)/dt [rad/s]
+  Vec3T<S> end = Vec3T<S>::Zero();           ///< rod end (slider end) P [m]
+  Vec3T<S> end_velocity = Vec3T<S>::Zero();  ///< [m/s]
+  Vec3T<S> direction() const { return Vec3T<S>(cos_angle, sin_angle, S(0.0)); }
   /// The rod angle itself [rad] (an output; nothing in the dynamics needs it).
-  double angle() const { return std::atan2(sin_angle, cos_angle); }
+  double angle() const { return std::atan2(value_of(sin_angle), value_of(cos_angle)); }
 };
+using RodKinematics = RodKinematicsT<double>;
 
 /// The crank at one instant (eq. 4.17-4.21), from one sine-cosine pair of half the crank angle.
-struct CrankKinematics {
-  double cos_half = 1.0, sin_half = 0.0;  ///< of theta / 2: the crank's rotation about z is the
-                                          ///< unit quaternion (cos_half, 0, 0, sin_half)
-  Vec3 end = Vec3::Zero();                ///< crank end [m]
-  Vec3 end_velocity = Vec3::Zero();       ///< [m/s]
+template <class S>
+struct CrankKinematicsT {
+  S cos_half = 1.0, sin_half = 0.0;          ///< of theta / 2: the crank's rotation about z is the
+                                             ///< unit quaternion (cos_half, 0, 0, sin_half)
+  Vec3T<S> end = Vec3T<S>::Zero();           ///< crank end [m]
+  Vec3T<S> end_velocity = Vec3T<S>::Zero();  ///< [m/s]
 };
+using CrankKinematics = CrankKinematicsT<double>;
 
 class SliderCrank {
  public:
@@ -62,7 +68,8 @@ class SliderCrank {
   Vec3 rod_end(double l) const;
   Vec3 rod_end_velocity(double l, double l_dot) const;
   /// Everything above at once, for rod length l and rate l' (what the right-hand side uses).
-  RodKinematics rod_kinematics(double l, double l_dot) const;
+  template <class S>
+  RodKinematicsT<S> rod_kinematics(const S& l, const S& l_dot) const;
 
   /// Crank angle from its initial position for which the ideal mechanism closes at length l:
   /// the law-of-cosines angle gamma(l) - gamma(l0) of eq. 4.1 [rad].
@@ -72,7 +79,8 @@ class SliderCrank {
   Vec3 crank_end(double theta) const;
   Vec3 crank_end_velocity(double theta, double theta_dot) const;
   /// Both at once, and the crank's rotation, for crank angle theta and rate theta'.
-  CrankKinematics crank_kinematics(double theta, double theta_dot) const;
+  template <class S>
+  CrankKinematicsT<S> crank_kinematics(const S& theta, const S& theta_dot) const;
 
  private:
   double s_, t_, l0_;
@@ -83,5 +91,42 @@ class SliderCrank {
   double cos_frame_ = 1.0, sin_frame_ = 0.0;    ///< of frame_angle_
   double cos_crank0_ = 1.0, sin_crank0_ = 0.0;  ///< of crank_angle0_
 };
+
+template <class S>
+RodKinematicsT<S> SliderCrank::rod_kinematics(const S& l, const S& l_dot) const {
+  using std::sqrt;
+  // eq. 4.2: alpha, the angle at O between OQ and OP (P clockwise of OQ); the rod direction is
+  // OQ's turned back by alpha: (cos, sin)(frame - alpha) by the angle-difference identities
+  S cos_a = (l * l + t_ * t_ - s_ * s_) / (2.0 * l * t_);
+  cos_a = cos_a < -1.0 ? S(-1.0) : (1.0 < cos_a ? S(1.0) : cos_a);  // std::clamp
+  const S sin_a = sqrt(max_of(1.0 - cos_a * cos_a, 0.0));
+  RodKinematicsT<S> r;
+  r.cos_angle = cos_frame_ * cos_a + sin_frame_ * sin_a;
+  r.sin_angle = sin_frame_ * cos_a - cos_frame_ * sin_a;
+  // d(rod angle)/dl = -d(alpha)/dl = (d cos(alpha)/dl) / sin(alpha) (rod_angle_slope)
+  const S dcos_dl = (l * l - t_ * t_ + s_ * s_) / (2.0 * l * l * t_);
+  r.angle_rate = dcos_dl / sin_a * l_dot;
+  const Vec3T<S> u = r.direction();
+  const Vec3T<S> u_perp(-r.sin_angle, r.cos_angle, S(0.0));
+  r.end = O_ + l * u;
+  r.end_velocity = l_dot * u + l * r.angle_rate * u_perp;
+  return r;
+}
+
+template <class S>
+CrankKinematicsT<S> SliderCrank::crank_kinematics(const S& theta, const S& theta_dot) const {
+  using std::cos, std::sin;
+  CrankKinematicsT<S> c;
+  c.sin_half = sin(0.5 * theta);
+  c.cos_half = cos(0.5 * theta);
+  // theta from its half angle, then the crank direction crank_angle0 + theta
+  const S cos_t = 1.0 - 2.0 * c.sin_half * c.sin_half;
+  const S sin_t = 2.0 * c.sin_half * c.cos_half;
+  const S cos_a = cos_crank0_ * cos_t - sin_crank0_ * sin_t;
+  const S sin_a = sin_crank0_ * cos_t + cos_crank0_ * sin_t;
+  c.end = Q_ + s_ * Vec3T<S>(cos_a, sin_a, S(0.0));
+  c.end_velocity = s_ * theta_dot * Vec3T<S>(-sin_a, cos_a, S(0.0));  // eq. 4.21: |v| = theta' s
+  return c;
+}
 
 }  // namespace rodend
