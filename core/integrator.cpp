@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <boost/numeric/odeint.hpp>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -131,6 +132,12 @@ class Driver {
     signals_.assign(sig.begin(), sig.end());
     for (SignalId id : kStepSignals)
       if (provides(id)) step_signals_.push_back(id);
+    signal_slots_ = slots_of(signals_);
+    step_slots_ = slots_of(step_signals_);
+    for (GapMemo& m : gap_memo_) {
+      m.gaps.resize(static_cast<std::size_t>(scene.contact_count()));
+      m.known.resize(m.gaps.size());
+    }
     ends_.assign(static_cast<std::size_t>(scene.contact_count()), ContactEnd{});
     touched_.assign(ends_.size(), 0);
     wears_ = scene.wear_model() != nullptr && obs.wants_wear();
@@ -201,13 +208,22 @@ class Driver {
     check_health_at_sample(t);
   }
 
+  /// The frame offsets of the components of `ids`.
+  static std::vector<int> slots_of(const std::vector<SignalId>& ids) {
+    std::vector<int> slots;
+    for (SignalId id : ids)
+      for (int k = 0; k < signal_spec(id).width; ++k) slots.push_back(signal_offset(id) + k);
+    return slots;
+  }
+
   /// A frame with a non-finite value among `which` (the scene's signals, or those of a step
-  /// frame) never reaches the observer: the run ends there. One pass over the whole frame first
-  /// (no per-signal lookups); only a frame with a non-finite entry is looked at signal by
-  /// signal.
-  void check_frame_finite(double t) { check_frame_finite(t, signals_); }
-  void check_frame_finite(double t, const std::vector<SignalId>& which) {
-    if (frame_.all_finite()) return;
+  /// frame; `slots` their offsets) never reaches the observer: the run ends there. One pass over
+  /// those values first (no per-signal lookups, not the whole catalogue's width); only a frame
+  /// with a non-finite entry is looked at signal by signal.
+  void check_frame_finite(double t) { check_frame_finite(t, signals_, signal_slots_); }
+  void check_frame_finite(double t, const std::vector<SignalId>& which,
+                          const std::vector<int>& slots) {
+    if (frame_.all_finite(slots)) return;
     for (SignalId id : which)
       for (int k = 0; k < signal_spec(id).width; ++k)
         if (!std::isfinite(frame_.get(id, k))) {
@@ -274,6 +290,31 @@ class Driver {
   ContactGap gap_at(int c, const state_t& z) {
     unscale(z, x_);
     return scene_.contact_gap(c, x_.data());
+  }
+
+  /// gap_at for a step end (z_now, or z_prev: the previous step's end), remembered for the two
+  /// last such states: the health check, the event search and the latching read the gaps at a
+  /// step's end, and the next step's event search at its start. A gap is a function of the
+  /// state alone; a state is recognised by its bits (a renormalised or re-taken state is
+  /// another). May leave x_ unchanged or holding z unscaled.
+  ContactGap end_gap(int c, const state_t& z) {
+    auto holds = [&](const GapMemo& e) {
+      return e.valid && std::memcmp(e.z.data(), z.data(), n_ * sizeof(double)) == 0;
+    };
+    GapMemo* m = &gap_memo_[gap_memo_last_];  // the one used last first
+    if (!holds(*m)) m = &gap_memo_[1 - gap_memo_last_];
+    if (!holds(*m)) {  // the one used less recently takes the new state
+      m->z = z;
+      m->valid = true;
+      std::fill(m->known.begin(), m->known.end(), 0);
+    }
+    gap_memo_last_ = static_cast<int>(m - gap_memo_);
+    const auto i = static_cast<std::size_t>(c);
+    if (!m->known[i]) {
+      m->gaps[i] = gap_at(c, z);
+      m->known[i] = 1;
+    }
+    return m->gaps[i];
   }
 
   bool latched(int c) const { return discrete_.contacts[static_cast<std::size_t>(c)].in_contact; }
@@ -345,7 +386,7 @@ class Driver {
   /// onset) by the Hermite model's extremum, confirmed on the interpolant; then bisection.
   double change_time(int c) {
     const bool in = latched(c);
-    const ContactGap g0 = gap_at(c, stepper_->z_prev), g1 = gap_at(c, stepper_->z_now);
+    const ContactGap g0 = end_gap(c, stepper_->z_prev), g1 = end_gap(c, stepper_->z_now);
     if (in && !touched_[static_cast<std::size_t>(c)] && g1.penetration_rate < 0.0)
       return deepest_time(c);
     auto changed = [in](double p) { return in ? p <= 0.0 : p > 0.0; };
@@ -463,10 +504,9 @@ class Driver {
   /// whether a latch changed (if not, the next step latches at its end instead: relocating
   /// again and again could creep towards an onset without ever getting there).
   bool latch_at_event(const std::vector<int>& event_contacts, bool from_method) {
-    unscale(stepper_->z_now, x_);
     bool changed = false;
     for (int c = 0; c < scene_.contact_count(); ++c) {
-      const ContactGap g = scene_.contact_gap(c, x_.data());
+      const ContactGap g = end_gap(c, stepper_->z_now);
       const bool event =
           std::find(event_contacts.begin(), event_contacts.end(), c) != event_contacts.end();
       if (!latched(c) &&
@@ -508,14 +548,13 @@ class Driver {
         << " s";
       throw RunFailure{RunStatus::step_budget_exhausted, m.str()};
     }
-    unscale(z, x_);
     for (int c = 0; c < scene_.contact_count(); ++c) check_penetration(c);
   }
 
-  /// The penetration of contact c at x_ against the contact laws' validity (the contact radius)
-  /// and, if the study sets one, against the clearance.
+  /// The penetration of contact c at the step's end against the contact laws' validity (the
+  /// contact radius) and, if the study sets one, against the clearance.
   void check_penetration(int c) {
-    const double delta = scene_.contact_gap(c, x_.data()).penetration;
+    const double delta = end_gap(c, stepper_->z_now).penetration;
     auto limit = [&](double scale, double max_ratio, double& seen, const char* what,
                      const char* key) {
       if (!(scale > 0.0)) return;
@@ -776,10 +815,9 @@ class Driver {
   /// penetrates unlatched starts one (step-end latching, or an onset at a restart point).
   /// Returns whether an onset was latched (the method restarts with the new force law).
   bool latch_at_step_end() {
-    unscale(stepper_->z_now, x_);
     bool onset = false;
     for (int c = 0; c < scene_.contact_count(); ++c) {
-      const ContactGap g = scene_.contact_gap(c, x_.data());
+      const ContactGap g = end_gap(c, stepper_->z_now);
       char& touched = touched_[static_cast<std::size_t>(c)];
       if (latched(c) && g.penetration <= 0.0 && (touched || !(g.penetration_rate > 0.0))) {
         discrete_.contacts[static_cast<std::size_t>(c)] = ContactLatch{};  // episode over
@@ -791,6 +829,7 @@ class Driver {
         touched = 1;
       }
     }
+    unscale(stepper_->z_now, x_);  // for observe_step
     return onset;
   }
 
@@ -799,7 +838,7 @@ class Driver {
   void observe_step() {
     frame_.set(SignalId::time, stepper_->t_now);
     scene_.step_outputs(stepper_->t_now, x_.data(), discrete_, frame_);
-    check_frame_finite(stepper_->t_now, step_signals_);
+    check_frame_finite(stepper_->t_now, step_signals_, step_slots_);
     obs_.on_step(frame_);
   }
 
@@ -822,7 +861,17 @@ class Driver {
   bool checks_energy_ = false, checks_tracking_ = false, has_kinetic_ = false;
   bool wears_ = false;             ///< deposit wear (the scene models it and the observer wants it)
   std::vector<SignalId> signals_;  ///< the scene's signals (checked finite in every frame)
-  std::vector<SignalId> step_signals_;  ///< those of kStepSignals (checked in step frames)
+  std::vector<SignalId> step_signals_;          ///< those of kStepSignals (checked in step frames)
+  std::vector<int> signal_slots_, step_slots_;  ///< their frame offsets (check_frame_finite)
+  /// Contact gaps at the last two step-end states (end_gap)
+  struct GapMemo {
+    state_t z;  ///< the scaled state
+    std::vector<ContactGap> gaps;
+    std::vector<char> known;  ///< per contact: gaps[c] is computed
+    bool valid = false;
+  };
+  GapMemo gap_memo_[2];
+  int gap_memo_last_ = 0;  ///< the entry used last
   /// A contact at the end of the last accepted step (locate_contact_peaks)
   struct ContactEnd {
     double t = 0.0;

@@ -96,6 +96,13 @@ class SignalFrame {
     for (const double v : values_) probe += v * 0.0;
     return probe == 0.0;
   }
+  /// Whether the values at `slots` (offsets into the frame) are finite: a frame's own signals,
+  /// not the whole catalogue's width.
+  bool all_finite(std::span<const int> slots) const {
+    double probe = 0.0;
+    for (const int i : slots) probe += values_[static_cast<std::size_t>(i)] * 0.0;
+    return probe == 0.0;
+  }
 
  private:
   std::vector<double> values_;

@@ -85,6 +85,33 @@ TEST_CASE("waveforms: values, derivatives and windows", "[inputs]") {
   CHECK(t.at(1.5).value == Approx(-3.0));
 }
 
+TEST_CASE("log chirp: ln(f1/f0) read once gives the values of computing it per call", "[inputs]") {
+  // read_waveform keeps ln(f1/f0) with the frequencies it is of; at() must give bit for bit
+  // what it gives when computing it at every call (a waveform built by hand), and recompute
+  // it when the frequencies change
+  ParameterSet p = ParameterSet::defaults_for("servo-actuator");
+  p.set("command.shape", "log-chirp");
+  p.set("command.start_frequency", 0.5);
+  p.set("command.end_frequency", 12.0);
+  p.set("command.chirp_duration", 3.0);
+  const ActuatorMotion m = read_motion(p, "command");
+  Waveform by_hand = m.wave;
+  by_hand.log_ratio = 0.0;  // what a waveform built field by field holds
+  by_hand.log_ratio_of[0] = by_hand.log_ratio_of[1] = 0.0;
+  REQUIRE(m.wave.kind == Waveform::Kind::log_chirp);
+  for (double t : {0.0, 0.37, 1.2, 2.9}) {
+    CAPTURE(t);
+    CHECK(m.wave.at(t).value == by_hand.at(t).value);
+    CHECK(m.wave.at(t).rate == by_hand.at(t).rate);
+    CHECK(m.wave.at(t).acceleration == by_hand.at(t).acceleration);
+  }
+  Waveform changed = m.wave;
+  changed.end_frequency = 6.0;
+  by_hand.end_frequency = 6.0;
+  CHECK(changed.at(1.7).value == by_hand.at(1.7).value);
+  CHECK(changed.at(1.7).value != m.wave.at(1.7).value);
+}
+
 TEST_CASE("waveform catalogues: one list for the command and the hinge moment", "[inputs]") {
   const auto shapes = motion_shape_names();
   const auto kinds = hinge_moment_names();

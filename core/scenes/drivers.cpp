@@ -109,7 +109,8 @@ Waveform::Sample Waveform::at(double t) const {
     f = start_frequency + df * tau;
     phase = start_frequency * tau + 0.5 * df * tau * tau;
   } else if (kind == Kind::log_chirp) {
-    const double lk = std::log(end_frequency / start_frequency);
+    const bool known = log_ratio_of[0] == start_frequency && log_ratio_of[1] == end_frequency;
+    const double lk = known ? log_ratio : std::log(end_frequency / start_frequency);
     const double g = std::exp(lk * tau / chirp_duration);  // k^(tau/D)
     f = start_frequency * g;
     df = f * lk / chirp_duration;
@@ -140,6 +141,9 @@ Waveform read_waveform(const ParameterSet& p, const std::string& pre, Waveform::
                      "the chirp's end frequency " + format_number(w.end_frequency) +
                          " Hz precedes its start frequency " + format_number(w.start_frequency) +
                          " Hz: a chirp sweeps upwards (start_frequency <= end_frequency)");
+  w.log_ratio = std::log(w.end_frequency / w.start_frequency);
+  w.log_ratio_of[0] = w.start_frequency;
+  w.log_ratio_of[1] = w.end_frequency;
   return w;
 }
 

@@ -45,6 +45,11 @@ struct Waveform {
   double start_frequency = 1.0;  ///< f0 of the chirps [Hz]
   double end_frequency = 1.0;    ///< f1 of the chirps [Hz]
   double chirp_duration = 1.0;   ///< D [s]
+  /// ln k = ln(f1/f0) of the log chirp, for the frequencies in `log_ratio_of` (f0, f1): computed
+  /// once by read_waveform instead of at every call of at(), which recomputes it only for other
+  /// frequencies (a waveform built or changed by hand)
+  double log_ratio = 0.0;
+  double log_ratio_of[2] = {0.0, 0.0};
 
   /// Value and its first two time derivatives.
   struct Sample {

@@ -71,7 +71,7 @@ class Checker:
                     if not e.startswith("build") and e not in SKIP_FIRST and e != ".git"}
         self.help_cache = {}
         self.work = tempfile.mkdtemp(prefix="rodend-docrefs-")
-        for d in ("studies", "plots", "examples", "python", "tests", "scripts"):
+        for d in ("studies", "plots", "examples", "python", "tests", "scripts", "bench"):
             os.symlink(os.path.join(repo, d), os.path.join(self.work, d))
         os.makedirs(os.path.join(self.work, "build"))
         os.symlink(rodend_path(), os.path.join(self.work, "build", "rodend"))
