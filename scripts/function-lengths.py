@@ -2,7 +2,10 @@
 """Lists the functions of C++ sources with their length in lines (signature to closing brace),
 longest first, and fails (exit 1) when one is longer than the limit.
 
-  scripts/function-lengths.py [--limit 60] [--all] PATH...   (files or directories)
+  scripts/function-lengths.py [--limit 60] [--all] [--file-limit N] PATH...   (files or dirs)
+
+With --file-limit, a file (.cpp, .hpp or .def) of more than N lines fails it too: a file does
+one job, and one that grows past N has taken on a second (issue 32: none in sweep/ over 800).
 
 A function is a brace block at namespace or class level whose head (the text since the last
 ';', '{' or '}') ends in ')' plus qualifiers, or is a constructor's initialiser list; control
@@ -84,10 +87,15 @@ def main() -> int:
     ap.add_argument("paths", nargs="+")
     ap.add_argument("--limit", type=int, default=60)
     ap.add_argument("--all", action="store_true", help="list every function, not only the long")
+    ap.add_argument("--file-limit", type=int, help="also fail on a file longer than this")
     a = ap.parse_args()
-    files = []
+    files, sources = [], []  # C++ files (functions); those and the .def catalogues (file length)
     for p in map(pathlib.Path, a.paths):
-        files += sorted(q for q in p.rglob("*") if q.suffix in (".cpp", ".hpp")) if p.is_dir() else [p]
+        found = [p]
+        if p.is_dir():
+            found = sorted(q for q in p.rglob("*") if q.suffix in (".cpp", ".hpp", ".def"))
+        sources += found
+        files += [q for q in found if q.suffix != ".def"]
     rows = [(n, f, name, line) for f in files for name, line, n in functions(f)]
     rows.sort(key=lambda r: -r[0])
     long = [r for r in rows if r[0] > a.limit]
@@ -95,7 +103,14 @@ def main() -> int:
         print(f"{n:5d}  {f}:{line}  {name}")
     print(f"{len(rows)} functions in {len(files)} files; {len(long)} longer than {a.limit} lines",
           file=sys.stderr)
-    return 1 if long else 0
+    big = []
+    if a.file_limit is not None:
+        sizes = [(len(f.read_text().splitlines()), f) for f in sources]
+        big = [(n, f) for n, f in sizes if n > a.file_limit]
+        for n, f in sorted(big, key=lambda r: -r[0]):
+            print(f"{n:5d}  {f}  (file)")
+        print(f"{len(sources)} files; {len(big)} longer than {a.file_limit} lines", file=sys.stderr)
+    return 1 if long or big else 0
 
 
 if __name__ == "__main__":

@@ -8,6 +8,10 @@
 // study has is an error (a typo is caught). Recorded signals: "all" is each scene's own list; a
 // list of names records each where the case's scene provides it, and a name no scene provides
 // is an error.
+//
+// The loader is sweep/study/, one stage per file (read, --set overrides, check keys, the grid and
+// a sampled design, the scene axis, the signals, each scene's base draft, presets, resolve),
+// listed at the top of its private header sweep/study/loader.hpp.
 #pragma once
 
 #include <cstdint>

@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
 """Every function in core/, sweep/, app/, python/ and bench/ fits on one screen (<= 60 lines,
-issues 18 and 32): scripts/function-lengths.py over them passes. First the script itself is
+issues 18 and 32), and no file in sweep/ is longer than 800 lines (issue 32: a file does one
+job): scripts/function-lengths.py over them passes. First the script itself is
 checked on synthetic sources: a 61-line function
 (inline member, free function, constructor with an initialiser list) is reported, a 60-line one
-and braces in comments, strings, classes, namespaces and control statements are not.
+and braces in comments, strings, classes, namespaces and control statements are not; with
+--file-limit 800, a file of 801 lines (.cpp, .hpp or .def) fails, one of 800 passes.
 
   test_function_lengths.py REPO
 """
@@ -51,6 +53,16 @@ with tempfile.TemporaryDirectory() as d:
     if r.returncode != 0:
         print(f"FAIL: a long struct or a string brace counted as a function\n{r.stdout}")
         failed += 1
+    for suffix in (".cpp", ".hpp", ".def"):
+        for n, expect in ((800, 0), (801, 1)):
+            folder = pathlib.Path(d) / f"files_{n}{suffix.replace('.', '_')}"
+            folder.mkdir()
+            (folder / f"long{suffix}").write_text("// a line\n" * n)
+            r = run("--file-limit", "800", folder)
+            if r.returncode != expect:
+                print(f"FAIL: a {suffix} file of {n} lines under --file-limit 800: exit "
+                      f"{r.returncode}, expected {expect}\n{r.stdout}{r.stderr}")
+                failed += 1
 
 FOLDERS = ("core", "sweep", "app", "python", "bench")
 r = run(*(repo / f for f in FOLDERS))
@@ -64,6 +76,15 @@ if too_long or (r.returncode != 0 and not r.stdout.strip()):
     print("FAIL: functions longer than 60 lines in " + ", ".join(FOLDERS) +
           " (split them into named stages):")
     print("\n".join(too_long) or r.stdout + r.stderr)
+    failed += 1
+else:
+    print(r.stderr.strip())
+
+FILE_LIMIT = 800
+r = run("--file-limit", str(FILE_LIMIT), repo / "sweep")
+if r.returncode != 0:
+    print(f"FAIL: files in sweep/ longer than {FILE_LIMIT} lines (split them by job):")
+    print(r.stdout + r.stderr)
     failed += 1
 else:
     print(r.stderr.strip())
