@@ -2,12 +2,15 @@
 """Measures the per-case costs that bench/scaling_model.py turns into speed-up predictions, and
 the runs it checks them against. Writes one JSON document (stdout, or --out FILE).
 
-Per study (bench-32; the thesis cycle: bench/scaling-thesis.json), from one-thread runs:
+Per study (bench-32; the thesis cycle: bench/scaling-thesis.json), from one-thread runs (medians
+of REPEATS runs, taken before the checked configurations and apart from them):
   - cpu_1t_s, wall_1t_s: the whole process (user + sys of the process and its children);
   - fixed_cpu_s, fixed_wall_s: `rodend run --dry-run` (start, load, resolve every case): the
     part that does not grow with the cases run;
   - lock_cpu_s, lock_wall_s, lock_count: the HDF5 lock, the serial section of one process
     (RODEND_LOCK_STATS=1: the holder's CPU time and the wall time it was held);
+  - lock_one_case_cpu_s: the same for the first case alone (`--shard 1/N`), which separates what
+    a run holds the lock for once (template, summary) from what each case holds it for;
   - case_file_bytes: the mean size of a case file (what each case writes to the file system).
 MPI (when mpirun is on PATH and the build has MPI), from RODEND_MPI_STATS=1 runs:
   - the manager's cost per request (wall, CPU), bytes per request, the workers' wait;
@@ -67,11 +70,33 @@ def run_cmd(study, root, how):
     return [MPIRUN, "--oversubscribe", "-np", n] + base + ["--threads", "1"], MPI_ENV
 
 
-def per_study(study, tmp):
-    root = os.path.join(tmp, "one")
+LOCK_RE = r"HDF5 lock held (\d+) times, ([\d.]+) s wall, ([\d.]+) s CPU"
+
+
+def lock_of_one_case(study, tmp, cases):
+    """The holder's CPU time of the HDF5 lock in a run of the study's first case alone
+    (`--shard 1/N`): what a run holds the lock for once (the case-file template, the summary,
+    HDF5's start) plus one case's share."""
+    root = os.path.join(tmp, "shard")
     shutil.rmtree(root, ignore_errors=True)
-    wall, cpu, err = timed(run_cmd(study, root, "1 thread")[0], ENV, {"RODEND_LOCK_STATS": "1"})
-    m = re.search(r"HDF5 lock held (\d+) times, ([\d.]+) s wall, ([\d.]+) s CPU", err)
+    cmd = run_cmd(study, root, "1 thread")[0] + ["--shard", f"1/{cases}"]
+    _, _, err = timed(cmd, ENV, {"RODEND_LOCK_STATS": "1"})
+    return float(re.search(LOCK_RE, err).group(3))
+
+
+def per_study(study, tmp, repeats):
+    """One-thread figures of a study: wall and CPU time the medians of `repeats` runs (the
+    model's inputs; one run's noise would move every prediction alike), the lock's from the
+    last."""
+    root = os.path.join(tmp, "one")
+    walls, cpus = [], []
+    for _ in range(max(1, repeats)):
+        shutil.rmtree(root, ignore_errors=True)
+        w, c, err = timed(run_cmd(study, root, "1 thread")[0], ENV, {"RODEND_LOCK_STATS": "1"})
+        walls.append(w)
+        cpus.append(c)
+    wall, cpu = statistics.median(walls), statistics.median(cpus)
+    m = re.search(LOCK_RE, err)
     files = glob.glob(os.path.join(root, "*", "cases", "*.h5"))
     with open(glob.glob(os.path.join(root, "*", "summary.csv"))[0]) as f:
         rows = list(csv.DictReader(f))
@@ -81,6 +106,7 @@ def per_study(study, tmp):
         "integration_s": sum(float(r["wall_time_s"]) for r in rows),
         "fixed_wall_s": fw, "fixed_cpu_s": fc,
         "lock_count": int(m.group(1)), "lock_wall_s": float(m.group(2)), "lock_cpu_s": float(m.group(3)),
+        "lock_one_case_cpu_s": lock_of_one_case(study, tmp, len(rows)),
         "case_file_bytes": statistics.mean(os.path.getsize(f) for f in files),
     }
 
@@ -114,8 +140,8 @@ def main():
            "git": subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"],
                                  capture_output=True, text=True).stdout.strip()}
     with tempfile.TemporaryDirectory() as tmp:
-        doc["bench-32"] = per_study(bench32, tmp)
-        doc["thesis-cycle"] = per_study(thesis, tmp)
+        doc["bench-32"] = per_study(bench32, tmp, a.repeats)
+        doc["thesis-cycle"] = per_study(thesis, tmp, a.repeats)
         configs = ["1 thread", "2 threads"] + (["mpirun -np 1", "mpirun -np 2"] if MPIRUN else [])
         runs = {c: [] for c in configs}
         for _ in range(a.repeats):

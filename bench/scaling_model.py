@@ -7,6 +7,8 @@ The model (every figure per case, from one-thread runs; docs/performance.md, "Sc
   t   CPU time of one case, writing included: (cpu_1t - fixed_cpu) / cases
   s   the part of t under the process's HDF5 lock (RODEND_LOCK_STATS=1, the holder's CPU): one
       process runs its locked sections one at a time (Amdahl), each MPI rank has its own lock
+  L   the lock's time held once per run (the case-file template, the summary): the lock's time
+      of the run of one case alone (--shard 1/N) less s; serial, outside t
   F   fixed cost of a run (start, load, resolve the cases: `rodend run --dry-run`)
   F_mpi  Open MPI's start and shut-down (mpirun around a run with nothing to do, minus plain)
   m   the manager's time per request, when requests queue (oversubscribed tiny cases): the
@@ -17,8 +19,8 @@ The model (every figure per case, from one-thread runs; docs/performance.md, "Sc
   X(T)  cases per second of one process with T threads: a closed queue (exact mean-value
         analysis) of T threads, each computing t - s unlocked then queueing for the lock held s:
         X = T / t while the lock is seldom busy, 1 / s when it is always busy (Amdahl's limit)
-  one process, T threads:  W = F + N / X(T)
-  R ranks x T threads:     W = F + F_mpi + max(ceil(N / (R T)) T / X(T),
+  one process, T threads:  W = F + L + N / X(T)
+  R ranks x T threads:     W = F + L + F_mpi + max(ceil(N / (R T)) T / X(T),
                                                N m, N k / M_fs, N b / B_fs)
 where the first term is the cases of one rank (rounded up: the last round) at its rate; each
 rank has its own lock. Speed-up = W(1 thread) / W.
@@ -37,10 +39,17 @@ import math
 
 
 def per_case(st):
+    """Per-case costs; the lock's time split into what each case holds it for (s) and what a run
+    holds it for once (L: the case-file template, the summary), from the run of one case alone
+    when the figures have it (older figures: all of it per case)."""
     n = st["cases"]
     t = (st["cpu_1t_s"] - st["fixed_cpu_s"]) / n
-    s = st["lock_cpu_s"] / n
-    return {"n": n, "t": t, "s": min(s, t), "F": st["fixed_wall_s"], "b": st["case_file_bytes"]}
+    lock = st["lock_cpu_s"]
+    one = st.get("lock_one_case_cpu_s")
+    s = lock / n if one is None or n < 2 else max(0.0, (lock - one) / (n - 1))
+    L = max(0.0, lock - n * s)
+    return {"n": n, "t": t - L / n, "s": min(s, t), "L": L, "F": st["fixed_wall_s"],
+            "b": st["case_file_bytes"]}
 
 
 def rate(c, threads):
@@ -60,12 +69,12 @@ def wall(c, n, ranks, threads, mpi, fs=None):
     """Predicted wall time [s] of n cases on `ranks` ranks x `threads` threads (mpi: the MPI
     runner's costs apply; fs: (metadata ops/s, bytes/s) of a shared file system, or None)."""
     if not mpi:  # one process: its lock is shared by every thread
-        return c["F"] + n / rate(c, threads)
+        return c["F"] + c["L"] + n / rate(c, threads)
     per_rank = math.ceil(n / (ranks * threads)) * threads  # the last round included
     limits = [per_rank / rate(c, threads), n * mpi["m"]]
     if fs:
         limits += [n * 3 / fs[0], n * c["b"] / fs[1]]
-    return c["F"] + mpi["F_mpi"] + max(limits)
+    return c["F"] + c["L"] + mpi["F_mpi"] + max(limits)
 
 
 def check(doc, c, mpi):
@@ -91,7 +100,8 @@ def check(doc, c, mpi):
 
 def extrapolate(name, c, mpi, fs, per_core=100):
     print(f"\n{name}: t = {c['t'] * 1e3:.1f} ms per case, s = {c['s'] * 1e3:.1f} ms locked "
-          f"({c['s'] / c['t']:.1%}), b = {c['b'] / 1e6:.1f} MB per case file; "
+          f"({c['s'] / c['t']:.1%}), L = {c['L'] * 1e3:.1f} ms locked once per run, "
+          f"b = {c['b'] / 1e6:.1f} MB per case file; "
           f"{per_core} cases per core")
     print(f"{'cores':>6} {'layout':26} {'speed-up':>9} {'with the file system':>21}  limited by")
     for cores, layouts in [(8, [(1, 8), (8, 1)]), (64, [(1, 64), (8, 8), (64, 1)]),
