@@ -19,6 +19,7 @@
 #include "core/rigid_body.hpp"
 #include "core/scene.hpp"
 #include "core/scenes/drivers.hpp"
+#include "core/scenes/servo_actuator.hpp"
 #include "core/scenes/slider_crank.hpp"
 #include "core/signals.hpp"
 #include "core/spring3d.hpp"
@@ -27,16 +28,16 @@ namespace rodend {
 
 class RodEndMechanism {
  public:
-  /// The dual numbers of the rod-end scenes' exact Jacobians: one derivative per state ahead
-  /// of the audit states (the mechanism's 28; with the actuator's 10, 38). The templates below
-  /// are instantiated for double and these (rod_end_mechanism.cpp).
-  using KinematicDual = Dual<28>;
-  using ActuatorDual = Dual<38>;
   static constexpr int kBall = 0;
   static constexpr int kSocket = BodyStateLayout::size;
   static constexpr int kTheta = 2 * BodyStateLayout::size;
   static constexpr int kThetaDot = kTheta + 1;
   static constexpr int size = kThetaDot + 1;
+  /// The dual numbers of the rod-end scenes' exact Jacobians: one derivative per state ahead
+  /// of the audit states (the mechanism's; with the actuator's too). The templates below are
+  /// instantiated for double and these (rod_end_mechanism.cpp).
+  using KinematicDual = Dual<size>;
+  using ActuatorDual = Dual<size + ServoActuator::size>;
 
   /// Reads geometry.*, ball.*, socket.*, contact.*, friction.*, slider_spring.*,
   /// crank_spring.*, surface.*, hinge.*, gravity, wear.*. Throws InputError.
