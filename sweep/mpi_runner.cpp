@@ -50,6 +50,7 @@
 #include <thread>
 #include <utility>
 
+#include "sweep/clock.hpp"
 #include "sweep/record_bytes.hpp"
 #include "sweep/results_dir.hpp"
 #include "sweep/stop_signals.hpp"
@@ -73,12 +74,6 @@ bool g_threads_ok = false;
 
 void sleep_us(int us) {
   std::this_thread::sleep_for(std::chrono::microseconds(us));
-}
-
-long long clock_ns(clockid_t clock = CLOCK_MONOTONIC) {
-  timespec ts{};
-  clock_gettime(clock, &ts);
-  return static_cast<long long>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
 }
 
 /// The cost of handing out cases (printed by rank 0 with RODEND_MPI_STATS=1; bench/README.md).

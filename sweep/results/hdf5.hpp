@@ -31,6 +31,7 @@
 #include <utility>
 #include <vector>
 
+#include "sweep/clock.hpp"
 #include "sweep/memory_reserve.hpp"
 #include "sweep/results.hpp"
 #include "sweep/results/case_template.hpp"
@@ -38,9 +39,6 @@
 namespace rodend::results_detail {
 
 namespace fs = std::filesystem;
-
-/// The clock `clock` (CLOCK_MONOTONIC, CLOCK_REALTIME, CLOCK_THREAD_CPUTIME_ID) [ns].
-long long clock_ns(clockid_t clock);
 
 /// HDF5 does not survive running out of memory: it dereferences unchecked allocations (a
 /// thread's error stack in H5Eset_auto2, a free list's node in H5FL_blk_malloc, datatypes closed

@@ -35,12 +35,6 @@ LockStats g_lock_stats;
 
 }  // namespace
 
-long long clock_ns(clockid_t clock) {
-  timespec ts{};
-  clock_gettime(clock, &ts);
-  return static_cast<long long>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
-}
-
 Hdf5Lock::Hdf5Lock() : lock_(g_hdf5_mutex), reserve_(kHdf5Headroom) {
   // HDF5's error stacks (and so its automatic printing) are per thread in a thread-safe build:
   // each thread that calls HDF5 switches it off once
