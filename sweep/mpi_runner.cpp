@@ -476,8 +476,8 @@ void report_stop(int sig, const Study& study, const RunPlan& plan, const std::ve
                "were abandoned (the resume reruns them); no summary written. Resume with: "
                "mpirun -np %d %s (the launcher's other options as before; any rank or thread "
                "count gives the same results)\n",
-               sig == SIGINT ? "SIGINT" : "SIGTERM", complete, plan.in_scope,
-               plan.cases_dir.c_str(), ranks, plan.resume.c_str());
+               stop_signal_name(sig), complete, plan.in_scope, plan.cases_dir.c_str(), ranks,
+               plan.resume.c_str());
 }
 
 /// A fingerprint of a loaded study: every rank must run the same cases into the same place.
@@ -664,8 +664,7 @@ int run_study_mpi(const Session& session, const fs::path& study_file, const fs::
     watch.arm([&](int sig) {
       std::fprintf(stderr,
                    "\nrodend: stopped by %s before any case ran. Resume with: mpirun -np %d %s\n",
-                   sig == SIGINT ? "SIGINT" : "SIGTERM", session.size(),
-                   resume_command(*study, opt).c_str());
+                   stop_signal_name(sig), session.size(), resume_command(*study, opt).c_str());
     });
   if (const int status = plan_on_rank0(rank, *study, opt, plan); status != 0) return status;
   watch.arm([&, before = rank == 0 ? inodes_of(*study, plan) : std::vector<ino_t>{}](int sig) {

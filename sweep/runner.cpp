@@ -582,8 +582,8 @@ int run_study(const Study& study, const RunOptions& opt) {
                                plan.cases_dir.string() +
                                "; no summary written. Resume with: " + plan.resume);
     if (const int sig = stop_signal(); sig != 0) {
-      run_message(opt.events, std::string("stopped by ") + (sig == SIGINT ? "SIGINT" : "SIGTERM") +
-                                  ": " + std::to_string(complete()) + " of " +
+      run_message(opt.events, std::string("stopped by ") + stop_signal_name(sig) + ": " +
+                                  std::to_string(complete()) + " of " +
                                   std::to_string(plan.in_scope) + " case(s) complete in " +
                                   plan.cases_dir.string() +
                                   "; no summary written. Resume with: " + plan.resume);

@@ -95,6 +95,10 @@ int stop_signal() {
   return g_stop_signal.load();
 }
 
+const char* stop_signal_name(int sig) {
+  return sig == SIGINT ? "SIGINT" : "SIGTERM";
+}
+
 int wait_for_stop_signal(std::chrono::milliseconds timeout) {
   timespec until{};
   clock_gettime(CLOCK_REALTIME, &until);

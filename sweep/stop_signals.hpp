@@ -36,6 +36,8 @@ class StopSignalScope {
 /// The signal that stopped the batch runs (or the rank) since the first batch or rank scope
 /// opened; 0: none.
 int stop_signal();
+/// The name of a stop signal as messages print it: "SIGINT" or "SIGTERM".
+const char* stop_signal_name(int sig);
 
 /// Waits until a stop signal arrives while a rank scope is open, wake_stop_signal_waiters() is
 /// called or `timeout` passes, and returns stop_signal().
