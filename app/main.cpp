@@ -130,6 +130,7 @@ int list_choices(bool markdown, bool as_json) {
   print_choices<ContactGeometry>("Contact geometries", "contact.geometry", markdown, json);
   print_choices<DampingCap>("Damping caps", "contact.damping_cap", markdown, json);
   print_choices<WearModelKind>("Wear models", "wear.model", markdown, json);
+  print_choices<HistoryPrecision>("History precisions", "output.history_precision", markdown, json);
   if (as_json) std::cout << out.dump(2) << "\n";
   return 0;
 }

@@ -55,7 +55,9 @@ struct WearEvolutionSettings {
 /// the precision changes the stored values, so float32 enters the id (a study resumed with
 /// another precision reruns its cases instead of mixing 32- and 64-bit files; float64, the
 /// default, leaves the ids of existing studies unchanged).
-enum class HistoryPrecision { float64, float32 };
+#define RODEND_CHOICE_ENUM HistoryPrecision
+#define RODEND_CHOICE_FILE "sweep/history_precisions.def"
+#include "core/choice.hpp"
 struct OutputSettings {
   /// deflate level of the histories' chunks (libdeflate levels 1-12; 0 = stored uncompressed).
   /// Default 0, by measurement on studies/bench-32.json (bench/README.md): the histories are
@@ -65,9 +67,6 @@ struct OutputSettings {
   int compression_level = 0;
   HistoryPrecision history_precision = HistoryPrecision::float64;
 };
-std::string_view to_string(HistoryPrecision p);
-/// The names of HistoryPrecision, in its order.
-std::vector<std::string_view> history_precisions();
 
 /// One fully resolved case of a study.
 struct CaseSpec {

@@ -12,17 +12,7 @@
 #include "core/presets.hpp"
 #include "sweep/study/loader.hpp"
 
-namespace rodend {
-
-std::string_view to_string(HistoryPrecision p) {
-  return p == HistoryPrecision::float32 ? "float32" : "float64";
-}
-
-std::vector<std::string_view> history_precisions() {
-  return {to_string(HistoryPrecision::float64), to_string(HistoryPrecision::float32)};
-}
-
-}  // namespace rodend
+namespace rodend {}  // namespace rodend
 
 namespace rodend::study_detail {
 
@@ -181,11 +171,6 @@ void read_member(E& m, const Json& v, const std::string& key, const Check& c) {
                               "'; expected one of: " + choice_list<E>());
   m = *e;
 }
-void read_member(HistoryPrecision& m, const Json& v, const std::string& key, const Check& c) {
-  const std::string s = read_string(v, key, c);
-  for (const HistoryPrecision p : {HistoryPrecision::float64, HistoryPrecision::float32})
-    if (to_string(p) == s) m = p;
-}
 
 /// validated_now(): the section's own validate(), as soon as one of its keys is set.
 void validate_section(const Draft& d, const std::string& section) {
@@ -215,9 +200,6 @@ Json value_json(const T& x) {
 template <Choice E>
 Json value_json(const E& e) {
   return std::string(choice_name(e));
-}
-Json value_json(HistoryPrecision p) {
-  return std::string(to_string(p));
 }
 Json value_of(const Setting& s, const CaseSpec& c) {
   return std::visit([](const auto* m) { return value_json(*m); }, s.of_case(c));
