@@ -15,6 +15,7 @@
 
 namespace rodend {
 namespace odeint = boost::numeric::odeint;
+using detail::all_finite;
 using detail::RunFailure;
 using detail::ScaledSystem;
 using detail::state_t;
@@ -97,10 +98,6 @@ void validate(const HealthLimits& h) {
 }
 
 namespace {
-
-bool all_finite(const state_t& z) {
-  return std::all_of(z.begin(), z.end(), [](double v) { return std::isfinite(v); });
-}
 
 /// The run: owns the stepper, the discrete state and the sampling clock.
 class Driver {

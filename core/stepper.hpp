@@ -3,6 +3,8 @@
 // a time, with an interpolant over the last step.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 #include <memory>
 #include <string>
@@ -14,6 +16,10 @@
 namespace rodend::detail {
 
 using state_t = std::vector<double>;
+
+inline bool all_finite(const state_t& z) {
+  return std::all_of(z.begin(), z.end(), [](double v) { return std::isfinite(v); });
+}
 
 /// Thrown inside the step loop; the driver turns it into a RunResult.
 struct RunFailure {

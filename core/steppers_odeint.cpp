@@ -62,6 +62,16 @@ namespace {
   throw RunFailure{RunStatus::step_size_underflow, m.str()};
 }
 
+/// A trial step that left the state's domain (a contact pushed far past its law's range by too
+/// long a step gives an infinite or NaN force). odeint's error checker takes the largest error
+/// with std::max, which passes over a NaN, so it accepts such a trial with an error of zero
+/// (and lengthens the next step); the steppers below reject it and shrink the step by
+/// kDivergedShrink instead, as odeint does for an error far above 1.
+bool diverged(const state_t& z) {
+  return !all_finite(z);
+}
+constexpr double kDivergedShrink = 0.2;
+
 /// Classical fourth-order Runge-Kutta, fixed step. Its interpolant re-takes the step from the
 /// previous state with the shorter step: exactly what the method would have done.
 class Rk4Stepper final : public Stepper {
@@ -120,7 +130,10 @@ class Dopri5Stepper final : public Stepper {
       double dt = std::min(dt_, t_limit - t_prev);
       const bool clipped = dt < dt_;
       const auto res = ctrl_.try_step(std::ref(sys_), z_prev, dz_prev, t, z_now, dz_now, dt);
-      if (res == odeint::success) {
+      if (res == odeint::success && (diverged(z_now) || diverged(dz_now))) {
+        t = t_prev;  // odeint took it (see diverged): a rejection, shrunk hard
+        dt = kDivergedShrink * dt;
+      } else if (res == odeint::success) {
         ++accepted;
         if (!clipped) dt_ = dt;  // keep the suggestion unless the step was only clipped
         break;
@@ -173,7 +186,10 @@ class ControlledStepper final : public Stepper {
       double dt = std::min(dt_, t_limit - t_prev);
       const bool clipped = dt < dt_;
       const auto res = ctrl_.try_step(std::ref(sys_), z_prev, dz_prev, t, z_now, dt);
-      if (res == odeint::success) {
+      if (res == odeint::success && diverged(z_now)) {
+        t = t_prev;  // odeint took it (see diverged): a rejection, shrunk hard
+        dt = kDivergedShrink * dt;
+      } else if (res == odeint::success) {
         ++accepted;
         if (!clipped) dt_ = dt;
         break;
@@ -311,9 +327,11 @@ class Rosenbrock4Stepper final : public Stepper {
       const bool clipped = dt < dt_;
       try_step(dt);
       double e = 0.0;
-      for (std::size_t i = 0; i < z_now.size(); ++i)
-        e = std::max(
-            e, std::abs(err_[static_cast<Eigen::Index>(i)]) / (abs_ + rel_ * std::abs(z_now[i])));
+      for (std::size_t i = 0; i < z_now.size(); ++i) {
+        const double r =
+            std::abs(err_[static_cast<Eigen::Index>(i)]) / (abs_ + rel_ * std::abs(z_now[i]));
+        if (!(r <= e)) e = r;  // not std::max, which would pass over a NaN
+      }
       if (!std::isfinite(e)) e = 1e10;  // a diverged trial: shrink hard and retry
       const double grow = std::clamp(0.9 * std::pow(std::max(e, 1e-30), -0.25), 0.2, 5.0);
       if (e <= 1.0) {

@@ -66,3 +66,57 @@ TEST_CASE("rosenbrock4: steps grow on a stiff problem and the error follows the 
     previous_error = error;
   }
 }
+
+namespace {
+
+/// Prothero-Robinson started off its smooth solution, x(0) = 1.5, with a right-hand side defined
+/// only on |x| <= 2 (NaN outside, as a contact law's force is past its range): a trial step long
+/// enough to carry a stage out of the domain must be rejected and retaken shorter. Exact:
+/// x = sin t + 1.5 exp(-lambda t).
+class DomainBound final : public Scene {
+ public:
+  static constexpr double lambda = 1e4;  // [1/s]
+  std::string_view name() const override { return "domain-bound"; }
+  Features features() const override { return {}; }
+  int state_size() const override { return 1; }
+  void initial_state(double* x) const override { x[0] = 1.5; }
+  void state_scale(double* s) const override { s[0] = 1.0; }
+  void derivatives(double t, const double* x, const DiscreteState&, double* dx) const override {
+    dx[0] = std::abs(x[0]) <= 2.0 ? -lambda * (x[0] - std::sin(t)) + std::cos(t) : NAN;
+  }
+  std::span<const SignalId> signals() const override { return kSignals; }
+  void outputs(double, const double* x, const DiscreteState&, SignalFrame& f) const override {
+    f.set(SignalId::eccentricity, x[0]);
+  }
+  EnergyTerms energy(double, const double*, const DiscreteState&) const override { return {}; }
+
+ private:
+  static constexpr std::array<SignalId, 2> kSignals{SignalId::time, SignalId::eccentricity};
+};
+
+}  // namespace
+
+TEST_CASE("a trial step whose state leaves the right-hand side's domain is rejected and retaken",
+          "[stiff][integrator]") {
+  // Before the fix every method below accepted the NaN trial (odeint's error norm and
+  // rosenbrock4's took the largest error with std::max, which passes over a NaN) and the run
+  // ended as non_finite_state on its first step.
+  const DomainBound scene;
+  const double end = 0.01;  // [s] 100 time constants: the transient has died out
+  for (const IntegratorMethod method :
+       {IntegratorMethod::dopri5, IntegratorMethod::rosenbrock4, IntegratorMethod::cash_karp54,
+        IntegratorMethod::fehlberg78}) {
+    IntegratorSettings s;
+    s.method = method;
+    s.abs_tol = s.rel_tol = 1e-8;
+    s.step = 1e-3;  // [s] the first trial: lambda h = 10, far past every stage's domain
+    s.max_step = 1e-3;
+    RunObserver none;
+    const RunResult r = simulate(scene, s, TimeSettings{end, end}, none);
+    INFO(to_string(method) << ": " << r.message);
+    REQUIRE(r.status == RunStatus::ok);
+    CHECK(r.stats.steps_rejected >= 1);
+    // the error at the end is of the order of the tolerance
+    CHECK(std::abs(r.final_state[0] - std::sin(end)) < 1e-6);
+  }
+}
