@@ -233,20 +233,21 @@ ContactGap RodEndMechanism::gap(const double* x) const {
 }
 
 ContactSnapshot RodEndMechanism::contact_snapshot(const double* x, const ContactLatch& l) const {
-  const ContactEval c = evaluate_contact(contact_, BodyKinematics::from_state(x + kBall),
-                                         BodyKinematics::from_state(x + kSocket), l);
+  const ContactEval c = evaluate_normal_contact(contact_, BodyKinematics::from_state(x + kBall),
+                                                BodyKinematics::from_state(x + kSocket), l);
   return {c.penetration, c.penetration_rate, c.eccentricity, c.normal_force};
 }
 
 namespace {
 
-/// The hinge moment at (t, theta), and for a dual its derivative through HingeMoment::slope.
+/// The hinge moment at (t, theta), and for a dual its derivative through HingeMoment::slope
+/// (without a call when there is none).
 double hinge_at(const HingeMoment& h, double t, double theta) {
-  return h.at(t, theta);
+  return h.is_zero() ? 0.0 : h.at(t, theta);
 }
 template <int N>
 Dual<N> hinge_at(const HingeMoment& h, double t, const Dual<N>& theta) {
-  return Dual<N>::chain(theta, h.at(t, theta.v), h.slope());
+  return Dual<N>::chain(theta, h.is_zero() ? 0.0 : h.at(t, theta.v), h.slope());
 }
 
 }  // namespace
