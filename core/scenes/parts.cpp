@@ -225,13 +225,4 @@ void write_contact_signals(SignalFrame& f, const ContactEval& c, const BodyKinem
   f.set(SignalId::contact_angle, std::atan2(rel.y(), rel.x()));
 }
 
-void write_step_contact_signals(SignalFrame& f, const ContactEval& c, const ContactLatch& latch) {
-  f.set(SignalId::eccentricity, c.eccentricity);
-  f.set(SignalId::penetration, c.penetration);
-  f.set(SignalId::penetration_rate, c.penetration_rate);
-  f.set(SignalId::impact_speed, latch.in_contact ? latch.impact_speed : 0.0);
-  f.set(SignalId::contact_force, c.normal_force);
-  f.set(SignalId::wear_indicator, c.normal_force * c.slip_speed);
-}
-
 }  // namespace rodend

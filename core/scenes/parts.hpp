@@ -95,8 +95,5 @@ class OneContactScene : public Scene {
 /// forces, slip, wear indicator, ...
 void write_contact_signals(SignalFrame& f, const ContactEval& c, const BodyKinematics& ball,
                            const BodyKinematics& socket, const ContactLatch& latch);
-/// Only those of them an accepted step's frame carries (kStepSignals: eccentricity, penetration
-/// and its rate, impact_speed, contact_force, wear_indicator), the same values.
-void write_step_contact_signals(SignalFrame& f, const ContactEval& c, const ContactLatch& latch);
 
 }  // namespace rodend

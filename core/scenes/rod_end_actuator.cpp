@@ -104,7 +104,7 @@ class RodEndActuatorScene final : public RodEndScene<RodEndActuatorScene, ServoA
                     SignalFrame& f) const override {
     const Eval e = evaluate(t, x, d.contacts[0]);
     mech_.step_outputs(e.mech, e.act.command, kinetic_energy(e, x), f);
-    write_step_contact_signals(f, e.mech.contact, d.contacts[0]);
+    write_contact_signals(f, e.mech.contact, e.mech.ball, e.mech.socket, d.contacts[0]);
     act_.outputs(e.act, x + kAct, e.external_force, f);
     write_energy_signals(f,
                          {mech_.mechanical_energy(e.mech) + act_.mechanical_energy(x + kAct, 0.0),

@@ -66,7 +66,7 @@ class RodEndKinematicScene final : public RodEndScene<RodEndKinematicScene, 0> {
     const double kinetic = mech_.kinetic_energy(e);
     mech_.step_outputs(e, m.position, kinetic, f);
     f.set(SignalId::actuator_position, m.position);
-    write_step_contact_signals(f, e.contact, d.contacts[0]);
+    write_contact_signals(f, e.contact, e.ball, e.socket, d.contacts[0]);
     write_energy_signals(f, {mech_.mechanical_energy(e, kinetic), x[kWork], x[kDissipated]},
                          initial_energy_);
   }
