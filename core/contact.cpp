@@ -93,4 +93,9 @@ ContactEval evaluate_contact(const ClearanceContactModel& m, const BodyKinematic
   return contact_detail::evaluate(m, ball, socket, latch);
 }
 
+ContactEval evaluate_normal_contact(const ClearanceContactModel& m, const BodyKinematics& ball,
+                                    const BodyKinematics& socket, const ContactLatch& latch) {
+  return contact_detail::evaluate<double, false>(m, ball, socket, latch);
+}
+
 }  // namespace rodend

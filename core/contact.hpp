@@ -189,5 +189,10 @@ ContactGap contact_gap(const ClearanceContactModel& m, const BodyKinematics& bal
 /// episode (trial stages past an onset), the current approach speed stands in for it.
 ContactEval evaluate_contact(const ClearanceContactModel& m, const BodyKinematics& ball,
                              const BodyKinematics& socket, const ContactLatch& latch);
+/// Its normal part alone, the same values: normal, eccentricity, penetration and its rate, the
+/// elastic and normal forces, the potential and the damping power; the slip speed, friction and
+/// the moments are left zero (what a contact snapshot reads).
+ContactEval evaluate_normal_contact(const ClearanceContactModel& m, const BodyKinematics& ball,
+                                    const BodyKinematics& socket, const ContactLatch& latch);
 
 }  // namespace rodend

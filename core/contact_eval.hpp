@@ -93,10 +93,12 @@ Penetration<S> penetration(const ClearanceContactModel& m, const BodyKinematicsT
 }
 
 /// Normal force (thesis 3.3, 3.6-3.8, the eq. 3.14 cap), its energy terms and the slip velocity
-/// of the ball's contact point; `c` holds the penetration and its rate, > 0.
+/// of the ball's contact point; `c` holds the penetration and its rate, > 0. Inlined in both
+/// instantiations of evaluate (an outlined call costs the right-hand side ~25 instructions).
 template <class S>
-Vec3T<S> normal_force(const ClearanceContactModel& m, const Penetration<S>& p,
-                      const ContactLatch& latch, ContactEvalT<S>& c) {
+[[gnu::always_inline]] inline Vec3T<S> normal_force(const ClearanceContactModel& m,
+                                                    const Penetration<S>& p,
+                                                    const ContactLatch& latch, ContactEvalT<S>& c) {
   using std::abs;
   c.elastic_force = elastic_force(m, c.penetration);
   const S approach = latch.in_contact ? S(latch.impact_speed) : S(abs(c.penetration_rate));
@@ -113,7 +115,8 @@ Vec3T<S> normal_force(const ClearanceContactModel& m, const Penetration<S>& p,
   return c.normal_force_on_ball;
 }
 
-template <class S>
+/// The contact; with kSliding false only its normal part (evaluate_normal_contact).
+template <class S, bool kSliding = true>
 ContactEvalT<S> evaluate(const ClearanceContactModel& m, const BodyKinematicsT<S>& ball,
                          const BodyKinematicsT<S>& socket, const ContactLatch& latch) {
   ContactEvalT<S> c;
@@ -128,6 +131,7 @@ ContactEvalT<S> evaluate(const ClearanceContactModel& m, const BodyKinematicsT<S
   if (c.penetration <= 0.0) return c;
   // elastic part from the geometry and hysteresis damping of the law, clamped so it never pulls
   normal_force(m, p, latch, c);
+  if constexpr (!kSliding) return c;
 
   // slip velocity of the ball's contact point relative to the socket's (thesis 3.12-3.13)
   const Vec3T<S> r_ball = m.ball_radius * c.normal;

@@ -59,4 +59,14 @@ SpringEvalT<S> evaluate_spring(const Spring3DParams& s, const SpringAnchorT<S>& 
   return e;
 }
 
+/// The elastic energy U of evaluate_spring alone (the same arithmetic, so the same value), for
+/// what reads the energy but not the forces (a scene's per-step frame).
+template <class S>
+S spring_potential(const Spring3DParams& s, const SpringAnchorT<S>& a,
+                   const BodyKinematicsT<S>& b) {
+  const Vec3T<S> dp = a.p_W - b.p_W;
+  const Vec3T<S> r = rotation_vector_of_unit(QuatT<S>(b.q_WB * a.q_ref.conjugate()));
+  return 0.5 * s.stiffness * dp.squaredNorm() + 0.5 * s.rotational_stiffness * r.squaredNorm();
+}
+
 }  // namespace rodend

@@ -175,7 +175,8 @@ ActuatorMotion::Sample ActuatorMotion::at(double t) const {
   }
   const double period = extension_time + retraction_time + 2.0 * hold_time;
   if (t <= start_time) return {0.0, 0.0, 0.0};
-  if (t >= duration()) return {-retraction, 0.0, 0.0};
+  // duration() of a stroke, from the period at hand (the right-hand side calls this each stage)
+  if (t >= start_time + cycles * period) return {-retraction, 0.0, 0.0};
   const double tc = t - start_time;
   const int cycle = static_cast<int>(tc / period);
   double tau = tc - cycle * period;
@@ -225,7 +226,8 @@ ActuatorMotion read_motion(const ParameterSet& p, const std::string& prefix) {
 }
 
 double HingeMoment::at(double t, double theta) const {
-  double m = sine_amplitude * std::sin(kTwoPi * sine_frequency * t);
+  // no sine term, no sin call (the right-hand side calls this each stage)
+  double m = sine_amplitude != 0.0 ? sine_amplitude * std::sin(kTwoPi * sine_frequency * t) : 0.0;
   switch (kind) {
     case Kind::none:
       break;

@@ -164,6 +164,10 @@ struct HingeMoment {
   }
 
   double at(double t, double theta) const;
+  /// Whether at() is 0 at every (t, theta): kind none without a sine term.
+  bool is_zero() const {
+    return kind == Kind::none && sine_amplitude == 0.0;
+  }
   /// d at / d theta [N m/rad] (the exact Jacobians).
   double slope() const {
     return kind == Kind::proportional ? -stiffness : 0.0;

@@ -103,10 +103,9 @@ class RodEndActuatorScene final : public RodEndScene<RodEndActuatorScene, ServoA
   void step_outputs(double t, const double* x, const DiscreteState& d,
                     SignalFrame& f) const override {
     const Eval e = evaluate(t, x, d.contacts[0]);
-    mech_.step_outputs(e.mech, e.act.command, f);
+    mech_.step_outputs(e.mech, e.act.command, kinetic_energy(e, x), f);
     write_contact_signals(f, e.mech.contact, e.mech.ball, e.mech.socket, d.contacts[0]);
     act_.outputs(e.act, x + kAct, e.external_force, f);
-    f.set(SignalId::kinetic_energy, kinetic_energy(e, x));
     write_energy_signals(f,
                          {mech_.mechanical_energy(e.mech) + act_.mechanical_energy(x + kAct, 0.0),
                           x[kWork], x[kDissipated]},

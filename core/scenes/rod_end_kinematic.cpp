@@ -60,12 +60,14 @@ class RodEndKinematicScene final : public RodEndScene<RodEndKinematicScene, 0> {
   // an accepted step's frame: the contact, the surface angle and the energy audit (kStepSignals)
   void step_outputs(double t, const double* x, const DiscreteState& d,
                     SignalFrame& f) const override {
-    const Mech::Eval e = mechanism_eval(t, x, d.contacts[0]);
-    const double position = motion_.at(t).position;
-    mech_.step_outputs(e, position, f);
-    f.set(SignalId::actuator_position, position);
+    // what the frame reads only (evaluate_state), the motion and the kinetic energy once
+    const auto m = motion_.at(t);
+    const Mech::Eval e = mech_.evaluate_state(t, m.position, m.velocity, x + kMech, d.contacts[0]);
+    const double kinetic = mech_.kinetic_energy(e);
+    mech_.step_outputs(e, m.position, kinetic, f);
+    f.set(SignalId::actuator_position, m.position);
     write_contact_signals(f, e.contact, e.ball, e.socket, d.contacts[0]);
-    write_energy_signals(f, {mech_.mechanical_energy(e), x[kWork], x[kDissipated]},
+    write_energy_signals(f, {mech_.mechanical_energy(e, kinetic), x[kWork], x[kDissipated]},
                          initial_energy_);
   }
   void outputs(double t, const double* x, const DiscreteState& d, SignalFrame& f) const override {

@@ -233,28 +233,27 @@ ContactGap RodEndMechanism::gap(const double* x) const {
 }
 
 ContactSnapshot RodEndMechanism::contact_snapshot(const double* x, const ContactLatch& l) const {
-  const ContactEval c = evaluate_contact(contact_, BodyKinematics::from_state(x + kBall),
-                                         BodyKinematics::from_state(x + kSocket), l);
+  const ContactEval c = evaluate_normal_contact(contact_, BodyKinematics::from_state(x + kBall),
+                                                BodyKinematics::from_state(x + kSocket), l);
   return {c.penetration, c.penetration_rate, c.eccentricity, c.normal_force};
 }
 
 namespace {
 
-/// The hinge moment at (t, theta), and for a dual its derivative through HingeMoment::slope.
+/// The hinge moment at (t, theta), and for a dual its derivative through HingeMoment::slope
+/// (without a call when there is none).
 double hinge_at(const HingeMoment& h, double t, double theta) {
-  return h.at(t, theta);
+  return h.is_zero() ? 0.0 : h.at(t, theta);
 }
 template <int N>
 Dual<N> hinge_at(const HingeMoment& h, double t, const Dual<N>& theta) {
-  return Dual<N>::chain(theta, h.at(t, theta.v), h.slope());
+  return Dual<N>::chain(theta, h.is_zero() ? 0.0 : h.at(t, theta.v), h.slope());
 }
 
 }  // namespace
 
 template <class S>
-RodEndMechanism::EvalT<S> RodEndMechanism::evaluate(double t, const S& u, const S& u_dot,
-                                                    const S* x, const ContactLatch& latch) const {
-  EvalT<S> e;
+void RodEndMechanism::kinematics(const S& u, const S& u_dot, const S* x, EvalT<S>& e) const {
   e.ball = BodyKinematicsT<S>::from_state(x + kBall);
   e.socket = BodyKinematicsT<S>::from_state(x + kSocket);
   e.theta = x[kTheta];
@@ -277,7 +276,13 @@ RodEndMechanism::EvalT<S> RodEndMechanism::evaluate(double t, const S& u, const 
   e.crank_anchor.v_W = crank.end_velocity;
   e.crank_anchor.q_ref = QuatT<S>(crank.cos_half, S(0.0), S(0.0), crank.sin_half);
   e.crank_anchor.w_ref_W = Vec3T<S>(S(0.0), S(0.0), e.theta_dot);
+}
 
+template <class S>
+RodEndMechanism::EvalT<S> RodEndMechanism::evaluate(double t, const S& u, const S& u_dot,
+                                                    const S* x, const ContactLatch& latch) const {
+  EvalT<S> e;
+  kinematics(u, u_dot, x, e);
   e.contact = evaluate_contact(contact_, e.ball, e.socket, latch);
   e.slider_spring = evaluate_spring(slider_spring_, e.slider_anchor, e.socket);
   e.crank_spring = evaluate_spring(crank_spring_, e.crank_anchor, e.ball);
@@ -286,6 +291,18 @@ RodEndMechanism::EvalT<S> RodEndMechanism::evaluate(double t, const S& u, const 
   // do work (the hinge bearing takes the rest) (thesis eq. 4.12-4.14 in vector form)
   const Vec3T<S> arm = e.crank_anchor.p_W - geometry_.crank_pivot();
   e.crank_torque = arm.cross(-e.crank_spring.force_on_body).z() - e.crank_spring.moment_on_body.z();
+  e.hinge_moment = hinge_at(hinge_, t, e.theta);
+  return e;
+}
+
+RodEndMechanism::Eval RodEndMechanism::evaluate_state(double t, double u, double u_dot,
+                                                      const double* x,
+                                                      const ContactLatch& latch) const {
+  Eval e;
+  kinematics(u, u_dot, x, e);
+  e.contact = evaluate_contact(contact_, e.ball, e.socket, latch);
+  e.slider_spring.potential = spring_potential(slider_spring_, e.slider_anchor, e.socket);
+  e.crank_spring.potential = spring_potential(crank_spring_, e.crank_anchor, e.ball);
   e.hinge_moment = hinge_at(hinge_, t, e.theta);
   return e;
 }
@@ -317,11 +334,12 @@ S RodEndMechanism::dissipated_power(const EvalT<S>& e) const {
          e.crank_spring.damping_power + surface_damping_ * e.theta_dot * e.theta_dot;
 }
 
-#define RODEND_MECHANISM_SCALAR(S)                                                 \
-  template RodEndMechanism::EvalT<S> RodEndMechanism::evaluate(                    \
-      double, const S&, const S&, const S*, const ContactLatch&) const;            \
-  template void RodEndMechanism::derivatives(const EvalT<S>&, const S*, S*) const; \
-  template S RodEndMechanism::input_power(const EvalT<S>&) const;                  \
+#define RODEND_MECHANISM_SCALAR(S)                                                          \
+  template RodEndMechanism::EvalT<S> RodEndMechanism::evaluate(                             \
+      double, const S&, const S&, const S*, const ContactLatch&) const;                     \
+  template void RodEndMechanism::kinematics(const S&, const S&, const S*, EvalT<S>&) const; \
+  template void RodEndMechanism::derivatives(const EvalT<S>&, const S*, S*) const;          \
+  template S RodEndMechanism::input_power(const EvalT<S>&) const;                           \
   template S RodEndMechanism::dissipated_power(const EvalT<S>&) const;
 RODEND_MECHANISM_SCALAR(double)
 RODEND_MECHANISM_SCALAR(RodEndMechanism::KinematicDual)
@@ -334,18 +352,22 @@ double RodEndMechanism::kinetic_energy(const Eval& e) const {
 }
 
 double RodEndMechanism::mechanical_energy(const Eval& e) const {
-  return rodend::kinetic_energy(ball_, e.ball) + rodend::kinetic_energy(socket_, e.socket) +
-         0.5 * surface_inertia_ * e.theta_dot * e.theta_dot -
-         ball_.mass * gravity_.dot(e.ball.p_W) - socket_.mass * gravity_.dot(e.socket.p_W) +
-         e.contact.potential + e.slider_spring.potential + e.crank_spring.potential;
+  return mechanical_energy(e, kinetic_energy(e));
 }
 
-void RodEndMechanism::step_outputs(const Eval& e, double command, SignalFrame& f) const {
+double RodEndMechanism::mechanical_energy(const Eval& e, double kinetic) const {
+  return kinetic - ball_.mass * gravity_.dot(e.ball.p_W) -
+         socket_.mass * gravity_.dot(e.socket.p_W) + e.contact.potential +
+         e.slider_spring.potential + e.crank_spring.potential;
+}
+
+void RodEndMechanism::step_outputs(const Eval& e, double command, double kinetic,
+                                   SignalFrame& f) const {
   f.set(SignalId::surface_angle, e.theta);
   f.set(SignalId::hinge_moment, e.hinge_moment);
   f.set(SignalId::surface_angle_command,
         geometry_.ideal_crank_angle(geometry_.rod_zero() + command));  // thesis eq. 4.1
-  f.set(SignalId::kinetic_energy, kinetic_energy(e));
+  f.set(SignalId::kinetic_energy, kinetic);
 }
 
 void RodEndMechanism::outputs(const Eval& e, const double* x, double command,

@@ -65,6 +65,12 @@ class RodEndMechanism {
   template <class S>
   EvalT<S> evaluate(double t, const S& u, const S& u_dot, const S* x, const ContactLatch& l) const;
 
+  /// What an accepted step's frame reads (step_outputs, the contact's step signals and
+  /// mechanical_energy): evaluate() without the springs' forces, moments and powers and the
+  /// crank torque (left zero); the springs' potentials are evaluate()'s, bit for bit.
+  Eval evaluate_state(double t, double u, double u_dot, const double* x,
+                      const ContactLatch& l) const;
+
   void initial_state(double* x) const;
   void state_scale(double* s) const;
   /// Writes the 28 derivatives.
@@ -74,6 +80,8 @@ class RodEndMechanism {
   double kinetic_energy(const Eval& e) const;
   /// Kinetic + potential energy of the mechanism [J].
   double mechanical_energy(const Eval& e) const;
+  /// The same from its kinetic energy `kinetic` = kinetic_energy(e) [J] (the same value).
+  double mechanical_energy(const Eval& e, double kinetic) const;
   /// Power delivered by the rod end (through the slider spring) and the hinge moment [W].
   template <class S>
   S input_power(const EvalT<S>& e) const;
@@ -90,8 +98,9 @@ class RodEndMechanism {
   /// commanded rod extension [m] (the surface_angle_command signal).
   void outputs(const Eval& e, const double* x, double command, SignalFrame& f) const;
   /// The mechanism's part of an accepted step's frame (kStepSignals): surface angle, the angle
-  /// commanded by `command` [m] (surface_angle_command) and the kinetic energy.
-  void step_outputs(const Eval& e, double command, SignalFrame& f) const;
+  /// commanded by `command` [m] (surface_angle_command) and the kinetic energy `kinetic` [J]
+  /// (kinetic_energy(e), or the scene's own with its further bodies).
+  void step_outputs(const Eval& e, double command, double kinetic, SignalFrame& f) const;
 
   ContactGap gap(const double* x) const;
   /// The contact alone at the mechanism state x (the driver's peak location).
@@ -137,6 +146,10 @@ class RodEndMechanism {
                      const std::string& short_key = {}) const;
 
  private:
+  /// The bodies, theta, the rod and both springs' anchors of evaluate().
+  template <class S>
+  void kinematics(const S& u, const S& u_dot, const S* x, EvalT<S>& e) const;
+
   SliderCrank geometry_;
   RigidBodyParams ball_, socket_;
   ClearanceContactModel contact_;
