@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "core/stepper.hpp"
+#include "core/sundials_kernels.hpp"
 
 namespace rodend::detail {
 namespace {
@@ -77,6 +78,8 @@ class CvodeStepper final : public Stepper {
     const bool bdf = s.method == IntegratorMethod::cvode_bdf;
     mem_ = CVodeCreate(bdf ? CV_BDF : CV_ADAMS, ctx_);
     if (!y_ || !tmp_ || !mem_) throw std::bad_alloc();  // only an allocation fails here
+    use_fast_ops(y_);  // before CVodeInit: CVODE's vectors are clones of y_
+    use_fast_ops(tmp_);
     z_buf_.resize(static_cast<std::size_t>(n_));
     dz_buf_.resize(static_cast<std::size_t>(n_));
     N_VConst(0.0, y_);
@@ -91,6 +94,8 @@ class CvodeStepper final : public Stepper {
     if (bdf) {
       A_ = SUNDenseMatrix(n_, n_, ctx_);
       ls_ = EigenDenseLu::make(ctx_);
+      if (!A_ || !ls_) throw std::bad_alloc();
+      use_fast_ops(A_);  // before CVodeSetLinearSolver: the saved Jacobian is a clone of A_
       check(CVodeSetLinearSolver(mem_, ls_, A_), "CVodeSetLinearSolver");
       // a scene's exact Jacobian instead of CVODE's difference quotients (n + 1 calls each)
       if (scene.exact_jacobian()) check(CVodeSetJacFn(mem_, &CvodeStepper::jac), "CVodeSetJacFn");

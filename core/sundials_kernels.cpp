@@ -1,0 +1,177 @@
+// SUNDIALS' serial vector and dense matrix arithmetic, compiled with the project's flags.
+//
+// Why: Debian 12's SUNDIALS 6.4.1 libraries are built without optimisation (every value goes
+// through the stack; `objdump -d` of N_VWSqrSumLocal_Serial). Measured on rod-end-kinematic's
+// thesis cycle at cvode_bdf 1e-6 (callgrind, 6,334 steps): N_VLinearSum took 109 M instructions
+// (101,368 calls, ~690 each for 30 numbers), the weighted RMS norm 28 M, N_VScale 27 M, the
+// dense copy and A = cA + I 42 M (764 of each, ~27 k per 30 x 30 matrix): about half of CVODE's
+// 366 M. These are the operations CVODE calls through a vector's or matrix's table; CVODE's own
+// step logic stays the library's.
+//
+// Each function computes what the library's computes, operation by operation and in the same
+// order (N_VLinearSum's special cases included: c (x + y) for a == b rounds differently from
+// a x + a y), and the fused operations stay unset so that CVODE's fallbacks call these: the
+// results are bit-identical to the library's.
+#include "core/sundials_kernels.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rodend::detail {
+namespace {
+
+sunindextype len(N_Vector v) {
+  return NV_LENGTH_S(v);
+}
+double* data(N_Vector v) {
+  return NV_DATA_S(v);
+}
+
+/// y <- a x + y (the library's axpy, with its a = +-1 cases)
+void axpy(double a, N_Vector x, N_Vector y) {
+  const double* xd = data(x);
+  double* yd = data(y);
+  const sunindextype n = len(x);
+  if (a == 1.0) {
+    for (sunindextype i = 0; i < n; ++i) yd[i] += xd[i];
+  } else if (a == -1.0) {
+    for (sunindextype i = 0; i < n; ++i) yd[i] -= xd[i];
+  } else {
+    for (sunindextype i = 0; i < n; ++i) yd[i] += a * xd[i];
+  }
+}
+
+/// z = f(x_i, y_i) element by element (x, y, z may be the same vector)
+template <class F>
+void zip(N_Vector x, N_Vector y, N_Vector z, F f) {
+  const double *xd = data(x), *yd = data(y);
+  double* zd = data(z);
+  const sunindextype n = len(x);
+  for (sunindextype i = 0; i < n; ++i) zd[i] = f(xd[i], yd[i]);
+}
+
+/// z = f(x_i) element by element
+template <class F>
+void map(N_Vector x, N_Vector z, F f) {
+  const double* xd = data(x);
+  double* zd = data(z);
+  const sunindextype n = len(x);
+  for (sunindextype i = 0; i < n; ++i) zd[i] = f(xd[i]);
+}
+
+/// z = a x + b y, by the library's case analysis
+void linear_sum(double a, N_Vector x, double b, N_Vector y, N_Vector z) {
+  if (b == 1.0 && z == y) return axpy(a, x, y);
+  if (a == 1.0 && z == x) return axpy(b, y, x);
+  if (a == 1.0 && b == 1.0) return zip(x, y, z, [](double u, double v) { return u + v; });
+  if (a == 1.0 && b == -1.0) return zip(x, y, z, [](double u, double v) { return u - v; });
+  if (a == -1.0 && b == 1.0) return zip(y, x, z, [](double u, double v) { return u - v; });
+  // one coefficient 1: c v1 + v2
+  if (a == 1.0) return zip(y, x, z, [b](double u, double v) { return b * u + v; });
+  if (b == 1.0) return zip(x, y, z, [a](double u, double v) { return a * u + v; });
+  // one coefficient -1: c v1 - v2
+  if (a == -1.0) return zip(y, x, z, [b](double u, double v) { return b * u - v; });
+  if (b == -1.0) return zip(x, y, z, [a](double u, double v) { return a * u - v; });
+  if (a == b) return zip(x, y, z, [a](double u, double v) { return a * (u + v); });
+  if (a == -b) return zip(x, y, z, [a](double u, double v) { return a * (u - v); });
+  zip(x, y, z, [a, b](double u, double v) { return a * u + b * v; });
+}
+
+void scale(double c, N_Vector x, N_Vector z) {
+  if (z == x) return map(x, x, [c](double u) { return u * c; });
+  if (c == 1.0) return map(x, z, [](double u) { return u; });
+  if (c == -1.0) return map(x, z, [](double u) { return -u; });
+  map(x, z, [c](double u) { return c * u; });
+}
+
+void constant(double c, N_Vector z) {
+  std::fill(data(z), data(z) + len(z), c);
+}
+void abs(N_Vector x, N_Vector z) {
+  map(x, z, [](double u) { return std::abs(u); });
+}
+void inv(N_Vector x, N_Vector z) {
+  map(x, z, [](double u) { return 1.0 / u; });
+}
+void add_const(N_Vector x, double b, N_Vector z) {
+  map(x, z, [b](double u) { return u + b; });
+}
+void prod(N_Vector x, N_Vector y, N_Vector z) {
+  zip(x, y, z, [](double u, double v) { return u * v; });
+}
+void div(N_Vector x, N_Vector y, N_Vector z) {
+  zip(x, y, z, [](double u, double v) { return u / v; });
+}
+
+/// sum of (x_i w_i)^2, in index order
+double wsqr_sum(N_Vector x, N_Vector w) {
+  const double *xd = data(x), *wd = data(w);
+  double sum = 0.0;
+  for (sunindextype i = 0; i < len(x); ++i) {
+    const double p = xd[i] * wd[i];
+    sum += p * p;
+  }
+  return sum;
+}
+
+double wrms_norm(N_Vector x, N_Vector w) {
+  const double m = wsqr_sum(x, w) / static_cast<double>(len(x));
+  return m <= 0.0 ? 0.0 : std::sqrt(m);
+}
+
+int matrix_zero(SUNMatrix A) {
+  std::fill(SM_DATA_D(A), SM_DATA_D(A) + SM_LDATA_D(A), 0.0);
+  return SUNMAT_SUCCESS;
+}
+
+int matrix_copy(SUNMatrix A, SUNMatrix B) {
+  if (SUNMatGetID(B) != SUNMATRIX_DENSE || SM_ROWS_D(A) != SM_ROWS_D(B) ||
+      SM_COLUMNS_D(A) != SM_COLUMNS_D(B))
+    return SUNMAT_ILL_INPUT;
+  std::copy(SM_DATA_D(A), SM_DATA_D(A) + SM_LDATA_D(A), SM_DATA_D(B));  // both column-major
+  return SUNMAT_SUCCESS;
+}
+
+/// A = c A + I
+int matrix_scale_add_identity(double c, SUNMatrix A) {
+  const sunindextype rows = SM_ROWS_D(A), cols = SM_COLUMNS_D(A);
+  double* a = SM_DATA_D(A);
+  for (sunindextype j = 0; j < cols; ++j) {
+    double* col = a + j * rows;
+    for (sunindextype i = 0; i < rows; ++i) col[i] *= c;
+    if (j < rows) col[j] += 1.0;
+  }
+  return SUNMAT_SUCCESS;
+}
+
+SUNMatrix matrix_clone(SUNMatrix A) {
+  SUNMatrix B = SUNDenseMatrix(SM_ROWS_D(A), SM_COLUMNS_D(A), A->sunctx);
+  if (B) use_fast_ops(B);
+  return B;
+}
+
+}  // namespace
+
+void use_fast_ops(N_Vector v) {
+  N_Vector_Ops o = v->ops;
+  o->nvlinearsum = &linear_sum;
+  o->nvscale = &scale;
+  o->nvconst = &constant;
+  o->nvabs = &abs;
+  o->nvinv = &inv;
+  o->nvaddconst = &add_const;
+  o->nvprod = &prod;
+  o->nvdiv = &div;
+  o->nvwrmsnorm = &wrms_norm;
+  o->nvwsqrsumlocal = &wsqr_sum;
+}
+
+void use_fast_ops(SUNMatrix A) {
+  SUNMatrix_Ops o = A->ops;
+  o->zero = &matrix_zero;
+  o->copy = &matrix_copy;
+  o->scaleaddi = &matrix_scale_add_identity;
+  o->clone = &matrix_clone;
+}
+
+}  // namespace rodend::detail
