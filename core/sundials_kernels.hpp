@@ -1,9 +1,10 @@
 // Internal to core (steppers_cvode.cpp): SUNDIALS' serial vector and dense matrix operations
 // compiled with the project's flags, put in place of the library's in a vector's or a matrix's
-// operation table.
+// operation table, and CVODE's dense direct linear solver.
 #pragma once
 
 #include <nvector/nvector_serial.h>
+#include <sundials/sundials_linearsolver.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
 namespace rodend::detail {
@@ -19,5 +20,10 @@ void use_fast_ops(N_Vector v);
 /// Replaces the zero, copy, A = cA + I and clone operations of dense matrix A by ours; its clones
 /// (CVODE's saved Jacobian) get the same table. Bit-identical, as use_fast_ops.
 void use_fast_ops(SUNMatrix A);
+
+/// A direct linear solver on a dense matrix: LU with partial pivoting, factorised in place (as
+/// SUNDIALS' SUNLinSol_Dense). A zero or non-finite pivot is a recoverable failure (CVODE tries
+/// a shorter step with a new matrix). Null if it cannot be allocated.
+SUNLinearSolver make_dense_lu(SUNContext ctx);
 
 }  // namespace rodend::detail
