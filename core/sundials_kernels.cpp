@@ -10,8 +10,9 @@
 //
 // Each function computes what the library's computes, operation by operation and in the same
 // order (N_VLinearSum's special cases included: c (x + y) for a == b rounds differently from
-// a x + a y), and the fused operations stay unset so that CVODE's fallbacks call these: the
-// results are bit-identical to the library's.
+// a x + a y), and the two fused operations CVODE calls (linear combination, scale-add-multi)
+// compute what SUNDIALS' generic fallbacks compute from those: the results are bit-identical
+// to the library's.
 #include "core/sundials_kernels.hpp"
 
 #include <algorithm>
@@ -120,6 +121,22 @@ double wsqr_sum(N_Vector x, N_Vector w) {
 double wrms_norm(N_Vector x, N_Vector w) {
   const double m = wsqr_sum(x, w) / static_cast<double>(len(x));
   return m <= 0.0 ? 0.0 : std::sqrt(m);
+}
+
+/// z = c_0 X_0 + c_1 X_1 + ...: what SUNDIALS' generic fallback computes (z = c_0 X_0, then
+/// z += c_i X_i vector by vector, so an X_i that is z reads the partial sum), without its
+/// unoptimised dispatch per term. CVODE's prediction, interpolation and corrections use it.
+int linear_combination(int nvec, double* c, N_Vector* X, N_Vector z) {
+  scale(c[0], X[0], z);
+  for (int i = 1; i < nvec; ++i) axpy(c[i], X[i], z);
+  return 0;
+}
+
+/// Z_i = a_i x + Y_i, i = 0, 1, ..., one after the other (a Z_i that is x changes the x of
+/// the next ones, as in SUNDIALS' fallback)
+int scale_add_multi(int nvec, double* a, N_Vector x, N_Vector* Y, N_Vector* Z) {
+  for (int i = 0; i < nvec; ++i) linear_sum(a[i], x, 1.0, Y[i], Z[i]);
+  return 0;
 }
 
 int matrix_zero(SUNMatrix A) {
@@ -278,6 +295,8 @@ void use_fast_ops(N_Vector v) {
   o->nvdiv = &div;
   o->nvwrmsnorm = &wrms_norm;
   o->nvwsqrsumlocal = &wsqr_sum;
+  o->nvlinearcombination = &linear_combination;
+  o->nvscaleaddmulti = &scale_add_multi;
 }
 
 void use_fast_ops(SUNMatrix A) {

@@ -10,11 +10,12 @@
 namespace rodend::detail {
 
 /// Replaces the arithmetic operations of serial vector v (linear sum, scale, constant, absolute
-/// value, inverse, add constant, weighted RMS norm, product, division) by ours. Clones made
+/// value, inverse, add constant, weighted RMS norm, product, division, and the fused linear
+/// combination and scale-add-multi) by ours. Clones made
 /// afterwards (N_VClone: CVODE's own vectors) copy the table, so this is done once, on the
 /// template vector, before CVodeInit. Each computes exactly what the library's does, operation
-/// by operation (the same special cases of N_VLinearSum, the same order of the sum of squares):
-/// the results are bit-identical.
+/// by operation (the same special cases of N_VLinearSum, the same order of the sum of squares,
+/// the fused ones as SUNDIALS' fallbacks): the results are bit-identical.
 void use_fast_ops(N_Vector v);
 
 /// Replaces the zero, copy, A = cA + I and clone operations of dense matrix A by ours; its clones
