@@ -253,8 +253,12 @@ struct SparseFactors {
 /// factorisations, 7,932 solves): Eigen's PartialPivLU on a dynamic matrix (blocked above 16
 /// columns, a matrix-matrix product per block) took 67.7 k instructions per factorisation and
 /// 5.1 k per solve; these loops take 25 k + 11 k to compress the factors, and 3.3 k per solve
-/// (5.7 k with the zeros). (Before Eigen's, SUNDIALS' own
-/// SUNLinSol_Dense, unoptimised in Debian's build, took 186 M of a 589 M run at 1e-5.)
+/// (5.7 k with the zeros). (Before Eigen's, SUNDIALS' own SUNLinSol_Dense, unoptimised in
+/// Debian's build, took 186 M of a 589 M run at 1e-5.) Dense, not band or KLU: the Jacobian of
+/// the rod-end scenes couples every body state with every other through the contact and the
+/// springs, and a sparse factorisation would need a CSC Jacobian of the scene, which CVODE
+/// cannot difference itself. Leaving the audit states' unit columns out of the factorisation
+/// (A = [M 0; X I]) saved nothing: the update already skips their zero rows of U.
 struct DenseLu {
   SparseFactors f;
   static DenseLu* of(SUNLinearSolver S) { return static_cast<DenseLu*>(S->content); }
