@@ -1,4 +1,4 @@
-// SUNDIALS CVODE in the integrator menu: BDF (stiff, Newton with a dense LU, Eigen's) and
+// SUNDIALS CVODE in the integrator menu: BDF (stiff, Newton with a dense LU, ours) and
 // Adams (non-stiff, fixed-point iteration), on the same scaled right-hand side, one internal
 // step at a time (CV_ONE_STEP), with CVODE's dense output and its own root finding for
 // contact onset (the penetration of each contact, crossing zero upwards).
@@ -8,7 +8,6 @@
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
-#include <Eigen/Dense>
 #include <cmath>
 #include <exception>
 #include <new>
@@ -16,56 +15,10 @@
 #include <utility>
 
 #include "core/stepper.hpp"
+#include "core/sundials_kernels.hpp"
 
 namespace rodend::detail {
 namespace {
-
-/// CVODE's direct linear solver on its dense matrix, by Eigen's partial-pivoting LU instead of
-/// SUNDIALS' own (SUNLinSol_Dense). Measured on rod-end-kinematic's thesis cycle at cvode_bdf
-/// 1e-5 (callgrind, issue 20): SUNDIALS' dense GETRS and GETRF took 186 M of the run's 589 M
-/// instructions (28 states); with Eigen's LU the factorisations and solves take 60 M and the run
-/// 497 M. No band: the Jacobian of the rod-end scenes couples every body state with every other
-/// through the contact and the springs, and at 26-40 states a sparse (KLU) factorisation would
-/// also need a CSC Jacobian of the scene, which CVODE cannot difference itself.
-struct EigenDenseLu {
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu;
-  static EigenDenseLu* of(SUNLinearSolver S) { return static_cast<EigenDenseLu*>(S->content); }
-  static SUNLinearSolver_Type type(SUNLinearSolver) { return SUNLINEARSOLVER_DIRECT; }
-  static SUNLinearSolver_ID id(SUNLinearSolver) { return SUNLINEARSOLVER_CUSTOM; }
-  static int setup(SUNLinearSolver S, SUNMatrix A) {
-    const auto n = static_cast<Eigen::Index>(SUNDenseMatrix_Rows(A));
-    of(S)->lu.compute(Eigen::Map<const Eigen::MatrixXd>(SUNDenseMatrix_Data(A), n, n));
-    // a zero pivot: CVODE treats a positive return as recoverable (shorter step, new matrix)
-    const auto d = of(S)->lu.matrixLU().diagonal();
-    for (Eigen::Index i = 0; i < n; ++i)
-      if (!(d[i] != 0.0) || !std::isfinite(d[i])) return SUNLS_LUFACT_FAIL;
-    return SUNLS_SUCCESS;
-  }
-  static int solve(SUNLinearSolver S, SUNMatrix, N_Vector x, N_Vector b, double) {
-    const auto n = static_cast<Eigen::Index>(N_VGetLength(b));
-    Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(x), n) =
-        of(S)->lu.solve(Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(b), n));
-    return SUNLS_SUCCESS;
-  }
-  static int free(SUNLinearSolver S) {
-    if (!S) return 0;
-    delete of(S);
-    S->content = nullptr;
-    SUNLinSolFreeEmpty(S);
-    return 0;
-  }
-  static SUNLinearSolver make(SUNContext ctx) {
-    SUNLinearSolver S = SUNLinSolNewEmpty(ctx);
-    if (!S) return nullptr;
-    S->content = new EigenDenseLu;
-    S->ops->gettype = &type;
-    S->ops->getid = &id;
-    S->ops->setup = &setup;
-    S->ops->solve = &solve;
-    S->ops->free = &EigenDenseLu::free;
-    return S;
-  }
-};
 
 class CvodeStepper final : public Stepper {
  public:
@@ -77,6 +30,8 @@ class CvodeStepper final : public Stepper {
     const bool bdf = s.method == IntegratorMethod::cvode_bdf;
     mem_ = CVodeCreate(bdf ? CV_BDF : CV_ADAMS, ctx_);
     if (!y_ || !tmp_ || !mem_) throw std::bad_alloc();  // only an allocation fails here
+    use_fast_ops(y_);  // before CVodeInit: CVODE's vectors are clones of y_
+    use_fast_ops(tmp_);
     z_buf_.resize(static_cast<std::size_t>(n_));
     dz_buf_.resize(static_cast<std::size_t>(n_));
     N_VConst(0.0, y_);
@@ -90,10 +45,20 @@ class CvodeStepper final : public Stepper {
     check(CVodeSetMaxHnilWarns(mem_, -1), "CVodeSetMaxHnilWarns");
     if (bdf) {
       A_ = SUNDenseMatrix(n_, n_, ctx_);
-      ls_ = EigenDenseLu::make(ctx_);
+      ls_ = make_dense_lu(ctx_);
+      if (!A_ || !ls_) throw std::bad_alloc();
+      use_fast_ops(A_);  // before CVodeSetLinearSolver: the saved Jacobian is a clone of A_
       check(CVodeSetLinearSolver(mem_, ls_, A_), "CVodeSetLinearSolver");
       // a scene's exact Jacobian instead of CVODE's difference quotients (n + 1 calls each)
       if (scene.exact_jacobian()) check(CVodeSetJacFn(mem_, &CvodeStepper::jac), "CVodeSetJacFn");
+      // BDF of order 3-5 is unstable for eigenvalues near the imaginary axis (the rod-end
+      // contact mode, ~3 kHz, lightly damped): CVODE's stability-limit detection lowers the
+      // order there instead of cutting the step. Measured on the thesis cycle (issue 34; steps
+      // without -> with, one per tolerance 1e-5..1e-8): kinematic 4372, 5702, 12454, 13960 ->
+      // 4578, 5355, 7139, 9251; actuator 5905, 5641, 8679, 17914 -> 5064, 5663, 7189, 11087,
+      // errors of the same order. Without it the step count jumped with round-off (the
+      // kinematic 1e-7 took 7121 or 12454 steps depending on the LU's rounding).
+      check(CVodeSetStabLimDet(mem_, SUNTRUE), "CVodeSetStabLimDet");
     } else {
       nls_ = SUNNonlinSol_FixedPoint(y_, 0, ctx_);
       check(CVodeSetNonlinearSolver(mem_, nls_), "CVodeSetNonlinearSolver");
