@@ -11,8 +11,7 @@
 
 namespace rodend {
 
-/// fast: about 1 % error on the impact-peak metrics, the cheapest setting measured (in
-/// rod-end-actuator the same as balanced: nothing measured there is cheaper);
+/// fast: about 1 % error on the impact-peak metrics, the cheapest setting measured;
 /// balanced: <= 0.3 % on every metric of the work-precision study (default);
 /// reference: dopri5 at 1e-10, for regression references and checks.
 /// (README "Speed and accuracy" gives the measurement behind each.)
