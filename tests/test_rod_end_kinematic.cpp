@@ -10,6 +10,7 @@
 #include <string>
 
 #include "core/errors.hpp"
+#include "core/scenes/drivers.hpp"
 #include "core/scenes/slider_crank.hpp"
 #include "fixture.hpp"
 
@@ -184,6 +185,14 @@ TEST_CASE("rod-end kinematic: thesis §5.1 physics on the 0 -> +50 mm -> 0 profi
 
   const double v_peak = peak_extension_rate(p);  // 0.1 m/s
   const double t_ret = p.number("motion.extension_time") + p.number("motion.hold_time");
+  // A step frame carries the step signals (kStepSignals), not the actuator's rate or the
+  // springs' forces: the windows come from the prescribed motion at each frame's time, and the
+  // spring's sign is checked on the samples, which carry every signal.
+  const ActuatorMotion motion = read_motion(p, "motion");
+  const auto rate = [&](const Track& track, std::size_t i) {
+    return motion.at(track.time(i)).velocity;
+  };
+  const Track& sa = rec.samples;
 
   SECTION("contact force only across the clearance") {
     // The force is computed from the penetration |e| - c, so F > 0 implies |e| >= c exactly,
@@ -204,31 +213,30 @@ TEST_CASE("rod-end kinematic: thesis §5.1 physics on the 0 -> +50 mm -> 0 profi
     // crosses the clearance c = 0.5 mm and hits the ball at ~0.12 s, before the window opens.
     // measured: min axial force 2.79 N, min F_x 2.83 N, min F_y 0.17 N in contact (the normal
     // starts ~3 deg above the x-axis, the crank's initial tangent), min rate 0.19 rad/s.
-    const auto window = [&](std::size_t i) {
-      return st.get(i, SignalId::actuator_velocity) > 0.2 * v_peak;
-    };
+    const auto window = [&](std::size_t i) { return rate(st, i) > 0.2 * v_peak; };
     const auto in_contact = [&](std::size_t i) {
       return window(i) && st.get(i, SignalId::contact_force) > 0.0;
     };
+    const auto sample_in_window = [&](std::size_t i) { return rate(sa, i) > 0.2 * v_peak; };
     const auto compressed = [&](std::size_t i) {
-      return st.get(i, SignalId::slider_spring_axial_force) > 0.0;
+      return sa.get(i, SignalId::slider_spring_axial_force) > 0.0;
     };
     const auto turning_up = [&](std::size_t i) { return st.get(i, SignalId::surface_rate) > 0.0; };
     const auto force_up_right = [&](std::size_t i) {
       const Vec3 F = st.get3(i, SignalId::contact_force_vector);
       return F.x() > 0.0 && F.y() > 0.0;
     };
-    std::size_t frames = 0, contact_frames = 0;
+    std::size_t frames = 0, contact_frames = 0, sample_frames = 0;
     double t_bad = NAN;
-    CHECK(count_violations(st, window, compressed, frames, t_bad) == 0);
+    CHECK(count_violations(sa, sample_in_window, compressed, sample_frames, t_bad) == 0);
     CAPTURE(t_bad);
+    CHECK(sample_frames > 600);  // 0.70 s of 1 ms samples
     CHECK(count_violations(st, window, turning_up, frames, t_bad) == 0);
     CHECK(count_violations(st, in_contact, force_up_right, contact_frames, t_bad) == 0);
     CAPTURE(frames, contact_frames);
     CHECK(frames > 100);
     CHECK(contact_frames > frames / 2);
     // the surface angle increases between successive samples in the window
-    const Track& sa = rec.samples;
     const auto sample_window = [&](std::size_t i) {
       return i > 0 && sa.get(i - 1, SignalId::actuator_velocity) > 0.2 * v_peak &&
              sa.get(i, SignalId::actuator_velocity) > 0.2 * v_peak;
@@ -236,7 +244,6 @@ TEST_CASE("rod-end kinematic: thesis §5.1 physics on the 0 -> +50 mm -> 0 profi
     const auto increasing = [&](std::size_t i) {
       return sa.get(i, SignalId::surface_angle) > sa.get(i - 1, SignalId::surface_angle);
     };
-    std::size_t sample_frames = 0;
     CHECK(count_violations(sa, sample_window, increasing, sample_frames, t_bad) == 0);
     CHECK(sample_frames > 600);  // 0.70 s of 1 ms samples
   }
@@ -261,17 +268,13 @@ TEST_CASE("rod-end kinematic: thesis §5.1 physics on the 0 -> +50 mm -> 0 profi
     CHECK(t_contact > t20);
     CHECK(t_contact < t_ret + 0.3);
 
-    const auto window = [&](std::size_t i) {
-      return st.get(i, SignalId::actuator_velocity) < -0.2 * v_peak;
-    };
-    const auto window40 = [&](std::size_t i) {
-      return st.get(i, SignalId::actuator_velocity) < -0.4 * v_peak;
-    };
+    const auto window = [&](std::size_t i) { return rate(st, i) < -0.2 * v_peak; };
+    const auto sample_window40 = [&](std::size_t i) { return rate(sa, i) < -0.4 * v_peak; };
     const auto in_contact = [&](std::size_t i) {
       return window(i) && st.get(i, SignalId::contact_force) > 0.0;
     };
     const auto stretched = [&](std::size_t i) {
-      return st.get(i, SignalId::slider_spring_axial_force) < 0.0;
+      return sa.get(i, SignalId::slider_spring_axial_force) < 0.0;
     };
     const auto turning_down = [&](std::size_t i) {
       return st.get(i, SignalId::surface_rate) < 0.0;
@@ -282,15 +285,14 @@ TEST_CASE("rod-end kinematic: thesis §5.1 physics on the 0 -> +50 mm -> 0 profi
     };
     std::size_t frames = 0, frames40 = 0, contact_frames = 0;
     double t_bad = NAN;
-    CHECK(count_violations(st, window40, stretched, frames40, t_bad) == 0);
+    CHECK(count_violations(sa, sample_window40, stretched, frames40, t_bad) == 0);
     CAPTURE(t_bad);
     CHECK(count_violations(st, window, turning_down, frames, t_bad) == 0);
     CHECK(count_violations(st, in_contact, force_down_left, contact_frames, t_bad) == 0);
     CAPTURE(frames, frames40, contact_frames);
     CHECK(frames > 100);
-    CHECK(frames40 > 50);
+    CHECK(frames40 > 500);  // the rate is below -40 % for 0.59 s: 590 samples
     CHECK(contact_frames > frames / 2);
-    const Track& sa = rec.samples;
     const auto sample_window = [&](std::size_t i) {
       return i > 0 && sa.get(i - 1, SignalId::actuator_velocity) < -0.2 * v_peak &&
              sa.get(i, SignalId::actuator_velocity) < -0.2 * v_peak;
