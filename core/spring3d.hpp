@@ -30,7 +30,6 @@ template <class S>
 struct SpringEvalT {
   Vec3T<S> force_on_body = Vec3T<S>::Zero();   ///< [N]; the anchor receives the opposite
   Vec3T<S> moment_on_body = Vec3T<S>::Zero();  ///< [N m]; the anchor receives the opposite
-  S potential = 0.0;                           ///< elastic energy [J]
   S damping_power = 0.0;                       ///< dissipated power [W], >= 0
   /// Power delivered by whatever moves the anchor [W] (input work of a prescribed anchor).
   S anchor_power = 0.0;
@@ -39,8 +38,8 @@ using SpringEval = SpringEvalT<double>;
 
 /// F = k (p_a - p_b) + d (v_a - v_b)                         (thesis 4.4-4.5)
 /// M = -k_r r - d_r (w_b - w_ref),  r = rotation vector of q_b q_ref^-1
-/// U = k |p_a - p_b|^2 / 2 + k_r |r|^2 / 2 is exact for this moment, since d|r|/dt is the
-/// component of (w_b - w_ref) along r.
+/// and the powers; the elastic energy is spring_potential's (the right-hand side needs only
+/// forces and powers).
 template <class S>
 SpringEvalT<S> evaluate_spring(const Spring3DParams& s, const SpringAnchorT<S>& a,
                                const BodyKinematicsT<S>& b) {
@@ -52,15 +51,13 @@ SpringEvalT<S> evaluate_spring(const Spring3DParams& s, const SpringAnchorT<S>& 
   const Vec3T<S> r = rotation_vector_of_unit(QuatT<S>(b.q_WB * a.q_ref.conjugate()));
   const Vec3T<S> dw = b.w_W - a.w_ref_W;
   e.moment_on_body = -s.rotational_stiffness * r - s.rotational_damping * dw;
-  e.potential =
-      0.5 * s.stiffness * dp.squaredNorm() + 0.5 * s.rotational_stiffness * r.squaredNorm();
   e.damping_power = s.damping * dv.squaredNorm() + s.rotational_damping * dw.squaredNorm();
   e.anchor_power = e.force_on_body.dot(a.v_W) + e.moment_on_body.dot(a.w_ref_W);
   return e;
 }
 
-/// The elastic energy U of evaluate_spring alone (the same arithmetic, so the same value), for
-/// what reads the energy but not the forces (a scene's per-step frame).
+/// The elastic energy of evaluate_spring's spring [J]: U = k |p_a - p_b|^2 / 2 + k_r |r|^2 / 2,
+/// exact for its moment, since d|r|/dt is the component of (w_b - w_ref) along r.
 template <class S>
 S spring_potential(const Spring3DParams& s, const SpringAnchorT<S>& a,
                    const BodyKinematicsT<S>& b) {

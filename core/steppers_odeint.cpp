@@ -63,13 +63,10 @@ namespace {
 }
 
 /// A trial step that left the state's domain (a contact pushed far past its law's range by too
-/// long a step gives an infinite or NaN force). odeint's error checker takes the largest error
-/// with std::max, which passes over a NaN, so it accepts such a trial with an error of zero
-/// (and lengthens the next step); the steppers below reject it and shrink the step by
-/// kDivergedShrink instead, as odeint does for an error far above 1.
-bool diverged(const state_t& z) {
-  return !all_finite(z);
-}
+/// long a step gives an infinite or NaN force) is not finite. odeint's error checker takes the
+/// largest error with std::max, which passes over a NaN, so it accepts such a trial with an
+/// error of zero (and lengthens the next step); the steppers below reject it and shrink the step
+/// by kDivergedShrink instead, as odeint does for an error far above 1.
 constexpr double kDivergedShrink = 0.2;
 
 /// Classical fourth-order Runge-Kutta, fixed step. Its interpolant re-takes the step from the
@@ -130,8 +127,8 @@ class Dopri5Stepper final : public Stepper {
       double dt = std::min(dt_, t_limit - t_prev);
       const bool clipped = dt < dt_;
       const auto res = ctrl_.try_step(std::ref(sys_), z_prev, dz_prev, t, z_now, dz_now, dt);
-      if (res == odeint::success && (diverged(z_now) || diverged(dz_now))) {
-        t = t_prev;  // odeint took it (see diverged): a rejection, shrunk hard
+      if (res == odeint::success && !(all_finite(z_now) && all_finite(dz_now))) {
+        t = t_prev;  // odeint took it (see kDivergedShrink): a rejection, shrunk hard
         dt = kDivergedShrink * dt;
       } else if (res == odeint::success) {
         ++accepted;
@@ -186,8 +183,8 @@ class ControlledStepper final : public Stepper {
       double dt = std::min(dt_, t_limit - t_prev);
       const bool clipped = dt < dt_;
       const auto res = ctrl_.try_step(std::ref(sys_), z_prev, dz_prev, t, z_now, dt);
-      if (res == odeint::success && diverged(z_now)) {
-        t = t_prev;  // odeint took it (see diverged): a rejection, shrunk hard
+      if (res == odeint::success && !all_finite(z_now)) {
+        t = t_prev;  // odeint took it (see kDivergedShrink): a rejection, shrunk hard
         dt = kDivergedShrink * dt;
       } else if (res == odeint::success) {
         ++accepted;

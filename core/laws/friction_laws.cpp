@@ -15,23 +15,27 @@ class ThesisFriction final : public FrictionLaw {
   explicit ThesisFriction(const FrictionParams& p) : p_(p) {}
   std::string_view name() const override { return "thesis"; }
   double coefficient(double v) const override {
-    const double st = p_.static_coefficient - p_.viscous_coefficient * p_.static_speed;
-    const double dyn = p_.dynamic_coefficient - p_.viscous_coefficient * p_.dynamic_speed;
-    const double base = (v <= p_.static_speed)
-                            ? smooth_step(v, -p_.static_speed, -st, p_.static_speed, st)
-                            : smooth_step(v, p_.static_speed, st, p_.dynamic_speed, dyn);
-    return base + p_.viscous_coefficient * v;
+    const Blend b = blend(v);
+    return smooth_step(v, b.v0, b.y0, b.v1, b.y1) + p_.viscous_coefficient * v;
   }
   double slope(double v) const override {
-    const double st = p_.static_coefficient - p_.viscous_coefficient * p_.static_speed;
-    const double dyn = p_.dynamic_coefficient - p_.viscous_coefficient * p_.dynamic_speed;
-    const double base = (v <= p_.static_speed)
-                            ? smooth_step_slope(v, -p_.static_speed, -st, p_.static_speed, st)
-                            : smooth_step_slope(v, p_.static_speed, st, p_.dynamic_speed, dyn);
-    return base + p_.viscous_coefficient;
+    const Blend b = blend(v);
+    return smooth_step_slope(v, b.v0, b.y0, b.v1, b.y1) + p_.viscous_coefficient;
   }
 
  private:
+  /// The cubic step that holds at slip speed v, (v0, y0) to (v1, y1), its levels less the
+  /// viscous term's: the rise centred on zero slip up to v_st, or the blend to v_dyn.
+  struct Blend {
+    double v0, y0, v1, y1;
+  };
+  Blend blend(double v) const {
+    const double st = p_.static_coefficient - p_.viscous_coefficient * p_.static_speed;
+    const double dyn = p_.dynamic_coefficient - p_.viscous_coefficient * p_.dynamic_speed;
+    if (v <= p_.static_speed) return {-p_.static_speed, -st, p_.static_speed, st};
+    return {p_.static_speed, st, p_.dynamic_speed, dyn};
+  }
+
   FrictionParams p_;
 };
 

@@ -150,7 +150,7 @@ Waveform read_waveform(const ParameterSet& p, const std::string& pre, Waveform::
 double ActuatorMotion::duration() const {
   if (shape == Shape::profile) return profile.end_time();
   if (is_waveform()) return wave.end_time();
-  return start_time + cycles * (extension_time + retraction_time + 2.0 * hold_time);
+  return start_time + cycles * stroke_period();
 }
 
 std::pair<double, double> ActuatorMotion::range() const {
@@ -173,7 +173,7 @@ ActuatorMotion::Sample ActuatorMotion::at(double t) const {
     const Waveform::Sample w = wave.at(t);
     return {w.value, w.rate, w.acceleration};
   }
-  const double period = extension_time + retraction_time + 2.0 * hold_time;
+  const double period = stroke_period();
   if (t <= start_time) return {0.0, 0.0, 0.0};
   // duration() of a stroke, from the period at hand (the right-hand side calls this each stage)
   if (t >= start_time + cycles * period) return {-retraction, 0.0, 0.0};

@@ -124,6 +124,10 @@ struct ActuatorMotion {
   Sample at(double t) const;
   /// Time at which the profile ends (after the last hold; a profile's last sample) [s].
   double duration() const;
+  /// One stroke cycle: extension, hold, retraction, hold [s].
+  double stroke_period() const {
+    return extension_time + retraction_time + 2.0 * hold_time;
+  }
 };
 
 /// The catalogue of profile shapes: the allowed values of `<prefix>.shape`, in the order of

@@ -301,8 +301,6 @@ RodEndMechanism::Eval RodEndMechanism::evaluate_state(double t, double u, double
   Eval e;
   kinematics(u, u_dot, x, e);
   e.contact = evaluate_contact(contact_, e.ball, e.socket, latch);
-  e.slider_spring.potential = spring_potential(slider_spring_, e.slider_anchor, e.socket);
-  e.crank_spring.potential = spring_potential(crank_spring_, e.crank_anchor, e.ball);
   e.hinge_moment = hinge_at(hinge_, t, e.theta);
   return e;
 }
@@ -358,7 +356,8 @@ double RodEndMechanism::mechanical_energy(const Eval& e) const {
 double RodEndMechanism::mechanical_energy(const Eval& e, double kinetic) const {
   return kinetic - ball_.mass * gravity_.dot(e.ball.p_W) -
          socket_.mass * gravity_.dot(e.socket.p_W) + e.contact.potential +
-         e.slider_spring.potential + e.crank_spring.potential;
+         spring_potential(slider_spring_, e.slider_anchor, e.socket) +
+         spring_potential(crank_spring_, e.crank_anchor, e.ball);
 }
 
 void RodEndMechanism::step_outputs(const Eval& e, double command, double kinetic,

@@ -67,7 +67,7 @@ class RodEndMechanism {
 
   /// What an accepted step's frame reads (step_outputs, the contact's step signals and
   /// mechanical_energy): evaluate() without the springs' forces, moments and powers and the
-  /// crank torque (left zero); the springs' potentials are evaluate()'s, bit for bit.
+  /// crank torque (left zero).
   Eval evaluate_state(double t, double u, double u_dot, const double* x,
                       const ContactLatch& l) const;
 

@@ -102,7 +102,8 @@ class SpringContactScene final : public OneContactScene<SpringContactScene> {
     const double mech = kinetic_energy(ball_, ball) + kinetic_energy(socket_, socket) -
                         ball_.mass * gravity_.dot(ball.p_W) -
                         socket_.mass * gravity_.dot(socket.p_W) + f.contact.potential +
-                        f.tether.potential + f.drive.potential;
+                        spring_potential(tether_, SpringAnchor{}, socket) +
+                        spring_potential(drive_, drive_anchor(t), ball);
     return {mech, x[kWork], x[kDissipated]};
   }
   void outputs(double t, const double* x, const DiscreteState& d, SignalFrame& out) const override {
