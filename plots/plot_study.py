@@ -26,7 +26,9 @@ Figures (file stem: what, thesis figure):
   body_motion              free-body position, velocity, attitude, rates (3.21-3.23)
   bode                     frequency response: gain and phase of surface and piston against the drive
                            frequency, one curve per clearance (and amplitude) (docs/inputs.md)
-  free_play_loop           free-play ground test: surface angle against hinge moment, one panel per case
+  free_play_loop           free-play ground test: surface angle against hinge moment over the periods
+                           after the first, near zero moment and less the elastic deflection, with the
+                           metric's branch lines extrapolated to zero moment and the ringing marked
   slider_acceleration      planar-slider-crank: slider acceleration against crank angle over the last
                            full revolution, the ideal joint overlaid, and each clearance's eccentricity
                            orbit (journal centre relative to bearing centre) (Wang et al. 2019)
@@ -48,6 +50,8 @@ import warnings
 
 # the package rodend beside plots/ (its reader needs no compiled module), else an installed one
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "python"))
+# the figure modules beside this file (also when it is run by runpy, which adds no path)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import matplotlib  # noqa: E402
 
@@ -58,6 +62,8 @@ from matplotlib.lines import Line2D  # noqa: E402
 
 from rodend.naming import DISPLAY_UNITS, coordinate_label, format_value, short_key  # noqa: E402
 from rodend.study import NotAStudy, open_study  # noqa: E402
+
+import input_figures  # noqa: E402
 
 # how each SI unit is shown on an axis: (shown unit, factor), one table shared with the legend
 # labels (rodend.naming)
@@ -1185,44 +1191,8 @@ def fig_bode(study, cases, style):
     return fig
 
 
-@figure("free_play_loop", "free-play loop: surface angle against hinge moment, one per clearance")
-def fig_free_play_loop(study, cases, style):
-    summ = study.summary
-    if "free_play" not in summ or not np.isfinite(np.asarray(summ["free_play"], float)).any():
-        raise Skip("no free-play metrics (a triangle hinge moment) in the summary")
-    cases = [c for c in with_signals(cases, "hinge_moment", "surface_angle")
-             if np.isfinite(float(summ["free_play"][c.row]))]
-    if not cases:
-        raise Skip("no case with a free-play loop recorded (signals hinge_moment, surface_angle)")
-    fig, axes = plt.subplots(1, 2, figsize=(12, 5.2), layout="constrained")
-    handles, labels = [], []
-    for c in cases:
-        t, m, a = sigs(c, "time", "hinge_moment", "surface_angle")
-        kp, kn = (float(summ[f"stiffness_{side}"][c.row]) for side in ("positive", "negative"))
-        k = 0.5 * (kp + kn)
-        axes[0].plot(m, np.degrees(a), color=style(c), lw=0.8)
-        # the loop less the elastic deflection M/K: the free-play is the step across M = 0
-        axes[1].plot(m, np.degrees(a - m / k), color=style(c), lw=0.8)
-        fp = float(summ["free_play"][c.row])
-        text = f"{c.label}: free-play {math.degrees(fp):.3f} deg"
-        crank, clearance = c.parameter("geometry.crank"), clearance_of(c)
-        if crank and clearance:
-            text += f" (2c/s {math.degrees(2 * clearance / float(crank)):.3f})"
-        text += f", K+ {kp / 1e3:.2f}, K- {kn / 1e3:.2f} kN m/rad"
-        handles.append(Line2D([], [], color=style(c), lw=2))
-        labels.append(text)
-    axes[0].set_ylabel("surface angle θ [deg]")
-    axes[1].set_ylabel("θ − M/K [deg], K the mean loaded stiffness")
-    axes[0].set_title("the loop", fontsize="small", loc="left")
-    axes[1].set_title("the loop less the elastic deflection: free-play across M = 0",
-                      fontsize="small", loc="left")
-    for ax in axes:
-        ax.set_xlabel(axis_label("hinge moment", cases[0].unit("hinge_moment")))
-        ax.grid(True, alpha=0.3)
-    bottom_legend(fig, handles, labels)
-    set_suptitle(fig, title(study, "Free-play ground test: surface angle against a slowly "
-                              "reversing hinge moment, actuator holding (docs/inputs.md)"))
-    return fig
+# the inputs' figures (free_play_loop) are in plots/input_figures.py
+input_figures.register(sys.modules[__name__])
 
 
 def save(fig, path, dpi):
