@@ -1,5 +1,9 @@
 """The figures of the periodic inputs (docs/inputs.md), drawn by plots/plot_study.py:
 
+  bode            the frequency response, gain and phase of the surface and of the piston against
+                  the drive frequency, one surface curve per clearance (and amplitude), the
+                  piston's clearances merged where their curves agree (it does not see the
+                  clearance), and the linearised model at zero clearance (plots/linear_actuator.py)
   free_play_loop  the free-play ground test's loop over the periods after the first, with the
                   metric's construction (each branch's least-squares line over 0.2 M to 0.9 M,
                   extrapolated to zero moment, where the two lines are the free-play apart) and
@@ -12,6 +16,7 @@ helpers (Skip, sigs, legends, titles) are plot_study's.
 import math
 
 import numpy as np
+import linear_actuator
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
@@ -24,8 +29,157 @@ def register(helpers):
     """Adds this module's figures to plot_study's list (helpers: the plot_study module)."""
     global H
     H = helpers
+    helpers.figure("bode", "Bode diagram of the frequency response, one curve per "
+                   "clearance")(fig_bode)
     helpers.figure("free_play_loop", "free-play loop: surface angle against hinge moment, "
                    "one per clearance")(fig_free_play_loop)
+
+
+# --- the Bode diagram -------------------------------------------------------------------------
+
+DASHES = ["-", "--", ":", "-."]
+MERGE_GAIN, MERGE_PHASE = 0.01, 1.0     # piston curves closer than 1 % and 1 deg are one curve
+# the parameters the linearised model reads (linear_actuator.Model)
+MODEL_KEYS = ("actuator.", "geometry.", "slider_spring.", "crank_spring.", "surface.",
+              "ball.mass", "socket.mass")
+
+
+def is_clearance(kv):
+    return kv[0].endswith("contact.clearance")
+
+
+def bode_groups(cases):
+    """One group per grid point less the frequency: {coordinates (json_key): cases}."""
+    groups = {}
+    for c in cases:
+        key = H.json_key({k: v for k, v in c.coordinates.items()
+                          if not k.endswith("motion.frequency") and not k.endswith(".cycles")
+                          and k != "time.end"})
+        groups.setdefault(key, []).append(c)
+    return groups
+
+
+def response(summ, members, what):
+    """(frequency [Hz], gain, phase [deg]) of the surface or the piston over a group's cases,
+    by frequency; NaN where the case did not settle."""
+    rows = [c.row for c in members]
+    f = np.asarray(summ["drive_frequency"], float)[rows]
+    order = np.argsort(f)
+    g = np.asarray(summ[f"{what}_gain"], float)[rows][order]
+    ph = np.degrees(np.unwrap(np.nan_to_num(np.asarray(summ[f"{what}_phase"], float)[rows][order])))
+    ph[~np.isfinite(g)] = np.nan
+    return f[order], g, ph
+
+
+def group_label(key, case):
+    return ", ".join(H.coordinate_label(k, case.coordinates[k], case.coordinate_unit(k))
+                     for k, _ in key) or "all cases"
+
+
+def piston_curves(summ, groups):
+    """The piston's curves: [(f, gain, phase, rest, clearance key or None, label)], one per
+    coordinates less the clearance when its clearances' curves agree (MERGE_GAIN, MERGE_PHASE:
+    the piston does not see the clearance), else one per group."""
+    by_rest = {}
+    for key, members in groups.items():
+        by_rest.setdefault(tuple(kv for kv in key if not is_clearance(kv)), []).append(key)
+    curves = []
+    for rest, keys in by_rest.items():
+        resp = [response(summ, groups[k], "piston") for k in keys]
+        case = groups[keys[0]][0]
+        if len(keys) > 1 and all(np.array_equal(r[0], resp[0][0]) for r in resp):
+            g, ph = np.array([r[1] for r in resp]), np.array([r[2] for r in resp])
+            dg = np.nanmax(np.nanmax(g, 0) / np.nanmin(g, 0) - 1)
+            dph = np.nanmax(np.nanmax(ph, 0) - np.nanmin(ph, 0))
+            if dg <= MERGE_GAIN and dph <= MERGE_PHASE:
+                label = (f"piston, every clearance (within {100 * dg:.2g} %, {dph:.2g}°)"
+                         + (": " + group_label(rest, case) if rest else ""))
+                curves.append((resp[0][0], np.nanmean(g, 0), np.nanmean(ph, 0), rest, None, label))
+                continue
+        for k, r in zip(keys, resp):
+            curves.append((*r, rest, k, "piston, " + group_label(k, groups[k][0])))
+    return curves
+
+
+def linear_references(groups, f_lo, f_hi):
+    """The linearised model's (f, H_surface, H_piston, label), one per distinct set of the
+    parameters it reads; none for a scene without the linkage."""
+    refs, seen = [], []
+    f = np.geomspace(f_lo, f_hi, 200)
+    for members in groups.values():
+        case = members[0]
+        if case.scene != "rod-end-actuator":
+            continue
+        p = {k: v for k, v in case.parameters.items() if k.startswith(MODEL_KEYS)}
+        if p in seen:
+            continue
+        seen.append(p)
+        lin = linear_actuator.Linear(linear_actuator.Model(p), "mid")
+        h = np.array([lin.response(x) for x in f])
+        refs.append((f, h[:, 1], h[:, 0], "linearised model, zero clearance, at the mid pressure "
+                     "(plots/linear_actuator.py)" + ("" if not refs else f" ({case.label})")))
+    return refs
+
+
+def draw_curve(axes, col, f, g, ph, **style):
+    axes[0, col].semilogx(f, 20 * np.log10(g), **style)
+    axes[1, col].semilogx(f, ph, **style)
+
+
+def fig_bode(study, cases, style):
+    summ = study.summary
+    if "surface_gain" not in summ or not np.isfinite(np.asarray(summ["surface_gain"], float)).any():
+        raise H.Skip("no gain/phase metrics (a sine command's frequency response) in the summary")
+    freqs = np.asarray(summ["drive_frequency"], float)
+    if len(set(freqs[np.isfinite(freqs)])) < 2:
+        raise H.Skip("one drive frequency: no frequency axis for a Bode diagram")
+    groups = bode_groups(cases)
+    fig, axes = H.plt.subplots(2, 2, sharex=True, figsize=(11, 7), layout="constrained")
+    cmap = H.plt.get_cmap("tab10")
+    clearances = sorted({H.clearance_of(m[0]) or 0.0 for m in groups.values()})
+    rests = []                                  # the coordinates less the clearance: dashes
+    for key in groups:
+        rest = tuple(kv for kv in key if not is_clearance(kv))
+        if rest not in rests:
+            rests.append(rest)
+    handles, labels = [], []
+    for key, members in groups.items():         # the surface: one curve per group
+        kw = dict(color=cmap(clearances.index(H.clearance_of(members[0]) or 0.0) % 10),
+                  ls=DASHES[rests.index(tuple(kv for kv in key if not is_clearance(kv))) % 4],
+                  marker="o", ms=3, lw=1)
+        draw_curve(axes, 0, *response(summ, members, "surface"), **kw)
+        handles.append(Line2D([], [], **kw))
+        labels.append("surface, " + group_label(key, members[0]))
+    for f, g, ph, rest, key, label in piston_curves(summ, groups):
+        color = "0.3" if key is None else cmap(
+            clearances.index(H.clearance_of(groups[key][0]) or 0.0) % 10)
+        kw = dict(color=color, ls=DASHES[rests.index(rest) % 4], marker="s", ms=3, lw=1)
+        draw_curve(axes, 1, f, g, ph, **kw)
+        handles.append(Line2D([], [], **kw))
+        labels.append(label)
+    for f, hs, hp, label in linear_references(groups, np.nanmin(freqs), np.nanmax(freqs)):
+        kw = dict(color="k", lw=2.2, alpha=0.35, zorder=1)
+        for col, h in ((0, hs), (1, hp)):
+            draw_curve(axes, col, f, np.abs(h), np.degrees(np.unwrap(np.angle(h))), **kw)
+        handles.append(Line2D([], [], **kw))
+        labels.append(label)
+    finish_bode(fig, axes, study, handles, labels)
+    return fig
+
+
+def finish_bode(fig, axes, study, handles, labels):
+    axes[0, 0].set_title("surface angle / rigid-linkage angle of the command", fontsize="small",
+                         loc="left")
+    axes[0, 1].set_title("piston position / command", fontsize="small", loc="left")
+    for col in range(2):
+        axes[0, col].set_ylabel("gain [dB]")
+        axes[1, col].set_ylabel("phase [deg]")
+        axes[1, col].set_xlabel("drive frequency [Hz]")
+        for r in range(2):
+            axes[r, col].grid(True, which="both", alpha=0.3)
+    H.set_suptitle(fig, H.title(study, "Frequency response (Bode diagram): gain and phase at the "
+                                "drive frequency over settled periods (docs/inputs.md)"))
+    H.bottom_legend(fig, handles, labels)
 
 
 # --- the free-play loop ---------------------------------------------------------------------

@@ -25,7 +25,8 @@ Figures (file stem: what, thesis figure):
   ball_motion              ball (and socket) motion and forces, scenes without a mechanism (3.24, 3.26)
   body_motion              free-body position, velocity, attitude, rates (3.21-3.23)
   bode                     frequency response: gain and phase of surface and piston against the drive
-                           frequency, one curve per clearance (and amplitude) (docs/inputs.md)
+                           frequency, one surface curve per clearance (and amplitude), the piston's
+                           clearances merged where they agree, the linearised model (docs/inputs.md)
   free_play_loop           free-play ground test: surface angle against hinge moment over the periods
                            after the first, near zero moment and less the elastic deflection, with the
                            metric's branch lines extrapolated to zero moment and the ringing marked
@@ -1132,66 +1133,7 @@ def fig_slider_acceleration(study, cases, style):
 
 # --- driver -------------------------------------------------------------------------------
 
-@figure("bode", "Bode diagram of the frequency response, one curve per clearance")
-def fig_bode(study, cases, style):
-    summ = study.summary
-    if "surface_gain" not in summ or not np.isfinite(np.asarray(summ["surface_gain"], float)).any():
-        raise Skip("no gain/phase metrics (a sine command's frequency response) in the summary")
-    freqs = np.asarray(summ["drive_frequency"], float)
-    if len(set(freqs[np.isfinite(freqs)])) < 2:
-        raise Skip("one drive frequency: no frequency axis for a Bode diagram")
-    # one curve per grid point less the frequency: group the cases by their other coordinates
-    groups = {}
-    for c in cases:
-        key = json_key({k: v for k, v in c.coordinates.items()
-                        if not k.endswith("motion.frequency") and not k.endswith(".cycles")
-                        and k != "time.end"})
-        groups.setdefault(key, []).append(c)
-    fig, axes = plt.subplots(2, 2, sharex=True, figsize=(11, 7), layout="constrained")
-    cmap = plt.get_cmap("tab10")
-    handles, labels = [], []
-    # colour: the clearance; line style: the other coordinates (the amplitude)
-    clearances = sorted({clearance_of(m[0]) or 0.0 for m in groups.values()})
-    others = []
-    for key in groups:
-        rest = tuple(kv for kv in key if not kv[0].endswith("contact.clearance"))
-        if rest not in others:
-            others.append(rest)
-    dashes = ["-", "--", ":", "-."]
-    for key, members in groups.items():
-        rows = [c.row for c in members]
-        f = np.asarray(summ["drive_frequency"], float)[rows]
-        order = np.argsort(f)
-        color = cmap(clearances.index(clearance_of(members[0]) or 0.0) % 10)
-        ls = dashes[others.index(tuple(kv for kv in key
-                                       if not kv[0].endswith("contact.clearance"))) % 4]
-        for col, what in enumerate(("surface", "piston")):
-            g = np.asarray(summ[f"{what}_gain"], float)[rows][order]
-            ph = np.degrees(np.unwrap(np.nan_to_num(np.asarray(summ[f"{what}_phase"], float)[rows][order])))
-            ph[~np.isfinite(g)] = np.nan
-            axes[0, col].semilogx(f[order], 20 * np.log10(g), marker="o", ls=ls, color=color,
-                                  ms=3, lw=1)
-            axes[1, col].semilogx(f[order], ph, marker="o", ls=ls, color=color, ms=3, lw=1)
-        handles.append(Line2D([], [], color=color, marker="o", ls=ls, lw=1))
-        desc = ", ".join(coordinate_label(k, members[0].coordinates[k],
-                                          members[0].coordinate_unit(k))
-                         for k, _ in key) or "all cases"
-        labels.append(desc)
-    axes[0, 0].set_title("surface angle / rigid-linkage angle of the command", fontsize="small", loc="left")
-    axes[0, 1].set_title("piston position / command", fontsize="small", loc="left")
-    for col in range(2):
-        axes[0, col].set_ylabel("gain [dB]")
-        axes[1, col].set_ylabel("phase [deg]")
-        axes[1, col].set_xlabel("drive frequency [Hz]")
-        for r in range(2):
-            axes[r, col].grid(True, which="both", alpha=0.3)
-    set_suptitle(fig, title(study, "Frequency response (Bode diagram): gain and phase at the "
-                              "drive frequency over settled periods (docs/inputs.md)"))
-    bottom_legend(fig, handles, labels)
-    return fig
-
-
-# the inputs' figures (free_play_loop) are in plots/input_figures.py
+# the inputs' figures (bode, free_play_loop) are in plots/input_figures.py
 input_figures.register(sys.modules[__name__])
 
 
