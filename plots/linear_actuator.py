@@ -61,8 +61,12 @@ def load_parameters(rodend=None, params_file=None):
 class Model:
     """The documented equations of rod-end-actuator at zero clearance, right-hand side f(x, c)."""
 
-    def __init__(self, p):
+    def __init__(self, p, eq_6_3_as_printed=False):
         self.p = p
+        # the feedback wire's deflection on the spool: x_s + x_j as in eq. 6.2 (the code), or
+        # x_j - x_s as eq. 6.3 prints it (docs/thesis-deviations.md#eq-6-3-feedback-wire-sign)
+        self.wire_on_spool = (lambda xs, xj: xj - xs) if eq_6_3_as_printed else (
+            lambda xs, xj: xs + xj)
         s, t, l0 = p["geometry.crank"], p["geometry.frame"], p["geometry.rod"]
         cos_phi = (s * s + t * t - l0 * l0) / (2 * s * t)    # law of cosines, eq. 4.1
         self.r = s * t * math.sqrt(1 - cos_phi ** 2) / l0     # dl/dtheta at zero [m/rad]
@@ -107,7 +111,8 @@ class Model:
         jet_dp = span * math.tanh(a("jet_pressure_gain") * x[XJ] / span)
         flow_force = self.valve(x[XS], x[P1], x[P2])[2]
         dx[XS] = x[VS]
-        dx[VS] = (a("spool_area") * jet_dp - a("wire_stiffness") * (x[XS] + x[XJ]) + flow_force
+        wire = a("wire_stiffness") * self.wire_on_spool(x[XS], x[XJ])
+        dx[VS] = (a("spool_area") * jet_dp - wire + flow_force
                   - a("spool_damping") * x[VS]) / a("spool_mass")
 
     def cylinder(self, x, dx):
@@ -217,8 +222,8 @@ def hertz_intercept(lo=0.2, hi=0.9, exponent=2 / 3):
     return mean_y - slope * mean_x, lo ** n - secant * lo
 
 
-def report(p, pressure, freqs):
-    model = Model(p)
+def report(p, pressure, freqs, eq_6_3_as_printed=False):
+    model = Model(p, eq_6_3_as_printed)
     lin = {k: Linear(model, k) for k in ("settled", "mid")}
     main = lin[pressure]
     print(f"operating point ({pressure}): P1 = {main.x0[P1] / 1e6:.4f} MPa, "
@@ -249,8 +254,12 @@ def main(argv=None):
                     help="the operating point of the poles and the table (default settled)")
     ap.add_argument("--freq", type=float, nargs="+", default=DEFAULT_FREQS,
                     help="frequencies of the table [Hz]")
+    ap.add_argument("--eq-6-3-as-printed", action="store_true",
+                    help="the feedback wire on the spool as the thesis's eq. 6.3 prints it, "
+                         "-(x_j - x_s) k_W, instead of eq. 6.2's -(x_s + x_j) k_W")
     args = ap.parse_args(argv)
-    report(load_parameters(args.rodend, args.params), args.pressure, args.freq)
+    report(load_parameters(args.rodend, args.params), args.pressure, args.freq,
+           args.eq_6_3_as_printed)
     return 0
 
 
