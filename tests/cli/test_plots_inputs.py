@@ -5,8 +5,8 @@
    the model gives, where the simulated piston gain must be 1/sqrt(2). Tolerance 1 % of gain and
    1 deg: the two differ by the nonlinearity at +-1 mm (up to 0.5 % of gain and 0.44 deg at
    12 Hz, measured by tests/test_inputs.cpp) and by the chambers' pressures, which start at the
-   model's mid pressure and relax towards the settled one (the gains there 0.2 % lower). The
-   bandwidth docs/inputs.md gave before, 10.5 Hz, fails it: the gain there is 0.72.
+   model's mid pressure and relax towards the settled one (the gains there up to 0.3 % lower at
+   11 Hz). The bandwidth docs/inputs.md gave before, 10.5 Hz, fails it: the gain there is 0.72.
 2. The settled pressure the model finds by Newton's method against a held run's chamber
    pressures after 8 s (9 of the sum-pressure mode's time constants): within 0.005 MPa.
 3. The free-play figure's construction (plots/input_figures.py: each branch's time-weighted
