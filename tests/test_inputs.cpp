@@ -346,16 +346,17 @@ TEST_CASE("free-play ground test: the loop's free-play is the geometric 2c/s", "
     p.set("hinge.cycles", 2);
     const PeriodicMetrics m = run_periodic(p, bdf, 2.0);
     const double s = p.number("geometry.crank");
-    // the tolerance: the Hertz penetration the lines miss at zero load, 0.17 delta(F_max) per
-    // side (F_max = M/s), and the linkage's geometry across its M/K = 66 mrad deflection,
-    // second order in that angle: 0.15 mrad
+    // the tolerance: the Hertz penetration the lines miss at zero load, 0.204 delta(F_max) per
+    // side (F_max = M/s; the least-squares line of x^(2/3) on [0.2, 0.9] meets x = 0 at 0.204,
+    // the secant at 0.173: plots/linear_actuator.py), and the linkage's geometry across its
+    // M/K = 66 mrad deflection, second order in that angle: 0.15 mrad
     const double nu = p.number("contact.ball_poisson_ratio");
     const double E = p.number("contact.ball_youngs_modulus");
     REQUIRE(p.number("contact.socket_youngs_modulus") == E);
     const double Rb = p.number("contact.ball_radius"), Rs = Rb + c;
     const double K = 4.0 / 3.0 * E / (2.0 * (1.0 - nu * nu)) * std::sqrt(Rb * Rs / c);
     const double delta = std::pow(M / s / K, 2.0 / 3.0);
-    const double tol = 2.0 * 0.17 * delta / s + 1.5e-4;
+    const double tol = 2.0 * 0.204 * delta / s + 1.5e-4;
     measured("free-play error [rad]", m.free_play - 2.0 * c / s, tol);
     CHECK(std::abs(m.free_play - 2.0 * c / s) < tol);
     // both sides see the same linkage: the two stiffnesses agree, and with the chain's series
