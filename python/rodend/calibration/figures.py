@@ -9,20 +9,27 @@ import numpy as np  # noqa: E402
 
 def fit(path, times, compare, observed, band, final, units):
     """observed, final: (columns, times); band: (3, columns, times) the 5/50/95 % of the
-    posterior predictive (the surrogate at posterior draws plus the noise)."""
+    posterior predictive (the surrogate at posterior draws plus the noise). Per column, the
+    record over the band, and below it the same less the band's median (the band is often
+    thinner than the line at the signal's scale)."""
     n = len(compare)
-    fig, axes = plt.subplots(n, 1, figsize=(8, 3.2 * n), squeeze=False)
+    fig, axes = plt.subplots(2 * n, 1, figsize=(8, 5.5 * n), squeeze=False)
     for k, c in enumerate(compare):
-        ax = axes[k, 0]
-        ax.fill_between(times, band[0, k], band[2, k], color="C0", alpha=0.3,
-                        label="posterior predictive 5-95 %")
-        ax.plot(times, band[1, k], color="C0", lw=1, label="posterior predictive median")
-        ax.plot(times, observed[k], ".", ms=2, color="k", label=f"record ({c['column']})")
-        if final is not None:
-            ax.plot(times, final[k], color="C3", lw=0.8, label="full model at the mode")
-        ax.set_xlabel("time [s]")
-        ax.set_ylabel(f"{c['signal']} [{units[k]}]")
-        ax.legend(fontsize=7)
+        for row, less in ((2 * k, 0.0), (2 * k + 1, band[1, k])):
+            ax = axes[row, 0]
+            ax.fill_between(times, band[0, k] - less, band[2, k] - less, color="C0",
+                            alpha=0.3, label="posterior predictive 5-95 %")
+            ax.plot(times, band[1, k] - less, color="C0", lw=1,
+                    label="posterior predictive median")
+            ax.plot(times, observed[k] - less, ".", ms=2, color="k",
+                    label=f"record ({c['column']})")
+            if final is not None:
+                ax.plot(times, final[k] - less, color="C3", lw=0.8,
+                        label="full model at the mode")
+            ax.set_xlabel("time [s]")
+            what = c["signal"] if row == 2 * k else c["signal"] + " less the median"
+            ax.set_ylabel(f"{what} [{units[k]}]")
+            ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

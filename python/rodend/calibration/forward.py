@@ -129,14 +129,11 @@ def single_run(cfg, root, name, values, times):
 
 
 class Scratch:
-    """A private temporary folder for the runs, removed on exit."""
-
-    def __init__(self, near):
-        self.near = near
+    """A private temporary folder for the runs (in the system's temporary folder, $TMPDIR:
+    nothing beside the results until they are complete), removed on exit."""
 
     def __enter__(self):
-        os.makedirs(self.near, exist_ok=True)
-        self.path = tempfile.mkdtemp(prefix=".rodend-calibrate-", dir=self.near)
+        self.path = tempfile.mkdtemp(prefix="rodend-calibrate-")
         return self.path
 
     def __exit__(self, *a):

@@ -55,13 +55,8 @@ def mode(logpost, prior, seed, starts=4000):
     return best.x * scale
 
 
-def laplace_covariance(logpost, x, prior):
-    """−(Hessian of log p)⁻¹ at the mode by central differences; the prior's covariance/100
-    when that is not positive definite."""
+def _hessian(logpost, x, h, f0, hess):
     d = len(x)
-    h = np.array(prior.getStandardDeviation()) * 1e-3
-    f0 = logpost(x)[0]
-    hess = np.zeros((d, d))
     for i in range(d):
         for j in range(i, d):
             ei, ej = np.eye(d)[i] * h[i], np.eye(d)[j] * h[j]
@@ -71,14 +66,26 @@ def laplace_covariance(logpost, x, prior):
                 v = (logpost(x + ei + ej)[0] - logpost(x + ei - ej)[0] -
                      logpost(x - ei + ej)[0] + logpost(x - ei - ej)[0]) / (4 * h[i] * h[j])
             hess[i, j] = hess[j, i] = v
+
+
+def laplace_covariance(logpost, x, prior):
+    """The covariance of a Gaussian approximation at the mode: (−H + P)⁻¹, H the Hessian of
+    log p by central differences, P the prior's precision (1/variance of each marginal). P
+    keeps an unknown the data do not constrain (H ≈ 0 along it) at its prior's spread instead
+    of an infinite or arbitrary one; it is only the proposal's shape, never the answer."""
+    ps = np.array(prior.getStandardDeviation())
+    h = ps * 1e-3
+    f0 = logpost(x)[0]
+    hess = np.zeros((d, d))
+    with np.errstate(invalid="ignore", over="ignore"):  # a step beyond the support: -inf
+        _hessian(logpost, x, h, f0, hess)
     try:
-        cov = np.linalg.inv(-hess)
-        np.linalg.cholesky(cov)
-        if np.all(np.isfinite(cov)):
-            return cov
+        a = np.where(np.isfinite(-hess), -hess, 0.0) + np.diag(1.0 / ps ** 2)
+        w, v = np.linalg.eigh(a)
+        w = np.maximum(w, 1.0 / np.max(ps ** 2))  # a saddle's negative curvature: the prior's
+        return (v / w) @ v.T
     except np.linalg.LinAlgError:
-        pass
-    return np.diag((np.array(prior.getStandardDeviation()) / 10) ** 2)
+        return np.diag((ps / 10) ** 2)
 
 
 def _limit_to_prior(cov, prior):
@@ -90,31 +97,48 @@ def _limit_to_prior(cov, prior):
     return corr * np.outer(cap, cap)
 
 
-def sample(logpost, prior, start, cov, chains, samples, burn_in, seed):
-    """`chains` random-walk Metropolis-Hastings chains (OpenTURNS), Gaussian proposal of
-    covariance 2.38²/d times the Laplace covariance, each started from the mode displaced by
-    a draw of twice that covariance (within the prior's support). Returns (chains, samples,
-    d) and the acceptance rate of each chain."""
-    d = len(start)
-    cov = _limit_to_prior(cov, prior)
+def _chain(logpost, prior, x0, cov, samples, burn_in, seed):
+    d = len(x0)
     proposal = ot.Normal([0.0] * d, ot.CovarianceMatrix((2.38 ** 2 / d * cov).tolist()))
     density = ot.PythonFunction(d, 1, lambda x: [float(logpost(np.array(x))[0])])
-    support = prior.getRange()
+    ot.RandomGenerator.SetSeed(int(seed))
+    mh = ot.RandomWalkMetropolisHastings(density, prior.getRange(), list(x0), proposal)
+    mh.setBurnIn(int(burn_in))
+    out = np.array(mh.getSample(int(samples)))
+    rate = mh.getAcceptanceRate()
+    return out, float(rate[0] if hasattr(rate, "__getitem__") else rate)
+
+
+def _start(logpost, start, cov, rng):
+    """A start displaced from the mode by a draw of twice the proposal's scale, inside the
+    prior's support."""
+    for _ in range(100):
+        trial = start + rng.multivariate_normal(np.zeros(len(start)), 4 * cov)
+        if np.isfinite(logpost(trial)[0]):
+            return trial
+    return start.copy()
+
+
+def sample(logpost, prior, start, cov, chains, samples, burn_in, seed):
+    """`chains` random-walk Metropolis-Hastings chains (OpenTURNS) with a Gaussian proposal of
+    covariance 2.38²/d Σ (Gelman, Roberts & Gilks 1996). Σ: the covariance of a pilot chain
+    (as long as the burn-in, at least 1000 steps, started at the mode with the Laplace
+    covariance), then fixed, so the chains proper are plain Metropolis-Hastings. Each chain
+    starts at a draw around the mode and discards its own burn-in. Returns (chains, samples,
+    d) and each chain's acceptance rate."""
+    d = len(start)
+    cov = _limit_to_prior(cov, prior)
+    pilot, _ = _chain(logpost, prior, start, cov, max(1000, int(burn_in)), 0, seed * 1000 + 999)
+    pc = np.cov(pilot.T).reshape(d, d)
+    if np.all(np.isfinite(pc)) and np.all(np.linalg.eigvalsh(pc) > 0):
+        cov = _limit_to_prior(pc, prior)
     rng = np.random.default_rng(int(seed))
     out, rates = [], []
     for c in range(int(chains)):
-        x0 = start.copy()
-        for _ in range(100):  # a start inside the prior's support
-            trial = start + rng.multivariate_normal(np.zeros(d), 4 * cov)
-            if np.isfinite(logpost(trial)[0]):
-                x0 = trial
-                break
-        ot.RandomGenerator.SetSeed(int(seed) * 1000 + c)
-        mh = ot.RandomWalkMetropolisHastings(density, support, list(x0), proposal)
-        mh.setBurnIn(int(burn_in))
-        out.append(np.array(mh.getSample(int(samples))))
-        rate = mh.getAcceptanceRate()
-        rates.append(float(rate[0] if hasattr(rate, "__getitem__") else rate))
+        x, rate = _chain(logpost, prior, _start(logpost, start, cov, rng), cov, samples,
+                         burn_in, int(seed) * 1000 + c)
+        out.append(x)
+        rates.append(rate)
     return np.array(out), rates
 
 

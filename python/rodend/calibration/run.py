@@ -140,9 +140,23 @@ def predictive_band(sur, flat, cfg, rec, draws=400, seed=0):
 
 
 def problems(cfg, doc, flat, prior):
-    """The checks of an honest answer, each failure a sentence naming what failed."""
+    """The checks of an honest answer, each failure a sentence naming what failed: a
+    prior-data conflict first (it makes the others moot), then the chains, then the
+    surrogate."""
     c, d, out = cfg["checks"], doc["diagnostics"], []
     keys = [u["key"] for u in cfg["unknowns"]]
+    for k, side, post, pm in posterior.bound_piling(flat, prior, keys, c["bound_mass"]):
+        i = keys.index(k)
+        out.append(f"prior-data conflict: {post:.0%} of the posterior of {k} lies at its "
+                   f"prior's {side} bound (unknowns[{i}], prior mass there {pm:.1%}): the prior"
+                   " may exclude the values the data allow; widen it")
+    r = doc["final_run"]["residual_over_noise"]
+    if r > c["max_residual_ratio"]:
+        out.append(f"prior-data conflict: the full model at the posterior mode misses the record"
+                   f" by {r:.2f} times the noise std (RMS) > {c['max_residual_ratio']} "
+                   "(checks.max_residual_ratio): no value within the priors explains the "
+                   "record (a prior that excludes the truth, or a model or noise model that "
+                   "does not fit)")
     for i, k in enumerate(keys):
         if d["rhat"][i] > c["max_rhat"]:
             out.append(f"not converged: split R-hat of {k} is {d['rhat'][i]:.3f} > "
@@ -161,18 +175,6 @@ def problems(cfg, doc, flat, prior):
         out.append(f"surrogate too coarse: its RMS error on the held-out cases is {s:.3f} times"
                    f" the noise std > {c['max_surrogate_error']} (checks.max_surrogate_error):"
                    " train on more cases (surrogate.cases) or narrow the priors")
-    for k, side, post, pm in posterior.bound_piling(flat, prior, keys, c["bound_mass"]):
-        i = keys.index(k)
-        out.append(f"prior-data conflict: {post:.0%} of the posterior of {k} lies at its "
-                   f"prior's {side} bound (unknowns[{i}], prior mass there {pm:.1%}): the prior"
-                   " may exclude the values the data allow; widen it")
-    r = doc["final_run"]["residual_over_noise"]
-    if r > c["max_residual_ratio"]:
-        out.append(f"prior-data conflict: the full model at the posterior mode misses the record"
-                   f" by {r:.2f} times the noise std (RMS) > {c['max_residual_ratio']} "
-                   "(checks.max_residual_ratio): no value within the priors explains the "
-                   "record (a prior that excludes the truth, or a model or noise model that "
-                   "does not fit)")
     return out
 
 
@@ -215,9 +217,9 @@ def calibrate(path, quiet=False):
     t0 = time.monotonic()
     cfg = _config.load(path)
     rec = read_record(cfg)
-    prior = prior_of(cfg)
-    with forward.Scratch(os.path.dirname(os.path.abspath(cfg["output"]))) as scratch:
+    with forward.Scratch() as scratch:
         check_study(cfg, scratch)
+        prior = prior_of(cfg)
         sur, heldout, sur_info = train(cfg, rec, scratch)
         t1 = time.monotonic()
         x_mode, chains, diag, _ = infer(cfg, rec, sur, heldout)
