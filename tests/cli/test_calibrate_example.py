@@ -23,6 +23,7 @@ EXAMPLE = os.path.join(REPO, "studies", "records", "free-play-calibration.json")
 RECORD = os.path.join(REPO, "studies", "records", "free-play-synthetic.csv")
 FILES = {"calibration.json", "posterior.csv", "calibration-fit.png",
          "calibration-posterior.png"}
+PROGNOSIS = {"prognosis.png"}
 
 
 def calibrate(root, changes):
@@ -51,6 +52,10 @@ def example():
         check(hi - lo <= 2e-5, f"example: clearance interval {hi - lo} m wider than 0.02 mm")
         sha = hashlib.sha256(open(RECORD, "rb").read()).hexdigest()
         check(doc["record"]["sha256"] == sha, "example: record hash is not the file's SHA-256")
+        q = doc["prognosis"]["cycles_to_limit"]
+        check(PROGNOSIS <= set(os.listdir(os.path.join(root, "out"))), "example: no prognosis.png")
+        check(0 < q["q05"] <= q["q50"] <= q["q95"], f"example: prognosis quantiles {q}")
+        print(f"example: prognosis {q}")
         print(f"example: clearance 90 % interval [{lo:.4e}, {hi:.4e}] m, width "
               f"{hi - lo:.3e} m; {doc['surrogate']['training_cases']} + "
               f"{doc['surrogate']['validation_cases']} cases")
@@ -69,7 +74,7 @@ def refused(changes, needles):
 
 def main():
     example()
-    small = {"surrogate": {"cases": 24, "validation_cases": 8, "seed": 1}}
+    small = {"surrogate": {"cases": 24, "validation_cases": 8, "seed": 1}, "prognosis": None}
     refused({**small, "unknowns": [
         {"key": "parameters.contact.clearance", "distribution": "uniform", "lower": 3e-4,
          "upper": 5e-4},

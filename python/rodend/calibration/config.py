@@ -165,6 +165,9 @@ def load(path):
                                               "seed": 0})
     out["checks"] = _merged(path, cfg, "checks", {})
     out["prognosis"] = cfg.get("prognosis")
+    if out["prognosis"] is not None:
+        from .prognosis import check
+        check(path, out["prognosis"], [u["key"] for u in out["unknowns"]])
     o = cfg.get("output", os.path.join("results", "calibrate-" + name))
     if not isinstance(o, str) or not o:
         _fail(path, "output", "expected a folder name")

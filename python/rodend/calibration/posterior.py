@@ -76,7 +76,7 @@ def laplace_covariance(logpost, x, prior):
     ps = np.array(prior.getStandardDeviation())
     h = ps * 1e-3
     f0 = logpost(x)[0]
-    hess = np.zeros((d, d))
+    hess = np.zeros((len(x), len(x)))
     with np.errstate(invalid="ignore", over="ignore"):  # a step beyond the support: -inf
         _hessian(logpost, x, h, f0, hess)
     try:

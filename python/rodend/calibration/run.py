@@ -204,8 +204,9 @@ def _write(cfg, doc, chains, rec, band, final, prior, prog):
         figures.fit(out.path("calibration-fit.png"), rec["feature_times"], cfg["compare"],
                     rec["observed"], band, final, rec["units"])
         figures.posteriors(out.path("calibration-posterior.png"), flat, prior, keys)
-        if prog is not None:
-            figures.prognosis(out.path("prognosis.png"), prog.pop("_cycles"),
+        cycles = prog.pop("_cycles") if prog is not None else []
+        if len(cycles):
+            figures.prognosis(out.path("prognosis.png"), cycles,
                               f"{prog['limit_name']} = {prog['limit']:.4g} {prog['unit']}",
                               prog["cycle_name"])
         out.write_json("calibration.json", doc)
@@ -233,6 +234,8 @@ def calibrate(path, quiet=False):
             from . import prognosis
             prog = prognosis.run(cfg, flat, scratch)
             doc["prognosis"] = {k: v for k, v in prog.items() if not k.startswith("_")}
+            if "problem" in prog:
+                doc["problems"].append("prognosis: " + prog["problem"])
     doc["status"] = "ok" if not doc["problems"] else "failed: " + doc["problems"][0]
     doc["seconds"] = {"total": time.monotonic() - t0, "mcmc": t2 - t1,
                       "training_runs": sur_info["run_seconds"]}
