@@ -39,6 +39,20 @@ def record(name, header="time [s],surface_angle [rad]", times=TIMES, value=None)
         fh.write(header + "\n" + "\n".join(rows) + "\n")
 
 
+def hdf5(name, units="rad", nan_at=None):
+    import h5py
+    import numpy as np
+    with h5py.File(os.path.join(HERE, name), "w") as f:
+        f["time"] = np.array(TIMES)
+        f["time"].attrs["units"] = "s"
+        v = 1e-3 * np.sin(50 * np.array(TIMES))
+        if nan_at is not None:
+            v[nan_at] = np.nan
+        f["surface_angle"] = v
+        if units:
+            f["surface_angle"].attrs["units"] = units
+
+
 def config(name, expected, record_file="good.csv", **changes):
     doc = copy.deepcopy(BASE)
     doc["record"]["file"] = record_file
@@ -70,6 +84,8 @@ def records():
     record("time_irregular.csv", times=TIMES[:10] + [TIMES[10] + 4e-4] + TIMES[11:])
     record("value_nan.csv", value=lambda i: float("nan") if i == 7 else 0.0)
     record("too_short.csv", times=TIMES[:15])
+    hdf5("hdf5_unit_missing.h5", units=None)
+    hdf5("hdf5_nan.h5", nan_at=4)
 
 
 def configs():
@@ -98,6 +114,11 @@ def configs():
            "value_nan.csv")
     config("record_too_short.json", ["too_short.csv", "time", "too short for the test"],
            "too_short.csv")
+    config("record_hdf5_unit_missing.json", ["hdf5_unit_missing.h5", "dataset 'surface_angle'",
+                                             "states no unit; expected 'rad'"],
+           "hdf5_unit_missing.h5")
+    config("record_hdf5_nan.json", ["hdf5_nan.h5", "element 4", "expected finite numbers"],
+           "hdf5_nan.h5")
     config("record_file_missing.json", ["no_such_record.csv", "", "cannot open the record"],
            "no_such_record.csv")
     config("config_unknown_key.json", ["config_unknown_key.json", "mcmc.chain",
