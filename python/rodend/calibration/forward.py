@@ -30,6 +30,12 @@ def rodend_executable():
     return os.path.join(build, "rodend")
 
 
+def version():
+    """`rodend --version` of the executable that ran the test (provenance)."""
+    r = subprocess.run([rodend_executable(), "--version"], capture_output=True, text=True)
+    return r.stdout.strip()
+
+
 def study_document(cfg, name, design=None, values=None):
     """The study of the test: cfg["study"] with the unknowns either as a designed study's
     factors (design: {method, size, seed}) or fixed (values: {key path: value})."""

@@ -2,7 +2,9 @@
 of a compared column (config `compare[i].noise_std`, in the signal's unit), and the synthetic
 records the known-answer tests and the shipped example are made of: rodend's exact signal plus
 that noise, seeded. When the scenes record sensor signals, `measured` reads the sensor's
-signal instead of adding the noise here (the one line marked below)."""
+signal instead of adding the noise here: the one call of `measured` in
+studies/records/make-free-play-record.py and in tests/cli/test_calibrate_known_answers.py
+becomes a read of the sensor's signal."""
 import numpy as np
 
 

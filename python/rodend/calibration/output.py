@@ -92,6 +92,11 @@ def table(doc):
         lines.append(f"  {u['key']}: mean {u['mean']:.6g}, 90 % interval "
                      f"[{u['q05']:.6g}, {u['q95']:.6g}] (median {u['q50']:.6g}); "
                      f"{u['identifiability']}")
+    keys = [u["key"] for u in doc["posterior"]["unknowns"]]
+    corr = doc["posterior"]["correlation"]
+    for i in range(len(keys)):
+        for j in range(i + 1, len(keys)):
+            lines.append(f"  correlation {keys[i]} / {keys[j]}: {corr[i][j]:+.3f}")
     d = doc["diagnostics"]
     lines.append(f"  chains: R-hat max {max(d['rhat']):.4f}, ESS min {min(d['ess']):.0f}, "
                  f"acceptance {min(d['acceptance']):.2f}-{max(d['acceptance']):.2f}")

@@ -75,6 +75,9 @@ def check_study(cfg, scratch):
         msg = str(e.args[1])
         tmp = os.path.join(scratch, "check.json")
         msg = msg.replace(tmp, cfg["file"]).replace("design.factors[", "unknowns[")
+        for a, b in (("design.size", "surrogate.cases"), ("design.seed", "surrogate.seed"),
+                     ("design.method", "surrogate.method")):
+            msg = msg.replace(a, b)
         for k in ("parameters", "integrator", "time", "scene", "signals"):
             msg = msg.replace(f": {k}", f": study.{k}", 1) if f": {k}" in msg else msg
         raise _config.ConfigError(msg) from None
@@ -183,6 +186,7 @@ def _document(cfg, rec, sur_info, x_mode, chains, diag, final_rms, prior):
     flat = chains.reshape(-1, chains.shape[2])
     unknowns, corr = posterior.summary(flat, prior, keys, cfg["checks"]["prior_like_ratio"])
     return {"name": cfg["name"], "config": os.path.abspath(cfg["file"]),
+            "rodend": forward.version(),
             "record": {"file": cfg["record"]["file"],
                        "path": os.path.abspath(cfg["record"]["path"]),
                        "sha256": rec["sha256"], "bytes": rec["bytes"],
