@@ -40,18 +40,25 @@ def posteriors(path, flat, prior, keys, truth=None):
     fig, axes = plt.subplots(1, d, figsize=(4 * d, 3.2), squeeze=False)
     for i, k in enumerate(keys):
         ax = axes[0, i]
-        ax.hist(flat[:, i], bins=60, density=True, color="C0", alpha=0.6, label="posterior")
         m = prior.getMarginal(i)
         lo, hi = m.getRange().getLowerBound()[0], m.getRange().getUpperBound()[0]
         lo = max(lo, float(m.computeQuantile(1e-4)[0]))
         hi = min(hi, float(m.computeQuantile(1 - 1e-4)[0]))
+        sd = flat[:, i].std()
+        if sd < 0.2 * float(m.getStandardDeviation()[0]):  # zoom on a narrow posterior
+            lo = max(lo, flat[:, i].min() - 2 * sd)
+            hi = min(hi, flat[:, i].max() + 2 * sd)
+            ax.set_title("zoomed on the posterior", fontsize=8)
         x = np.linspace(lo, hi, 400)
+        ax.hist(flat[:, i], bins=60, range=(lo, hi), density=True, color="C0", alpha=0.6,
+                label="posterior")
         ax.plot(x, [m.computePDF(v) for v in x], color="k", lw=1, label="prior")
         q5, q95 = np.quantile(flat[:, i], [0.05, 0.95])
         ax.axvspan(q5, q95, color="C1", alpha=0.15, label="90 % interval")
         if truth is not None:
             ax.axvline(truth[i], color="C3", label="truth")
         ax.set_xlabel(k)
+        ax.locator_params(axis="x", nbins=4)
         ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
