@@ -29,8 +29,8 @@ def signal_units(names):
     units = {}
     for line in r.stdout.splitlines():
         parts = line.split()
-        if len(parts) >= 2 and parts[0] in names:
-            units[parts[0]] = parts[1].strip("[]")
+        if len(parts) >= 3 and parts[0] in names:
+            units[parts[0]] = (parts[1].strip("[]"), parts[2].rstrip(":"))
     return units
 
 
@@ -43,6 +43,11 @@ def read_record(cfg):
         if c["signal"] not in units:
             raise _config.ConfigError(f"{cfg['file']}: compare[{i}].signal: unknown signal "
                                       f"'{c['signal']}' (rodend signals lists them)")
+        if units[c["signal"]][1] != "x1":
+            raise _config.ConfigError(f"{cfg['file']}: compare[{i}].signal: '{c['signal']}' "
+                                      f"has {units[c['signal']][1][1:]} components; expected "
+                                      "a scalar signal")
+    units = {k: u for k, (u, _) in units.items()}
     cols = {c["column"]: units[c["signal"]] for c in cfg["compare"]}
     rec = record.read(path, cols, cfg["record"]["time_column"])
     w = cfg["window"]

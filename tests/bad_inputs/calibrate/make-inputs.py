@@ -134,6 +134,10 @@ def configs():
                                           "unknown signal 'surface_angel'"],
            compare=[{"column": "surface_angle", "signal": "surface_angel",
                      "noise_std": 1e-4}])
+    config("config_signal_vector.json", ["config_signal_vector.json", "compare[0].signal",
+                                         "has 3 components; expected a scalar signal"],
+           compare=[{"column": "surface_angle", "signal": "contact_force_vector",
+                     "noise_std": 1e-4}])
     config("config_prior_inverted.json", ["config_prior_inverted.json", "unknowns[0].upper",
                                           "expected upper > lower"],
            unknowns=[{"key": "parameters.contact.clearance", "distribution": "uniform",
