@@ -1,6 +1,7 @@
 """The calibration's results folder, written whole or not at all: every file goes into a
 fresh temporary folder beside the target (created exclusively: `mkdir` fails on anything
-already there, a planted link included), each file opened with O_CREAT | O_EXCL | O_NOFOLLOW;
+already there, a planted link included), each text file opened with O_CREAT | O_EXCL |
+O_NOFOLLOW (the figures are written by matplotlib inside that private folder);
 the folder is renamed into place at the end (an earlier result of the same name is moved
 aside first and removed after). An error on the way removes the temporary folder."""
 import json
