@@ -38,7 +38,9 @@ def calibrate(root, changes):
     check(not left, f"{changes}: left behind: {left}")
     out = os.path.join(root, "out")
     check(os.path.isdir(out) and FILES <= set(os.listdir(out)),
-          f"{changes}: results folder incomplete: {os.listdir(root)}")
+          f"{changes}: results folder incomplete: {os.listdir(root)} ({r.stderr[-2000:]})")
+    if not os.path.isfile(os.path.join(out, "calibration.json")):
+        finish("calibrate example")
     return r, json.load(open(os.path.join(out, "calibration.json")))
 
 

@@ -44,8 +44,9 @@ def posteriors(path, flat, prior, keys, truth=None):
         lo, hi = m.getRange().getLowerBound()[0], m.getRange().getUpperBound()[0]
         lo = max(lo, float(m.computeQuantile(1e-4)[0]))
         hi = min(hi, float(m.computeQuantile(1 - 1e-4)[0]))
-        sd = flat[:, i].std()
-        if sd < 0.2 * float(m.getStandardDeviation()[0]):  # zoom on a narrow posterior
+        ps = float(m.getStandardDeviation()[0])
+        sd = max(flat[:, i].std(), 1e-3 * ps)  # a chain stuck on one value: still a range
+        if sd < 0.2 * ps:  # zoom on a narrow posterior
             lo = max(lo, flat[:, i].min() - 2 * sd)
             hi = min(hi, flat[:, i].max() + 2 * sd)
             ax.set_title("zoomed on the posterior", fontsize=8)
