@@ -1,7 +1,9 @@
-"""A polynomial-chaos surrogate of one metric (OpenTURNS) and its exact leave-one-out Q².
+"""A polynomial-chaos surrogate of one metric (OpenTURNS), its exact leave-one-out Q² and its
+validation.
 
-The basis: products of polynomials orthonormal for each factor's distribution (OpenTURNS's
-StandardDistributionPolynomialFactory), enumerated by hyperbolic q-norm (q = 0.75: the
+The basis (basis.py): products of polynomials orthonormal for each factor's variable (a
+lognormal's standardised log, every other factor itself), each factor's degree capped where a
+numerical Gram check of its polynomials passes, enumerated by hyperbolic q-norm (q = 0.75: the
 interactions of high total degree come last), each discrete factor of k values capped at
 degree k - 1. The coefficients: least squares on the whole basis of total degree p
 (ot.LeastSquaresStrategy). The degree p is chosen by the exact leave-one-out error: for each
@@ -19,6 +21,12 @@ on the same points). Sparse fits need far fewer points (8 factors, 1000 points: 
 against 0.715 for least squares) but LARS's cost grows fast (15 s there, 90 s at 2000
 points). "auto" (the default) fits least squares, and LARS too when it is cheap (points ×
 candidate terms <= LARS_WORK), and keeps the larger Q².
+
+The validation (_validated): the chosen terms' FOLDS-fold cross-validation Q² (each fold
+predicted by the fit to the others, exactly from the QR) must reach Q2_MIN, and the chaos's
+variance under the distribution (its squared coefficients: the basis is orthonormal) must
+agree with its variance over the points within VARIANCE_SIGMAS standard errors; otherwise the
+indices are withheld and the reason given.
 """
 import json
 import math
@@ -26,25 +34,28 @@ import math
 import numpy as np
 import openturns as ot
 
-from .distributions import joint
+from . import basis as _basis_mod
 
 Q_NORM = 0.75
-MAX_DEGREE = 12
+MAX_DEGREE = _basis_mod.MAX_DEGREE
 MAX_TERMS = 600
 LARS_DEGREE = 8     # LARS's candidates: the basis of this q-norm degree (at most MAX_TERMS)
 LARS_WORK = 300000  # auto: LARS too when points × candidates <= this (about 3 s; beyond, minutes)
+FOLDS = 5           # the validation: FOLDS-fold cross-validation of the chosen terms
+Q2_MIN = 0.9        # ... whose Q² must reach this for the indices to be reported
+VARIANCE_SIGMAS = 4.0  # the chaos's variance vs its points' variance: standard errors allowed
+
+_BASES = {}
 
 
-def _basis(design, dist):
-    d = dist.getDimension()
-    enum = ot.HyperbolicAnisotropicEnumerateFunction(d, Q_NORM)
-    caps = [len(f["values"]) - 1 if f["distribution"] == "discrete" else 10 ** 6
-            for f in design["factors"]]
-    if min(caps) < 10 ** 6:
-        enum.setUpperBound(ot.Indices(caps))
-    enum = ot.EnumerateFunction(enum)
-    polys = [ot.StandardDistributionPolynomialFactory(dist.getMarginal(i)) for i in range(d)]
-    return ot.OrthogonalProductPolynomialFactory(polys, enum), enum
+def _basis(design):
+    """(product basis, enumeration, per-factor Gram checks) of the design's factors (basis.py),
+    kept for the next metric."""
+    key = json.dumps(design["factors"], sort_keys=True)
+    if key not in _BASES:
+        _BASES.clear()
+        _BASES[key] = _basis_mod.product_basis(design, Q_NORM)
+    return _BASES[key]
 
 
 def loo(psi, y):
@@ -75,13 +86,39 @@ def _loo_nested(q, rdiag, y, sizes):
 _CACHE = {}
 
 
-def _design_matrix(design, dist, x, limit):
-    """(basis, the sizes of total degree 1, 2, ... up to limit terms, Q, |diag R|) of the
-    widest of those bases on x; kept for the next metric on the same points."""
-    key = (json.dumps(design["factors"], sort_keys=True), x.shape, hash(x.tobytes()), limit)
+def _folds(n):
+    """FOLDS folds of the points 0..n-1 (a fixed permutation: the same points, the same
+    folds)."""
+    perm = np.random.default_rng(0).permutation(n)
+    return [np.sort(perm[k::FOLDS]) for k in range(FOLDS)]
+
+
+def kfold(q, y, folds, grams=None):
+    """(Q², predictions) of the FOLDS-fold cross-validation of the least-squares fit of y on
+    the columns of q (orthonormal: the Q of the design matrix's QR): each fold predicted by the
+    fit on the other points, gamma = (I - Q_F' Q_F)^-1 (Q' y - Q_F' y_F), exactly what a refit
+    without the fold gives. grams: the folds' Q_F' Q_F over at least q's columns (kept across
+    metrics). (nan, None) when the other points leave the basis singular."""
+    k, b = q.shape[1], q.T @ y
+    pred = np.empty(len(y))
+    for i, f in enumerate(folds):
+        g = grams[i][:k, :k] if grams is not None else q[f].T @ q[f]
+        m = np.eye(k) - g
+        if np.linalg.eigvalsh(m)[0] < 1e-10:
+            return math.nan, None
+        pred[f] = q[f] @ np.linalg.solve(m, b - q[f].T @ y[f])
+    ss = float(np.sum((y - y.mean()) ** 2))
+    return (1 - float(np.sum((y - pred) ** 2)) / ss if ss > 0 else math.nan), pred
+
+
+def _design_matrix(design, z, limit):
+    """(basis, the sizes of total degree 1, 2, ... up to limit terms, Q, |diag R|, the folds'
+    Q_F' Q_F) of the widest of those bases on the variables z; kept for the next metric on the
+    same points."""
+    key = (json.dumps(design["factors"], sort_keys=True), z.shape, hash(z.tobytes()), limit)
     if key in _CACHE:
         return _CACHE[key]
-    basis, enum = _basis(design, dist)
+    basis, enum, _ = _basis(design)
     sizes = []
     for p in range(1, MAX_DEGREE + 1):
         size = enum.getBasisSizeFromTotalDegree(p)
@@ -90,45 +127,83 @@ def _design_matrix(design, dist, x, limit):
         if not sizes or size > sizes[-1]:
             sizes.append(size)
     if not sizes:
-        return basis, sizes, None, None
-    zs = ot.DistributionTransformation(dist, basis.getMeasure())(ot.Sample(x))
+        return basis, sizes, None, None, None
+    zs = ot.DistributionTransformation(_basis_mod.joint(design), basis.getMeasure())(
+        ot.Sample(z))
     psi = np.column_stack([np.asarray(basis.build(k)(zs)).ravel() for k in range(sizes[-1])])
     q, r = np.linalg.qr(psi)
+    grams = [q[f].T @ q[f] for f in _folds(len(z))]
     _CACHE.clear()
-    _CACHE[key] = (basis, sizes, q, np.abs(np.diag(r)))
+    _CACHE[key] = (basis, sizes, q, np.abs(np.diag(r)), grams)
     return _CACHE[key]
 
 
-def _choose_degree(design, dist, x, y):
-    """(size, basis, Q², LOO predictions) of the basis of the smallest exact LOO error among
-    the total degrees whose basis fits; size None when none does."""
-    basis, sizes, q, rdiag = _design_matrix(design, dist, x, min(MAX_TERMS, len(y) // 3))
+def _choose_degree(design, z, y):
+    """(size, basis, Q², LOO predictions, K-fold Q²) of the basis of the smallest exact LOO
+    error among the total degrees whose basis fits; size None when none does."""
+    basis, sizes, q, rdiag, grams = _design_matrix(design, z, min(MAX_TERMS, len(y) // 3))
     if not sizes:
-        return None, basis, math.nan, None
+        return None, basis, math.nan, None, math.nan
     best = None
     for size, (q2, pred) in zip(sizes, _loo_nested(q, rdiag, y, sizes)):
         if math.isnan(q2):
             break
         if best is None or q2 > best[2]:
             best = (size, basis, q2, pred)
-    return best or (None, basis, math.nan, None)
+    if best is None:
+        return None, basis, math.nan, None, math.nan
+    return best + (kfold(q[:, :best[0]], y, _folds(len(y)), grams)[0],)
 
 
 def fit(design, x, y, method="auto"):
     """The chaos of y over the factors x (n, d): a dict with the basis size, degree, the exact
-    LOO Q² and predictions, R², and the chaos's first-order and total Sobol indices. method:
+    LOO Q² and predictions, the FOLDS-fold Q², R², the per-factor Gram checks, the validation
+    and, when it passed, the chaos's first-order and total Sobol indices. method:
     "least-squares", "lars" or "auto": least squares, and LARS too when points × candidate
     terms <= LARS_WORK, the one of the larger Q² kept."""
+    z = _basis_mod.to_variables(design, x)
+    checks = _basis(design)[2]
+    if min(c["degree"] for c in checks) < 1:
+        bad = [c["key"] for c in checks if c["degree"] < 1]
+        return {"skipped": f"no polynomial of degree 1 passes the orthonormality check for "
+                           f"{', '.join(bad)}", "basis": checks}
     if method != "auto":
-        return _fit(design, x, y, method)
-    best = _fit(design, x, y, "least-squares")
-    if len(y) * _lars_candidates(_basis(design, joint(design))[1]) <= LARS_WORK:
-        other = _fit(design, x, y, "lars")
+        return _validated(_fit(design, z, y, method), checks)
+    best = _fit(design, z, y, "least-squares")
+    if len(y) * _lars_candidates(_basis(design)[1]) <= LARS_WORK:
+        other = _fit(design, z, y, "lars")
         tried = {"least-squares": best.get("q2_loo"), "lars": other.get("q2_loo")}
         if "q2_loo" not in best or other.get("q2_loo", -math.inf) > best["q2_loo"]:
             best = other
         best["q2_loo_tried"] = tried
-    return best
+    return _validated(best, checks)
+
+
+def _validated(r, checks):
+    """r with the per-factor Gram checks and its validation; the indices removed (and the
+    reason given) when the validation fails: a FOLDS-fold Q² below Q2_MIN, or the chaos's
+    variance under the factors' distribution (the sum of its squared coefficients) more than
+    VARIANCE_SIGMAS standard errors from its variance over the points it was fitted to (it
+    then differs where no point was drawn)."""
+    r["basis"] = checks
+    if "skipped" in r:
+        return r
+    v = r.pop("_variance")
+    why = []
+    if not r["q2_kfold"] >= Q2_MIN:
+        why.append(f"its {FOLDS}-fold Q² {r['q2_kfold']:.4g} is below {Q2_MIN}")
+    if not abs(v["coefficients"] - v["points"]) <= VARIANCE_SIGMAS * v["standard_error"] + \
+            1e-12 * v["points"]:
+        why.append(f"its variance under the factors' distribution, {v['coefficients']:.6g}, "
+                   f"is not its variance over the points, {v['points']:.6g} "
+                   f"(± {v['standard_error']:.2g})")
+    r["variance_check"] = v
+    r["validation"] = "passed" if not why else "failed: " + "; ".join(why)
+    if why:
+        r["withheld"] = "the surrogate's indices are not reported: " + "; ".join(why)
+        r.pop("first_order")
+        r.pop("total")
+    return r
 
 
 def _lars_candidates(enum):
@@ -142,34 +217,51 @@ def _lars_candidates(enum):
     return size
 
 
-def _fit(design, x, y, method):
-    dist = joint(design)
-    xs, ys = ot.Sample(x), ot.Sample(y.reshape(-1, 1))
+def _fit(design, z, y, method):
+    dist = _basis_mod.joint(design)
+    zs, ys = ot.Sample(z), ot.Sample(y.reshape(-1, 1))
     if method == "lars":
-        basis, enum = _basis(design, dist)
+        basis, enum, _ = _basis(design)
         size = _lars_candidates(enum)
         proj = ot.LeastSquaresStrategy(ot.LeastSquaresMetaModelSelectionFactory(
             ot.LARS(), ot.CorrectedLeaveOneOut()))
     else:
-        size, basis, q2, pred = _choose_degree(design, dist, x, y)
+        size, basis, q2, pred, q2_kfold = _choose_degree(design, z, y)
         if size is None:
             return {"skipped": f"{len(y)} points are too few for a basis of total degree 1 "
                                "(it needs 3 points a term) or every basis interpolates"}
         proj = ot.LeastSquaresStrategy()
-    result = _run(ot.FunctionalChaosAlgorithm(xs, ys, dist, ot.FixedStrategy(basis, size), proj))
+    result = _run(ot.FunctionalChaosAlgorithm(zs, ys, dist, ot.FixedStrategy(basis, size), proj))
     if method == "lars":
-        z = result.getTransformation()(xs)
-        q2, pred = loo(np.column_stack([np.asarray(f(z)).ravel()
-                                        for f in result.getReducedBasis()]), y)
-    fitted = np.asarray(result.getMetaModel()(xs)).ravel()
+        u = result.getTransformation()(zs)
+        psi = np.column_stack([np.asarray(f(u)).ravel() for f in result.getReducedBasis()])
+        q2, pred = loo(psi, y)
+        q2_kfold = kfold(np.linalg.qr(psi)[0], y, _folds(len(y)))[0]
+    fitted = np.asarray(result.getMetaModel()(zs)).ravel()
     ss = float(np.sum((y - y.mean()) ** 2))
     sob = ot.FunctionalChaosSobolIndices(result)
-    d = x.shape[1]
+    d = z.shape[1]
     return {"method": method, "candidate_terms": int(size),
             "terms": int(result.getIndices().getSize()), "degree": _degree(result),
-            "q2_loo": q2, "r2": 1 - float(np.sum((y - fitted) ** 2)) / ss if ss > 0 else math.nan,
+            "q2_loo": q2, "q2_kfold": q2_kfold, "folds": FOLDS,
+            "r2": 1 - float(np.sum((y - fitted) ** 2)) / ss if ss > 0 else math.nan,
             "loo_prediction": pred, "first_order": [sob.getSobolIndex(i) for i in range(d)],
-            "total": [sob.getSobolTotalIndex(i) for i in range(d)], "points": len(y)}
+            "total": [sob.getSobolTotalIndex(i) for i in range(d)], "points": len(y),
+            "_variance": _variances(result, fitted)}
+
+
+def _variances(result, fitted):
+    """The chaos's variance under the factors' distribution (its squared coefficients but the
+    constant's: the basis is orthonormal), its variance over the points, and that estimate's
+    standard error sqrt((m4 - v²) / n)."""
+    coef = np.asarray(result.getCoefficients()).ravel()
+    const = [k for k, i in enumerate(result.getIndices()) if int(i) == 0]
+    v_coef = float(np.sum(coef ** 2) - sum(coef[k] ** 2 for k in const))
+    dev = fitted - fitted.mean()
+    v = float(np.mean(dev ** 2))
+    m4 = float(np.mean(dev ** 4))
+    return {"coefficients": v_coef, "points": v,
+            "standard_error": math.sqrt(max(m4 - v * v, 0.0) / len(fitted))}
 
 
 def _run(algo):

@@ -98,6 +98,8 @@ def table(doc):
                 for i, k in enumerate(keys):
                     lines.append(f"  {k:<{width}}  {c['first_order'][i]:8.4f}  "
                                  f"{' ' * 19}{c['total'][i]:8.4f}")
+            elif "withheld" in c:
+                lines.append(f"  chaos ({c['method']}): indices withheld: {c['validation']}")
             for e in r.get("exceedance", []):
                 lines.append(f"  P({m} > {e['threshold']:g}) = {e['probability']:.4g} "
                              f"[{e['interval'][0]:.4g}, {e['interval'][1]:.4g}] "
