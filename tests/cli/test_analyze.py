@@ -42,6 +42,8 @@ the layout of docs/results.md; the design points are drawn here with OpenTURNS a
 - history bands: s(t) = x t with x = 0, 0.01, ..., 1 (101 ok cases, one failed case with
   x = 100 left out): the bands are exactly t (0.05, 0.5, 0.95), per component for a vector;
   the same with every third case on a coarser time grid (interpolated: exact for a line).
+- a flipped bit in a case file's history (uncompressed, compressed): --history names the file
+  and exits 2 (the verified reader), writing no bands.
 - bad input: no design.json, an unknown metric (the nearest names), a bad threshold, broken
   Morris points: ValueError; the command line prints it and exits 2.
 """
@@ -409,6 +411,38 @@ def _check_bands(folder, t, resampled):
     check(os.path.isfile(os.path.join(folder, "plots", "analysis-v-bands.png")), "band figure")
 
 
+def test_bands_corrupt(tmp):
+    """One flipped bit in a case file's history (the exponent of one value, uncompressed; or a
+    byte of a compressed chunk): `analyze --history` names the file and exits 2, through the
+    verified reader, instead of bands off by 1e304 (uncompressed) or a traceback (compressed)."""
+    for compression in (None, "gzip"):
+        xs = np.linspace(0, 1, 20)
+        d = {"method": "monte-carlo", "size": 20, "seed": 1, "points": 20,
+             "factors": [fx.uniform("parameters.k", 0, 1)]}
+        folder = fx.write_folder(os.path.join(tmp, f"flip-{compression}"), d, xs[:, None],
+                                 {"y": xs})
+        t = np.linspace(0, 0.5, 51)
+        paths = [fx.write_case(folder, f"c{i:06d}", t, {"s": k * t}, {"s": "m"}, compression)
+                 for i, k in enumerate(xs)]
+        with h5py.File(paths[7], "r") as f:
+            ds = f["signals/s"]
+            # a contiguous dataset's offset counts the user block, a chunk's does not
+            where = ds.id.get_offset() + 8 * 30 + 7 if compression is None \
+                else f.userblock_size + ds.id.get_chunk_info(0).byte_offset + 20
+        with open(paths[7], "r+b") as fh:
+            fh.seek(where)
+            byte = fh.read(1)[0]
+            fh.seek(where)
+            fh.write(bytes([byte ^ 0x40]))
+        r = subprocess.run([sys.executable, "-m", "rodend.analyze", folder, "--no-plots",
+                            "--history", "s"], capture_output=True, text=True)
+        check(r.returncode == 2 and f"corrupt case file {paths[7]}" in r.stderr
+              and "Traceback" not in r.stderr,
+              f"flipped bit ({compression}): rc {r.returncode}, stderr {r.stderr[-400:]!r}")
+        check(not os.path.exists(os.path.join(folder, "analysis", "bands.h5")),
+              f"flipped bit ({compression}): bands.h5 written")
+
+
 def test_bad_input(tmp):
     empty = os.path.join(tmp, "empty")
     os.makedirs(empty)
@@ -462,6 +496,7 @@ def main():
         test_exceedance(tmp)
         test_scene_axis(tmp)
         test_bands(tmp)
+        test_bands_corrupt(tmp)
         test_bad_input(tmp)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)

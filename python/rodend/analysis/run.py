@@ -217,7 +217,7 @@ def main(argv=None):
     try:
         analyze(a.folder, a.metric, a.threshold, a.history, a.bootstrap, a.confidence, a.chaos,
                 plots=not a.no_plots)
-    except (ValueError, FileNotFoundError) as e:
+    except (ValueError, OSError) as e:  # CorruptFile is a ValueError, a missing file an OSError
         print(f"rodend analyze: {e}", file=sys.stderr)
         return 2
     return 0
