@@ -44,6 +44,8 @@ the layout of docs/results.md; the design points are drawn here with OpenTURNS a
   the same with every third case on a coarser time grid (interpolated: exact for a line).
 - a flipped bit in a case file's history (uncompressed, compressed): --history names the file
   and exits 2 (the verified reader), writing no bands.
+- a folder with summary.csv but no summary.h5: refused (exit 2, naming summary.h5 and the
+  `rodend merge` that writes it), never analysed from the unchecked CSV.
 - bad input: no design.json, an unknown metric (the nearest names), a bad threshold, broken
   Morris points: ValueError; the command line prints it and exits 2.
 """
@@ -474,6 +476,26 @@ def test_bad_input(tmp):
     check(r.returncode == 0 and "chaos" in r.stdout, f"CLI ok: {r.returncode} {r.stderr}")
 
 
+def test_csv_only(tmp):
+    """A folder whose summary.h5 is gone is refused, naming summary.h5 and `rodend merge`,
+    never analysed from summary.csv (no checksum): with one CSV value x1000, main analysed it
+    (exit 0, indices with intervals spanning hundreds)."""
+    d, x = ishigami_design(100)
+    y = fx.ishigami(x)
+    folder = fx.write_folder(os.path.join(tmp, "csv-only"), d, x, {"y": y})
+    os.remove(os.path.join(folder, "summary.h5"))
+    import pandas as pd
+    csv = pd.read_csv(os.path.join(folder, "summary.csv"))
+    csv.loc[3, "y"] *= 1000
+    csv.to_csv(os.path.join(folder, "summary.csv"), index=False)
+    r = subprocess.run([sys.executable, "-m", "rodend.analyze", folder, "--no-plots"],
+                       capture_output=True, text=True)
+    want = os.path.join(folder, "summary.h5")
+    check(r.returncode == 2 and want in r.stderr and f"rodend merge {folder}" in r.stderr,
+          f"summary.csv alone: rc {r.returncode}, stderr {r.stderr[-300:]!r}")
+    check(not os.path.exists(os.path.join(folder, "analysis")), "summary.csv alone: analysis/")
+
+
 def _expect_error(fn, text, what):
     try:
         fn()
@@ -498,6 +520,7 @@ def main():
         test_bands(tmp)
         test_bands_corrupt(tmp)
         test_bad_input(tmp)
+        test_csv_only(tmp)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     finish("analyze")
