@@ -46,6 +46,8 @@ the layout of docs/results.md; the design points are drawn here with OpenTURNS a
   and exits 2 (the verified reader), writing no bands.
 - a folder with summary.csv but no summary.h5: refused (exit 2, naming summary.h5 and the
   `rodend merge` that writes it), never analysed from the unchecked CSV.
+- no write through a link: links planted at analysis/analysis.json.tmp, analysis/bands.h5.tmp,
+  analysis/analysis.json and plots/analysis-*.png leave the files they point to untouched.
 - bad input: no design.json, an unknown metric (the nearest names), a bad threshold, broken
   Morris points: ValueError; the command line prints it and exits 2.
 """
@@ -445,6 +447,45 @@ def test_bands_corrupt(tmp):
               f"flipped bit ({compression}): bands.h5 written")
 
 
+def test_no_write_through_links(tmp):
+    """Links planted at the names the analysis writes (its old temporary names
+    analysis/analysis.json.tmp and analysis/bands.h5.tmp, the final analysis.json and the
+    figures plots/analysis-*.png) pointing outside the folder: every outside file is untouched
+    and each final name is a regular file of the analysis (main wrote through the .tmp links
+    and the figures' links)."""
+    xs = np.linspace(0, 1, 30)
+    d = {"method": "monte-carlo", "size": 30, "seed": 1, "points": 30,
+         "factors": [fx.uniform("parameters.k", 0, 1)]}
+    folder = fx.write_folder(os.path.join(tmp, "links"), d, xs[:, None], {"y": xs})
+    t = np.linspace(0, 0.5, 11)
+    for i, k in enumerate(xs):
+        fx.write_case(folder, f"c{i:06d}", t, {"s": k * t}, {"s": "m"})
+    outside = os.path.join(tmp, "outside")
+    os.makedirs(outside)
+    names = ["analysis/analysis.json.tmp", "analysis/bands.h5.tmp", "analysis/analysis.json",
+             "plots/analysis-y-cdf.png", "plots/analysis-y-chaos.png",
+             "plots/analysis-s-bands.png"]
+    for k, name in enumerate(names):
+        target = os.path.join(outside, f"victim{k}")
+        with open(target, "w") as fh:
+            fh.write("untouched\n")
+        os.makedirs(os.path.dirname(os.path.join(folder, name)), exist_ok=True)
+        os.symlink(target, os.path.join(folder, name))
+    r = subprocess.run([sys.executable, "-m", "rodend.analyze", folder, "--history", "s"],
+                       capture_output=True, text=True)
+    check(r.returncode == 0, f"links: rc {r.returncode}, stderr {r.stderr[-300:]!r}")
+    for k, name in enumerate(names):
+        with open(os.path.join(outside, f"victim{k}"), "rb") as fh:
+            check(fh.read() == b"untouched\n", f"links: written through {name}")
+        path = os.path.join(folder, name)
+        if not name.endswith(".tmp"):
+            check(os.path.isfile(path) and not os.path.islink(path),
+                  f"links: {name} is not a regular file of the analysis")
+    left = [n for sub in ("analysis", "plots") for n in os.listdir(os.path.join(folder, sub))
+            if n.startswith(".")]
+    check(not left, f"links: temporary files left: {left}")
+
+
 def test_bad_input(tmp):
     empty = os.path.join(tmp, "empty")
     os.makedirs(empty)
@@ -520,6 +561,7 @@ def main():
         test_bands(tmp)
         test_bands_corrupt(tmp)
         test_bad_input(tmp)
+        test_no_write_through_links(tmp)
         test_csv_only(tmp)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)

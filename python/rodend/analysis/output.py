@@ -6,6 +6,8 @@ import os
 import h5py
 import numpy as np
 
+from ..atomic import atomic_file
+
 
 def _plain(v):
     if isinstance(v, dict):
@@ -22,14 +24,10 @@ def _plain(v):
 
 
 def write_json(folder, doc):
-    out = os.path.join(folder, "analysis")
-    os.makedirs(out, exist_ok=True)
-    path = os.path.join(out, "analysis.json")
-    tmp = path + ".tmp"
-    with open(tmp, "w", encoding="utf-8") as fh:
-        json.dump(_plain(doc), fh, indent=1, allow_nan=False)
-        fh.write("\n")
-    os.replace(tmp, path)
+    path = os.path.join(folder, "analysis", "analysis.json")
+    text = json.dumps(_plain(doc), indent=1, allow_nan=False) + "\n"
+    with atomic_file(path) as fh:  # never through a link (rodend/atomic.py)
+        fh.write(text.encode("utf-8"))
     return path
 
 
@@ -38,8 +36,7 @@ def write_bands(folder, groups):
     point (g0, g1, ...; attribute coordinates_json), in it one group per signal with time [s],
     levels [1] and quantiles (levels × time[× component]) in the signal's units."""
     path = os.path.join(folder, "analysis", "bands.h5")
-    os.makedirs(os.path.dirname(path), exist_ok=True)
-    with h5py.File(path + ".tmp", "w") as f:
+    with atomic_file(path) as fh, h5py.File(fh, "w") as f:  # never through a link
         for k, (coords, bands) in enumerate(groups):
             g = f.create_group(f"g{k}")
             g.attrs["coordinates_json"] = json.dumps(_plain(coords))
@@ -51,7 +48,6 @@ def write_bands(folder, groups):
                                         ("quantiles", b["quantiles"], b["units"])):
                     s.create_dataset(ds, data=np.asarray(data, dtype=float))
                     s[ds].attrs["units"] = units
-    os.replace(path + ".tmp", path)
     return path
 
 
