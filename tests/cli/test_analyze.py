@@ -48,6 +48,8 @@ the layout of docs/results.md; the design points are drawn here with OpenTURNS a
   `rodend merge` that writes it), never analysed from the unchecked CSV.
 - no write through a link: links planted at analysis/analysis.json.tmp, analysis/bands.h5.tmp,
   analysis/analysis.json and plots/analysis-*.png leave the files they point to untouched.
+- --bootstrap 0: no bootstrap intervals (saltelli, morris, the std), said in the table;
+  --confidence 0.999 prints "99.9% intervals".
 - bad input: no design.json, an unknown metric (the nearest names), a bad threshold, broken
   Morris points: ValueError; the command line prints it and exits 2.
 """
@@ -537,6 +539,34 @@ def test_csv_only(tmp):
     check(not os.path.exists(os.path.join(folder, "analysis")), "summary.csv alone: analysis/")
 
 
+def test_bootstrap_confidence(tmp):
+    """--bootstrap 0 means no bootstrap intervals (main: OpenTURNS's TypeError "Bootstrap
+    sampling size should be positive" for saltelli); --confidence 0.999 heads the table with
+    "99.9% intervals" (main: "100% intervals")."""
+    d, x = ishigami_design(100)
+    folder = fx.write_folder(os.path.join(tmp, "boot0"), d, x, {"y": fx.ishigami(x)})
+    fs = [fx.uniform("parameters.p", 0, 1), fx.uniform("parameters.q", 0, 1)]
+    mfolder, _ = morris_folder(tmp, "boot0-morris", fs, lambda x: x[:, 0] + x[:, 1] ** 2)
+    for f in (folder, mfolder):
+        r = subprocess.run([sys.executable, "-m", "rodend.analyze", f, "--no-plots",
+                            "--bootstrap", "0"], capture_output=True, text=True)
+        check(r.returncode == 0 and "no intervals (bootstrap 0)" in r.stdout,
+              f"--bootstrap 0 ({f}): rc {r.returncode}, {r.stdout[:200]!r} {r.stderr[-300:]!r}")
+        if r.returncode == 0:
+            with open(os.path.join(f, "analysis", "analysis.json")) as fh:
+                m = json.load(fh)["groups"][0]["metrics"]["y"]
+            s, mo = m.get("sobol", {}), m.get("morris", {})
+            check("first_order_interval" not in s and "total_interval" not in s and
+                  not any(mo.get("mu_star_interval", [])) and
+                  m.get("distribution", {}).get("std_interval") is None,
+                  f"--bootstrap 0 ({f}): intervals {s.keys()} {mo.get('mu_star_interval')}")
+    r = subprocess.run([sys.executable, "-m", "rodend.analyze", folder, "--no-plots",
+                        "--bootstrap", "20", "--confidence", "0.999"], capture_output=True,
+                       text=True)
+    check(r.returncode == 0 and "99.9% intervals" in r.stdout and "100%" not in r.stdout,
+          f"--confidence 0.999: rc {r.returncode}, {r.stdout[:300]!r}")
+
+
 def _expect_error(fn, text, what):
     try:
         fn()
@@ -561,6 +591,7 @@ def main():
         test_bands(tmp)
         test_bands_corrupt(tmp)
         test_bad_input(tmp)
+        test_bootstrap_confidence(tmp)
         test_no_write_through_links(tmp)
         test_csv_only(tmp)
     finally:

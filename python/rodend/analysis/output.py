@@ -51,6 +51,14 @@ def write_bands(folder, groups):
     return path
 
 
+def _intervals(doc):
+    """"95% intervals", "99.9% intervals" (never rounded up to 100%), or none with --bootstrap 0
+    (the Sobol and Morris intervals are bootstrap intervals)."""
+    if doc["bootstrap"] == 0:
+        return "no intervals (bootstrap 0)"
+    return f"{100 * doc['confidence']:.10g}% intervals"
+
+
 def _iv(v, iv):
     return f"{v:8.4f}" + (f" [{iv[0]:7.4f}, {iv[1]:7.4f}]" if iv else " " * 19)
 
@@ -69,7 +77,8 @@ def table(doc):
             if "sobol" in r and "first_order" in r["sobol"]:
                 s = r["sobol"]
                 lines.append(f"  Sobol (Saltelli, {s['groups']} row groups, "
-                             f"{s['removed_groups']} removed), {doc['confidence']:.0%} intervals")
+                             f"{s['removed_groups']} removed), "
+                             f"{_intervals(doc)}")
                 lines.append(f"  {'factor':<{width}}  {'first order':<27}  total")
                 for i, k in enumerate(keys):
                     lines.append(f"  {k:<{width}}  "
@@ -77,8 +86,8 @@ def table(doc):
                                  f"  {_iv(s['total'][i], (s.get('total_interval') or [None] * len(keys))[i])}")
             if "morris" in r:
                 s = r["morris"]
-                lines.append(f"  Morris (effects per unit-space step), {doc['confidence']:.0%} "
-                             "intervals")
+                lines.append("  Morris (effects per unit-space step), "
+                             f"{_intervals(doc)}")
                 lines.append(f"  {'factor':<{width}}  {'mu':>10}  {'mu*':>10}{'':23}  {'sigma':>10}"
                              "  effects")
                 for i, k in enumerate(keys):
