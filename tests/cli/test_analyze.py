@@ -27,6 +27,8 @@ the layout of docs/results.md; the design points are drawn here with OpenTURNS a
   validation (a noise metric: 5-fold Q² about 0; points drawn narrower than design.json says:
   its variance under the distribution is not its variance over the points) has its indices
   withheld, said in analysis.json and the table.
+- two discrete factors with unequal weights and a uniform one through monte-carlo,
+  latin-hypercube and saltelli designs: the chaos's indices of a linear metric in closed form.
 - the exact LOO: the hat-matrix Q² equals leave-one-out refits done one by one.
 - failed cases of a saltelli design remove their whole row groups, counted; too few left:
   a ValueError naming the count.
@@ -271,6 +273,52 @@ def test_chaos_validation(tmp):
         c = metrics[m]["chaos"]
         check("first_order" not in c and "total" not in c and why in c.get("validation", ""),
               f"{m}: {c.get('validation')}, indices {c.get('first_order')}")
+
+
+def _discrete_quantile(u, values, weights):
+    return np.asarray(values)[np.searchsorted(np.cumsum(weights), u)]
+
+
+def test_discrete_weights(tmp):
+    """Two discrete factors with unequal weights and a uniform one, y = 2 D1 - 3 D2 + U,
+    through monte-carlo, latin-hypercube and saltelli designs: the chaos's indices are
+    a_i² var_i / sum (closed form, to 1e-6 as in test_distributions). main raised OpenTURNS's
+    TypeError "Undefined symbol: 'nan'" (its map of the joint distribution) for all three;
+    OpenTURNS 1.20's polynomials for a second discrete distribution are infinite, so the
+    discrete families are rodend's own (Stieltjes on the k points)."""
+    d1, w1 = [1.0, 2.0, 5.0], [0.1, 0.1, 0.8]
+    d2, w2 = [0.0, 1.0], [0.3, 0.7]
+    fs = [{"key": "parameters.d1", "distribution": "discrete", "values": d1, "weights": w1},
+          {"key": "parameters.d2", "distribution": "discrete", "values": d2, "weights": w2},
+          fx.uniform("parameters.u", 0.0, 1.0)]
+    var = np.array([np.dot(w, np.square(v)) - np.dot(w, v) ** 2 for v, w in ((d1, w1), (d2, w2))]
+                   + [1 / 12]) * np.array([4.0, 9.0, 1.0])
+    n = 200
+    rng = np.random.default_rng(9)
+    for method in ("monte-carlo", "latin-hypercube", "saltelli"):
+        if method == "latin-hypercube":
+            u = (np.argsort(rng.random((3, n)), axis=1).T + rng.random((n, 3))) / n
+        else:
+            u = rng.random((n, 6 if method == "saltelli" else 3))
+        if method == "saltelli":                  # A, B, then A with column i from B
+            a, b = u[:, :3], u[:, 3:]
+            u = np.vstack([a, b] + [np.where(np.arange(3) == i, b, a) for i in range(3)])
+        x = np.column_stack([_discrete_quantile(u[:, 0], d1, w1),
+                             _discrete_quantile(u[:, 1], d2, w2), u[:, 2]])
+        d = {"method": method, "size": n, "seed": 9, "points": len(x), "factors": fs}
+        folder = fx.write_folder(os.path.join(tmp, f"discrete-{method}"), d, x,
+                                 {"y": 2 * x[:, 0] - 3 * x[:, 1] + x[:, 2]})
+        r = subprocess.run([sys.executable, "-m", "rodend.analyze", folder, "--no-plots"],
+                           capture_output=True, text=True)
+        check(r.returncode == 0, f"discrete {method}: rc {r.returncode}, {r.stderr[-300:]!r}")
+        if r.returncode != 0:
+            continue
+        with open(os.path.join(folder, "analysis", "analysis.json")) as fh:
+            c = json.load(fh)["groups"][0]["metrics"]["y"]["chaos"]
+        want = var / var.sum()
+        check(np.allclose(c.get("first_order", np.nan), want, atol=1e-6) and
+              np.allclose(c.get("total", np.nan), want, atol=1e-6),
+              f"discrete {method}: S1 {c.get('first_order')} ST {c.get('total')} vs {want}")
 
 
 def test_saltelli_failures(tmp):
@@ -584,6 +632,7 @@ def main():
         test_distributions(tmp)
         test_chaos_closed_form(tmp)
         test_chaos_validation(tmp)
+        test_discrete_weights(tmp)
         test_saltelli_failures(tmp)
         test_morris(tmp)
         test_exceedance(tmp)

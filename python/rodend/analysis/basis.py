@@ -48,11 +48,66 @@ def to_variables(design, x):
     return np.column_stack([variable(f)[1](x[:, i]) for i, f in enumerate(design["factors"])])
 
 
-def joint(design):
-    """The independent joint distribution of the variables z."""
-    dist = ot.ComposedDistribution([variable(f)[0] for f in design["factors"]])
-    dist.setDescription([f["key"] for f in design["factors"]])
-    return dist
+class _OpenTurnsFamily:
+    """The polynomials of OpenTURNS's StandardDistributionPolynomialFactory for a continuous
+    distribution, through its map from the distribution to the polynomials' measure."""
+
+    def __init__(self, dist):
+        self.factory = ot.StandardDistributionPolynomialFactory(dist)
+        self.to_measure = ot.DistributionTransformation(dist, self.factory.getMeasure())
+        self.one = ot.OrthogonalProductPolynomialFactory(
+            [self.factory], ot.EnumerateFunction(ot.HyperbolicAnisotropicEnumerateFunction(1, 1.0)))
+
+    def values(self, z, degree):
+        """(len(z), degree + 1): the polynomials of degree 0..degree at z."""
+        u = self.to_measure(ot.Sample(np.asarray(z, dtype=float)[:, None]))
+        return np.column_stack([np.asarray(self.one.build(k)(u)).ravel()
+                                for k in range(degree + 1)])
+
+
+class _DiscreteFamily:
+    """The polynomials orthonormal for a discrete distribution (values v, weights w), by
+    Stieltjes's procedure on its k points (numpy, on the standardised values): OpenTURNS's own
+    for a discrete distribution (AdaptiveStieltjesAlgorithm on a UserDefined) gives infinite
+    coefficients for every such distribution after the first one in a process (OpenTURNS 1.20,
+    reproduced)."""
+
+    def __init__(self, values, weights):
+        v, w = np.asarray(values, dtype=float), np.asarray(weights, dtype=float)
+        w = w / w.sum()
+        self.mean = float(w @ v)
+        self.scale = float(np.sqrt(w @ (v - self.mean) ** 2)) or 1.0
+        t = (v - self.mean) / self.scale
+        self.a, self.b = [], [1.0]            # p_(n+1) = ((t - a_n) p_n - b_n p_(n-1)) / b_(n+1)
+        prev, cur = np.zeros_like(t), np.ones_like(t)
+        for _ in range(len(v) - 1):
+            self.a.append(float(w @ (t * cur * cur)))
+            nxt = (t - self.a[-1]) * cur - self.b[-1] * prev if len(self.a) > 1 else \
+                (t - self.a[-1]) * cur
+            norm = float(np.sqrt(w @ (nxt * nxt)))
+            if not norm > 1e-12:
+                break
+            self.b.append(norm)
+            prev, cur = cur, nxt / norm
+
+    def values(self, z, degree):
+        t = (np.asarray(z, dtype=float) - self.mean) / self.scale
+        out = np.empty((len(t), degree + 1))
+        out[:, 0] = 1.0
+        for n in range(degree):
+            if n >= len(self.a) or n + 1 >= len(self.b):
+                out[:, n + 1:] = np.nan        # beyond the k - 1 a k-point measure carries
+                break
+            back = out[:, n - 1] * self.b[n] if n > 0 else 0.0
+            out[:, n + 1] = ((t - self.a[n]) * out[:, n] - back) / self.b[n + 1]
+        return out
+
+
+def family(f):
+    """The polynomial family of factor f's variable z."""
+    if f["distribution"] == "discrete":
+        return _DiscreteFamily(f["values"], f["weights"])
+    return _OpenTurnsFamily(variable(f)[0])
 
 
 def quadrature(dist):
@@ -82,29 +137,24 @@ def quadrature(dist):
     return nodes, weights * np.asarray(dist.computePDF(ot.Sample(nodes[:, None]))).ravel()
 
 
-def gram_errors(dist, degree):
-    """[max |Gram - I| of the polynomials of degree 0..p] for p = 0..degree: the polynomials
-    the chaos uses for a variable of distribution dist, through the transformation it applies."""
-    factory = ot.StandardDistributionPolynomialFactory(dist)
-    nodes, weights = quadrature(dist)
-    z = ot.DistributionTransformation(dist, factory.getMeasure())(ot.Sample(nodes[:, None]))
-    one = ot.OrthogonalProductPolynomialFactory(
-        [factory], ot.EnumerateFunction(ot.HyperbolicAnisotropicEnumerateFunction(1, 1.0)))
-    p = np.array([np.asarray(one.build(k)(z)).ravel() for k in range(degree + 1)])
+def gram_errors(f, fam, degree):
+    """[max |Gram - I| of the polynomials of degree 0..p] for p = 0..degree: factor f's
+    family fam, by a quadrature rule of its variable's distribution."""
+    nodes, weights = quadrature(variable(f)[0])
+    p = fam.values(nodes, degree).T
     g = np.abs((p * weights) @ p.T - np.eye(degree + 1))
     return [float(g[:k + 1, :k + 1].max()) for k in range(degree + 1)]
 
 
-def caps(design):
+def caps(design, families):
     """[{key, variable, degree, gram_error}] per factor: the largest degree (<= MAX_DEGREE; a
-    discrete factor of k values <= k - 1) whose polynomials pass the Gram check, and the
-    check's max |Gram - I| at that degree."""
+    discrete factor of k values <= k - 1) whose polynomials pass the Gram check (NaN fails),
+    and the check's max |Gram - I| at that degree."""
     out = []
-    for f in design["factors"]:
-        dist = variable(f)[0]
+    for f, fam in zip(design["factors"], families):
         top = min(MAX_DEGREE, len(f["values"]) - 1) if f["distribution"] == "discrete" \
             else MAX_DEGREE
-        errors = gram_errors(dist, top)
+        errors = gram_errors(f, fam, top)
         ok = [k for k in range(top + 1) if errors[k] <= GRAM_TOLERANCE]
         degree = ok[-1] if ok else 0
         out.append({"key": f["key"], "degree": degree, "gram_error": errors[degree],
@@ -113,16 +163,40 @@ def caps(design):
     return out
 
 
-def product_basis(design, q_norm):
-    """(the product basis, its enumeration by hyperbolic q-norm with each factor's degree
-    capped, the per-factor caps of caps(design))."""
-    checks = caps(design)
-    d = len(checks)
-    enum = ot.HyperbolicAnisotropicEnumerateFunction(d, q_norm)
-    bound = [c["degree"] for c in checks]
-    if min(bound) < MAX_DEGREE:
-        enum.setUpperBound(ot.Indices(bound))
-    enum = ot.EnumerateFunction(enum)
-    dist = joint(design)
-    polys = [ot.StandardDistributionPolynomialFactory(dist.getMarginal(i)) for i in range(d)]
-    return ot.OrthogonalProductPolynomialFactory(polys, enum), enum, checks
+class Basis:
+    """The chaos's product basis over the design's factors: per-factor families (Gram-checked
+    and capped), the terms enumerated by hyperbolic q-norm, and OpenTURNS's own product basis
+    for its sparse LARS (None when a factor is discrete: see _DiscreteFamily)."""
+
+    def __init__(self, design, q_norm):
+        self.families = [family(f) for f in design["factors"]]
+        self.checks = caps(design, self.families)
+        enum = ot.HyperbolicAnisotropicEnumerateFunction(len(self.checks), q_norm)
+        bound = [c["degree"] for c in self.checks]
+        if min(bound) < MAX_DEGREE:
+            enum.setUpperBound(ot.Indices(bound))
+        self.enum = ot.EnumerateFunction(enum)
+        self.openturns = None
+        if all(isinstance(fam, _OpenTurnsFamily) for fam in self.families):
+            self.openturns = ot.OrthogonalProductPolynomialFactory(
+                [fam.factory for fam in self.families], self.enum)
+
+    def multi_indices(self, size):
+        """(size, d) array: the degrees of each factor in the first `size` terms."""
+        return np.array([list(self.enum(k)) for k in range(size)], dtype=int)
+
+    def matrix(self, z, size):
+        """(n, size): the first `size` product polynomials at the variables z (n, d)."""
+        alpha = self.multi_indices(size)
+        top = alpha.max(axis=0)
+        per = [fam.values(z[:, i], int(top[i])) for i, fam in enumerate(self.families)]
+        psi = np.ones((len(z), size))
+        for i, v in enumerate(per):
+            psi *= v[:, alpha[:, i]]
+        return psi
+
+    def to_measure(self, z):
+        """z mapped to the measure of OpenTURNS's product basis (for its LARS), factor by factor
+        (OpenTURNS's map of a joint distribution is avoided: see _DiscreteFamily)."""
+        return np.column_stack([np.asarray(fam.to_measure(ot.Sample(z[:, i:i + 1]))).ravel()
+                                for i, fam in enumerate(self.families)])

@@ -49,12 +49,12 @@ _BASES = {}
 
 
 def _basis(design):
-    """(product basis, enumeration, per-factor Gram checks) of the design's factors (basis.py),
-    kept for the next metric."""
+    """The chaos's basis over the design's factors (basis.Basis: Gram-checked families, the
+    q-norm enumeration), kept for the next metric."""
     key = json.dumps(design["factors"], sort_keys=True)
     if key not in _BASES:
         _BASES.clear()
-        _BASES[key] = _basis_mod.product_basis(design, Q_NORM)
+        _BASES[key] = _basis_mod.Basis(design, Q_NORM)
     return _BASES[key]
 
 
@@ -112,47 +112,48 @@ def kfold(q, y, folds, grams=None):
 
 
 def _design_matrix(design, z, limit):
-    """(basis, the sizes of total degree 1, 2, ... up to limit terms, Q, |diag R|, the folds'
-    Q_F' Q_F) of the widest of those bases on the variables z; kept for the next metric on the
-    same points."""
+    """(the sizes of total degree 1, 2, ... up to limit terms, Q, R, the folds' Q_F' Q_F) of
+    the widest of those bases on the variables z; kept for the next metric on the same
+    points."""
     key = (json.dumps(design["factors"], sort_keys=True), z.shape, hash(z.tobytes()), limit)
     if key in _CACHE:
         return _CACHE[key]
-    basis, enum, _ = _basis(design)
+    basis = _basis(design)
     sizes = []
     for p in range(1, MAX_DEGREE + 1):
-        size = enum.getBasisSizeFromTotalDegree(p)
-        if size > limit:
+        size = _size(basis.enum, p)
+        if size is None or size > limit:
             break
         if not sizes or size > sizes[-1]:
             sizes.append(size)
     if not sizes:
-        return basis, sizes, None, None, None
-    zs = ot.DistributionTransformation(_basis_mod.joint(design), basis.getMeasure())(
-        ot.Sample(z))
-    psi = np.column_stack([np.asarray(basis.build(k)(zs)).ravel() for k in range(sizes[-1])])
-    q, r = np.linalg.qr(psi)
+        return sizes, None, None, None
+    q, r = np.linalg.qr(basis.matrix(z, sizes[-1]))
     grams = [q[f].T @ q[f] for f in _folds(len(z))]
     _CACHE.clear()
-    _CACHE[key] = (basis, sizes, q, np.abs(np.diag(r)), grams)
+    _CACHE[key] = (sizes, q, r, grams)
     return _CACHE[key]
 
 
 def _choose_degree(design, z, y):
-    """(size, basis, Q², LOO predictions, K-fold Q²) of the basis of the smallest exact LOO
-    error among the total degrees whose basis fits; size None when none does."""
-    basis, sizes, q, rdiag, grams = _design_matrix(design, z, min(MAX_TERMS, len(y) // 3))
+    """The least-squares chaos of the basis of the smallest exact LOO error among the total
+    degrees whose basis fits (a dict as _summary's); None when none does."""
+    sizes, q, r, grams = _design_matrix(design, z, min(MAX_TERMS, len(y) // 3))
     if not sizes:
-        return None, basis, math.nan, None, math.nan
+        return None
     best = None
-    for size, (q2, pred) in zip(sizes, _loo_nested(q, rdiag, y, sizes)):
+    for size, (q2, pred) in zip(sizes, _loo_nested(q, np.abs(np.diag(r)), y, sizes)):
         if math.isnan(q2):
             break
-        if best is None or q2 > best[2]:
-            best = (size, basis, q2, pred)
+        if best is None or q2 > best[1]:
+            best = (size, q2, pred)
     if best is None:
-        return None, basis, math.nan, None, math.nan
-    return best + (kfold(q[:, :best[0]], y, _folds(len(y)), grams)[0],)
+        return None
+    k = best[0]
+    b = q[:, :k].T @ y
+    coef = np.linalg.solve(np.triu(r[:k, :k]), b)
+    return _summary("least-squares", _basis(design).multi_indices(k), coef, y, q[:, :k] @ b,
+                    best[1], best[2], kfold(q[:, :k], y, _folds(len(y)), grams)[0], k)
 
 
 def fit(design, x, y, method="auto"):
@@ -160,17 +161,22 @@ def fit(design, x, y, method="auto"):
     LOO Q² and predictions, the FOLDS-fold Q², R², the per-factor Gram checks, the validation
     and, when it passed, the chaos's first-order and total Sobol indices. method:
     "least-squares", "lars" or "auto": least squares, and LARS too when points × candidate
-    terms <= LARS_WORK, the one of the larger Q² kept."""
+    terms <= LARS_WORK, the one of the larger Q² kept. LARS needs every factor continuous (its
+    basis is OpenTURNS's)."""
     z = _basis_mod.to_variables(design, x)
-    checks = _basis(design)[2]
+    basis = _basis(design)
+    checks = basis.checks
     if min(c["degree"] for c in checks) < 1:
         bad = [c["key"] for c in checks if c["degree"] < 1]
         return {"skipped": f"no polynomial of degree 1 passes the orthonormality check for "
                            f"{', '.join(bad)}", "basis": checks}
+    if method == "lars" and basis.openturns is None:
+        raise ValueError("--chaos lars: a discrete factor's polynomials are rodend's own, not "
+                         "OpenTURNS's, which its LARS needs; use least-squares or auto")
     if method != "auto":
         return _validated(_fit(design, z, y, method), checks)
     best = _fit(design, z, y, "least-squares")
-    if len(y) * _lars_candidates(_basis(design)[1]) <= LARS_WORK:
+    if basis.openturns is not None and len(y) * _lars_candidates(basis.enum) <= LARS_WORK:
         other = _fit(design, z, y, "lars")
         tried = {"least-squares": best.get("q2_loo"), "lars": other.get("q2_loo")}
         if "q2_loo" not in best or other.get("q2_loo", -math.inf) > best["q2_loo"]:
@@ -211,52 +217,70 @@ def _lars_candidates(enum):
     enumeration of a high degree in many dimensions takes seconds)."""
     size = 0
     for p in range(1, LARS_DEGREE + 1):
-        size = enum.getBasisSizeFromTotalDegree(p)
+        size = _size(enum, p) or size
         if size >= MAX_TERMS:
             return MAX_TERMS
     return size
 
 
+def _size(enum, p):
+    """The basis size up to total degree p; None when the factors' degree caps leave no term
+    of degree p (OpenTURNS then refuses to enumerate that far)."""
+    try:
+        return enum.getBasisSizeFromTotalDegree(p)
+    except RuntimeError:
+        return None
+
+
 def _fit(design, z, y, method):
-    dist = _basis_mod.joint(design)
-    zs, ys = ot.Sample(z), ot.Sample(y.reshape(-1, 1))
-    if method == "lars":
-        basis, enum, _ = _basis(design)
-        size = _lars_candidates(enum)
-        proj = ot.LeastSquaresStrategy(ot.LeastSquaresMetaModelSelectionFactory(
-            ot.LARS(), ot.CorrectedLeaveOneOut()))
-    else:
-        size, basis, q2, pred, q2_kfold = _choose_degree(design, z, y)
-        if size is None:
-            return {"skipped": f"{len(y)} points are too few for a basis of total degree 1 "
-                               "(it needs 3 points a term) or every basis interpolates"}
-        proj = ot.LeastSquaresStrategy()
-    result = _run(ot.FunctionalChaosAlgorithm(zs, ys, dist, ot.FixedStrategy(basis, size), proj))
-    if method == "lars":
-        u = result.getTransformation()(zs)
-        psi = np.column_stack([np.asarray(f(u)).ravel() for f in result.getReducedBasis()])
-        q2, pred = loo(psi, y)
-        q2_kfold = kfold(np.linalg.qr(psi)[0], y, _folds(len(y)))[0]
-    fitted = np.asarray(result.getMetaModel()(zs)).ravel()
+    """The chaos of y over the variables z: least squares (numpy, on the basis's own design
+    matrix) or OpenTURNS's LARS."""
+    if method != "lars":
+        r = _choose_degree(design, z, y)
+        return r if r is not None else {
+            "skipped": f"{len(y)} points are too few for a basis of total degree 1 (it needs 3 "
+                       "points a term), or they leave it singular (a factor drawn at one value "
+                       "only) or interpolated"}
+    basis = _basis(design)
+    size = _lars_candidates(basis.enum)
+    proj = ot.LeastSquaresStrategy(ot.LeastSquaresMetaModelSelectionFactory(
+        ot.LARS(), ot.CorrectedLeaveOneOut()))
+    u = ot.Sample(basis.to_measure(z))
+    result = _run(ot.FunctionalChaosAlgorithm(u, ot.Sample(y.reshape(-1, 1)),
+                                              basis.openturns.getMeasure(),
+                                              ot.FixedStrategy(basis.openturns, size), proj))
+    psi = np.column_stack([np.asarray(f(u)).ravel() for f in result.getReducedBasis()])
+    q2, pred = loo(psi, y)
+    alpha = np.array([list(basis.enum(int(i))) for i in result.getIndices()], dtype=int)
+    return _summary("lars", alpha, np.asarray(result.getCoefficients()).ravel(), y,
+                    np.asarray(result.getMetaModel()(u)).ravel(), q2, pred,
+                    kfold(np.linalg.qr(psi)[0], y, _folds(len(y)))[0], size)
+
+
+def _summary(method, alpha, coef, y, fitted, q2, pred, q2_kfold, candidates):
+    """The dict of a fitted chaos: terms alpha (multi-indices) with coefficients coef on an
+    orthonormal basis, so its variance is the sum of the squared coefficients but the
+    constant's, a factor's first-order index the share of the terms in it alone, its total
+    index that of the terms in it at all."""
     ss = float(np.sum((y - y.mean()) ** 2))
-    sob = ot.FunctionalChaosSobolIndices(result)
-    d = z.shape[1]
-    return {"method": method, "candidate_terms": int(size),
-            "terms": int(result.getIndices().getSize()), "degree": _degree(result),
-            "q2_loo": q2, "q2_kfold": q2_kfold, "folds": FOLDS,
-            "r2": 1 - float(np.sum((y - fitted) ** 2)) / ss if ss > 0 else math.nan,
-            "loo_prediction": pred, "first_order": [sob.getSobolIndex(i) for i in range(d)],
-            "total": [sob.getSobolTotalIndex(i) for i in range(d)], "points": len(y),
-            "_variance": _variances(result, fitted)}
+    sq = coef ** 2 * (alpha.sum(axis=1) > 0)
+    v = float(sq.sum())
+    d = alpha.shape[1]
+    alone = [(alpha[:, i] > 0) & (alpha.sum(axis=1) == alpha[:, i]) for i in range(d)]
+    return {"method": method, "candidate_terms": int(candidates), "terms": len(coef),
+            "degree": int(alpha.sum(axis=1).max()), "q2_loo": q2, "q2_kfold": q2_kfold,
+            "folds": FOLDS, "r2": 1 - float(np.sum((y - fitted) ** 2)) / ss if ss > 0 else
+            math.nan, "loo_prediction": pred,
+            "first_order": [float(sq[alone[i]].sum()) / v if v > 0 else math.nan
+                            for i in range(d)],
+            "total": [float(sq[alpha[:, i] > 0].sum()) / v if v > 0 else math.nan
+                      for i in range(d)],
+            "points": len(y), "_variance": _variances(v, fitted)}
 
 
-def _variances(result, fitted):
-    """The chaos's variance under the factors' distribution (its squared coefficients but the
-    constant's: the basis is orthonormal), its variance over the points, and that estimate's
-    standard error sqrt((m4 - v²) / n)."""
-    coef = np.asarray(result.getCoefficients()).ravel()
-    const = [k for k, i in enumerate(result.getIndices()) if int(i) == 0]
-    v_coef = float(np.sum(coef ** 2) - sum(coef[k] ** 2 for k in const))
+def _variances(v_coef, fitted):
+    """The chaos's variance under the factors' distribution (v_coef), its variance over the
+    points, and that estimate's standard error sqrt((m4 - v²) / n)."""
     dev = fitted - fitted.mean()
     v = float(np.mean(dev ** 2))
     m4 = float(np.mean(dev ** 4))
@@ -277,8 +301,3 @@ def _run(algo):
     finally:
         ot.ResourceMap.SetAsBool(key, before)
     return algo.getResult()
-
-
-def _degree(result):
-    enum = result.getOrthogonalBasis().getEnumerateFunction()
-    return int(max(sum(enum(int(i))) for i in result.getIndices()))
