@@ -18,7 +18,8 @@ the layout of docs/results.md; the design points are drawn here with OpenTURNS a
   variable's mean and std, triangular, discrete with weights), drawn with numpy: the chaos of
   y = sum a_i x_i has S_i = ST_i = a_i² var_i / sum_j a_j² var_j with the variances in
   closed form (the chaos's degree-1 coefficient is a_i times the std of the distribution it
-  was given, so a misread parameter shows), to 1e-6.
+  was given, so a misread parameter shows), to 1e-6; the truncated normal as design.json
+  records it (moments as mean and std, the parent's as parent_mean and parent_std).
   At 150 cases the chaos's auto method keeps sparse LARS (least squares on a whole basis
   leaves Q² < 0.9 there: 0.64) and meets the same bounds.
 - the chaos with lognormal, triangular and truncated-normal factors (y = sqrt(L) T + 3 N, its
@@ -148,6 +149,13 @@ def test_exact_loo():
     check(abs(q2 - want) < 1e-12, f"Q2 {q2} vs {want}")
 
 
+def _truncated_normal_mean(m, s, a, b):
+    phi = lambda z: math.exp(-z * z / 2) / math.sqrt(2 * math.pi)  # noqa: E731
+    cdf = lambda z: 0.5 * (1 + math.erf(z / math.sqrt(2)))        # noqa: E731
+    al, be = (a - m) / s, (b - m) / s
+    return m + s * (phi(al) - phi(be)) / (cdf(be) - cdf(al))
+
+
 def _truncated_normal_var(m, s, a, b):
     phi = lambda z: math.exp(-z * z / 2) / math.sqrt(2 * math.pi)  # noqa: E731
     cdf = lambda z: 0.5 * (1 + math.erf(z / math.sqrt(2)))        # noqa: E731
@@ -168,8 +176,12 @@ def test_distributions(tmp):
         (fx.uniform("parameters.u", 2.0, 6.0), rng.uniform(2, 6, n), 16 / 12),
         ({"key": "parameters.n", "distribution": "normal", "mean": 1.0, "std": 0.3},
          rng.normal(1, 0.3, n), 0.09),
-        ({"key": "parameters.t", "distribution": "truncated-normal", "mean": 1.0, "std": 2.0,
-          "lower": 0.0, "upper": 3.0}, tn, _truncated_normal_var(1.0, 2.0, 0.0, 3.0)),
+        # as design.json records it: the parent normal's parameters as parent_mean and
+        # parent_std, the moments as mean and std
+        ({"key": "parameters.t", "distribution": "truncated-normal", "parent_mean": 1.0,
+          "parent_std": 2.0, "mean": _truncated_normal_mean(1.0, 2.0, 0.0, 3.0),
+          "std": math.sqrt(_truncated_normal_var(1.0, 2.0, 0.0, 3.0)), "lower": 0.0,
+          "upper": 3.0}, tn, _truncated_normal_var(1.0, 2.0, 0.0, 3.0)),
         ({"key": "parameters.l", "distribution": "lognormal", "mean": 2.0, "std": 0.5},
          rng.lognormal(math.log(2.0) - sig * sig / 2, sig, n), 0.25),
         ({"key": "parameters.r", "distribution": "triangular", "lower": a, "mode": c,
