@@ -5,8 +5,9 @@ The basis (basis.py): products of polynomials orthonormal for each factor's vari
 lognormal's standardised log, every other factor itself), each factor's degree capped where a
 numerical Gram check of its polynomials passes, enumerated by hyperbolic q-norm (q = 0.75: the
 interactions of high total degree come last), each discrete factor of k values capped at
-degree k - 1. The coefficients: least squares on the whole basis of total degree p
-(ot.LeastSquaresStrategy). The degree p is chosen by the exact leave-one-out error: for each
+degree k - 1. The coefficients: least squares on the whole basis of total degree p, from the
+QR factorisation of its design matrix (numpy); the Sobol indices from the coefficients. The
+degree p is chosen by the exact leave-one-out error: for each
 p = 1, 2, ... whose basis has at most n/3 terms (and at most MAX_TERMS), the LOO residuals of
 the least-squares fit are e_i / (1 - h_ii), h the hat matrix's diagonal (h_ii = |Q_i|², Q from
 a QR factorisation of the design matrix: one QR of the widest basis serves every p, the first
@@ -289,7 +290,7 @@ def _variances(v_coef, fitted):
 
 
 def _run(algo):
-    """Runs a chaos algorithm with its least squares solved by the normal equations (Cholesky),
+    """Runs OpenTURNS's chaos algorithm (LARS) with its least squares solved by the normal equations (Cholesky),
     five times faster than OpenTURNS's default SVD at 1e4 points and well conditioned here:
     the basis is orthonormal for the factors' distribution, so the normal matrix is close to
     n times the identity."""
