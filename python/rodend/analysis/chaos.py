@@ -290,10 +290,10 @@ def _variances(v_coef, fitted):
 
 
 def _run(algo):
-    """Runs OpenTURNS's chaos algorithm (LARS) with its least squares solved by the normal equations (Cholesky),
-    five times faster than OpenTURNS's default SVD at 1e4 points and well conditioned here:
-    the basis is orthonormal for the factors' distribution, so the normal matrix is close to
-    n times the identity."""
+    """Runs OpenTURNS's chaos algorithm (LARS) with its least squares solved by the normal
+    equations (Cholesky), five times faster than OpenTURNS's default SVD at 1e4 points and well
+    conditioned here: the basis is orthonormal for the factors' distribution, so the normal
+    matrix is close to n times the identity."""
     key = "PenalizedLeastSquaresAlgorithm-UseNormal"
     before = ot.ResourceMap.GetAsBool(key)
     ot.ResourceMap.SetAsBool(key, True)
