@@ -209,6 +209,9 @@ def run_study(study, *, threads=1, results_root="results", set=None, rerun_faile
     if isinstance(threads, bool) or not isinstance(threads, numbers.Integral):
         raise TypeError(f"threads: expected an integer >= 1, got {type(threads).__name__} "
                         f"{threads!r}")
+    if not 1 <= threads <= 4096:  # the extension's C int would refuse 2**31 with its signature
+        raise _extension().InputError(f"threads: expected an integer from 1 to 4096 (as "
+                                      f"--threads), got {int(threads)}")
     if not isinstance(rerun_failed, bool) and type(rerun_failed).__name__ != "bool_":
         raise TypeError(f"rerun_failed: expected True or False, got "
                         f"{type(rerun_failed).__name__} {rerun_failed!r}")
