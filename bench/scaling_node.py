@@ -11,7 +11,16 @@ with k cores busy, and the costs of a study's cases. Writes one JSON document (s
    k = 1's. On a quiet node the wall ratio is the slowdown; on a node other jobs share, wall time
    includes the waits for a core, and the CPU ratio is the measure (what the node costs a busy
    core: clock, caches, memory bandwidth).
-2. The case costs: one one-thread run of the whole study (`rodend run STUDY -j 1`), or the
+2. The case costs, by default from CPU times, which barely depend on what else the machine
+   runs: the CPU time C of one one-thread run of the whole study (or --total-cpu of one you
+   already have), F that of `rodend run --dry-run` (start, study loading, resolving every case:
+   the serial part), and every case run by itself (`--shard K/n` for K = 1 .. n, n the study's
+   case count: shard K is the case of index K - 1; --workers at a time), its process's CPU time
+   a_i (user + sys, from wait4). A process of one case also pays a start, HDF5's and the results
+   folder's set-up, o each: o = (sum a_i - (C - F)) / n, and case i costs a_i - o, so that the
+   costs add up to the whole run's C - F. Per case: `cost_s`, its rhs_calls and the study's
+   factor columns (`parameters.*`, from the dry run's table of cases).
+   With --from-summary instead: one one-thread run of the whole study (`rodend run STUDY -j 1`), or the
    summary.csv of one you already have (--summary, with that run's --total-wall and --total-cpu).
    Per case in grid order (case_index): `wall_time_s` from the summary, its rhs_calls, and the
    study's factor columns (`parameters.*`). `wall_time_s` covers the integration only; writing
@@ -21,7 +30,9 @@ with k cores busy, and the costs of a study's cases. Writes one JSON document (s
    `rodend run --dry-run` (start, study loading, resolving every case); the rest of the process's
    CPU, less F and the integrations, is spread evenly over the cases as the writing of their
    files (every case of a study records the same signals at the same samples; the summary, a few
-   ms, is counted there too). A case's `cost_s` = its integration + that write share.
+   ms, is counted there too). A case's `cost_s` = its integration + that write share. On a
+   node whose load changes during the run this share drifts: measured at load average 14-17,
+   tolerance.json's cost per right-hand-side call fell by half from its first cases to its last.
 
   /usr/bin/python3 bench/scaling_node.py --study studies/bench-256.json --set time.end=1.2 \\
       --shards 16 --max-procs 2 --repeats 3 --out node.json
@@ -59,7 +70,8 @@ def together(a, tmp, k):
         root = os.path.join(tmp, f"p{p}")
         shutil.rmtree(root, ignore_errors=True)
         cmd = run_base(a, root) + ["--shard", f"1/{a.shards}"]
-        procs[subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE).pid] = cmd
+        proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        procs[proc.pid] = (cmd, proc)  # the Popen kept: subprocess reaps dropped ones
     walls, cpus = [], []
     while procs:
         pid, status, ru = os.wait4(-1, 0)
@@ -67,8 +79,9 @@ def together(a, tmp, k):
             continue
         walls.append(time.monotonic() - t0)
         cpus.append(ru.ru_utime + ru.ru_stime)
-        if os.waitstatus_to_exitcode(status) not in (0, 1):
-            sys.exit(f"{' '.join(procs[pid])} exited {status}")
+        procs[pid][1].returncode = os.waitstatus_to_exitcode(status)
+        if procs[pid][1].returncode not in (0, 1):
+            sys.exit(f"{' '.join(procs[pid][0])} exited {status}")
         del procs[pid]
     return statistics.mean(walls), statistics.mean(cpus)
 
@@ -111,6 +124,71 @@ def dry_run_cpu(a):
     return (after.children_user - before.children_user) + (after.children_system - before.children_system)
 
 
+def alone(a, tmp, k, n):
+    """Starts case k - 1 alone (`--shard k/n`) into its own results root."""
+    root = os.path.join(tmp, f"case{k}")
+    cmd = run_base(a, root) + ["--shard", f"{k}/{n}"]
+    return subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL), root
+
+
+def case_table(a):
+    """The study's cases (`rodend run --dry-run`'s table): index -> {column: value}."""
+    cmd = [RODEND, "run", a.study, "--dry-run"] + [x for s in a.set or [] for x in ("--set", s)]
+    out = subprocess.run(cmd, capture_output=True, text=True, check=True).stdout.splitlines()
+    head = next(i for i, line in enumerate(out) if line.startswith("case\t") or
+                line.startswith("index\t"))
+    cols = out[head].split("\t")
+    rows = [dict(zip(cols, line.split("\t"))) for line in out[head + 1:] if "\t" in line]
+    return cols, rows
+
+
+def costs_alone(a, tmp, whole_cpu):
+    """Each case's CPU time run alone, less a one-case process's overhead (see the module's
+    docstring); whole_cpu: the CPU time of a one-thread run of the whole study."""
+    serial = dry_run_cpu(a)
+    cols, rows = case_table(a)
+    n = len(rows)
+    factors = [c for c in cols if c.startswith("parameters.")]
+    cpu, running, nxt = {}, {}, 1
+    while nxt <= n or running:
+        while nxt <= n and len(running) < a.workers:
+            proc, root = alone(a, tmp, nxt, n)  # the Popen kept: subprocess reaps dropped ones
+            running[proc.pid] = (nxt, root, proc)
+            nxt += 1
+        pid, status, ru = os.wait4(-1, 0)
+        if pid not in running:
+            continue
+        k, root, proc = running.pop(pid)
+        proc.returncode = os.waitstatus_to_exitcode(status)
+        if os.waitstatus_to_exitcode(status) not in (0, 1):
+            sys.exit(f"case {k - 1} alone exited {status}")
+        cpu[k - 1] = ru.ru_utime + ru.ru_stime
+        rhs = read_rhs_calls(root)
+        shutil.rmtree(root, ignore_errors=True)
+        cpu[k - 1] = (cpu[k - 1], rhs)
+    overhead = (sum(cpu[i][0] for i in range(n)) - (whole_cpu - serial)) / n
+    cases = [{"case_index": i, "cpu_alone_s": cpu[i][0], "cost_s": cpu[i][0] - overhead,
+              "rhs_calls": cpu[i][1], **{c: float(rows[i][c]) for c in factors}}
+             for i in range(n)]
+    return {"method": "each case alone (CPU) less a one-case process's overhead",
+            "process_cpu_s": whole_cpu, "serial_cpu_s": serial,
+            "overhead_per_process_cpu_s": overhead, "factors": factors, "cases": cases}
+
+
+def read_rhs_calls(root):
+    """rhs_calls of the one case file under root (h5py; None without it)."""
+    try:
+        import h5py
+    except ImportError:
+        return None
+    files = glob.glob(os.path.join(root, "*", "cases", "*.h5"))
+    if len(files) != 1:
+        return None
+    with h5py.File(files[0], "r") as f:
+        v = f.attrs.get("rhs_calls")
+    return None if v is None else int(v)
+
+
 def costs(a, summary, wall, cpu):
     with open(summary) as f:
         rows = sorted(csv.DictReader(f), key=lambda r: int(r["case_index"]))
@@ -138,6 +216,10 @@ def main():
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--no-slowdown", action="store_true", help="case costs only")
     ap.add_argument("--no-costs", action="store_true", help="the slowdown only")
+    ap.add_argument("--workers", type=int, default=1, help="cases run alone at a time")
+    ap.add_argument("--from-summary", action="store_true",
+                    help="the costs from one one-thread run's summary.csv (quiet nodes only; "
+                    "--summary: one you already have, with --total-wall and --total-cpu)")
     ap.add_argument("--summary", help="summary.csv of a one-thread run you already have")
     ap.add_argument("--total-wall", type=float, help="that run's process wall time [s]")
     ap.add_argument("--total-cpu", type=float, help="that run's process CPU time [s]")
@@ -152,10 +234,12 @@ def main():
             doc["shards"] = a.shards
             doc["slowdown"] = slowdown(a, tmp)
         if not a.no_costs:
-            if a.summary:
-                doc["costs"] = costs(a, a.summary, a.total_wall, a.total_cpu)
+            if a.from_summary:
+                doc["costs"] = (costs(a, a.summary, a.total_wall, a.total_cpu) if a.summary
+                                else costs(a, *one_thread_run(a, tmp)))
             else:
-                doc["costs"] = costs(a, *one_thread_run(a, tmp))
+                whole = a.total_cpu if a.total_cpu else one_thread_run(a, tmp)[2]
+                doc["costs"] = costs_alone(a, tmp, whole)
     doc["load_average_after"] = os.getloadavg()
     text = json.dumps(doc, indent=1)
     if a.out:
