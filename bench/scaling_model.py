@@ -56,7 +56,6 @@ and F together to another node's one-thread wall time (the relative costs assume
 import argparse
 import json
 import math
-import sys
 
 
 def per_case(st):
@@ -237,28 +236,30 @@ def node_model(a):
 
 
 def main():
-    if "--node" in sys.argv:
-        ap = argparse.ArgumentParser()
-        ap.add_argument("--node", required=True, help="bench/scaling_node.py's JSON")
-        ap.add_argument("--threads", type=int, nargs="+", default=[1, 2, 4, 8, 16])
-        ap.add_argument("--slowdown", nargs="+", help="k:s points replacing the measured s(k)")
-        ap.add_argument("--slowdown-from", choices=["cpu", "wall"], default="cpu")
-        ap.add_argument("--one-thread-wall", type=float,
-                        help="scale costs and F to this one-thread wall time [s] (another node)")
-        ap.add_argument("--measured", nargs="+", help="threads:wall [s] to compare with")
-        ap.add_argument("--order", nargs="+", choices=["grid", "longest", "predicted"],
-                        default=["grid"])
-        ap.add_argument("--predictor", help="case column whose magnitude ranks the cases "
-                        "(--order predicted), e.g. parameters.hinge.constant_moment")
-        return node_model(ap.parse_args())
-    ap = argparse.ArgumentParser()
-    ap.add_argument("figures")
+    ap = argparse.ArgumentParser(description="the lock/manager/file-system model on FIGURES "
+                                 "(bench/scaling_measure.py), or with --node the node model")
+    ap.add_argument("figures", nargs="?")
+    ap.add_argument("--node", help="bench/scaling_node.py's JSON: the node model")
     ap.add_argument("--fs-metadata-ops", type=float, default=20000.0,
                     help="metadata operations per second of the shared file system (assumed)")
     ap.add_argument("--fs-bandwidth", type=float, default=20e9,
                     help="write bandwidth of the shared file system [bytes/s] (assumed)")
     ap.add_argument("--lock-s-scale", type=float, default=1.0)
+    ap.add_argument("--threads", type=int, nargs="+", default=[1, 2, 4, 8, 16])
+    ap.add_argument("--slowdown", nargs="+", help="k:s points replacing the measured s(k)")
+    ap.add_argument("--slowdown-from", choices=["cpu", "wall"], default="cpu")
+    ap.add_argument("--one-thread-wall", type=float,
+                    help="scale costs and F to this one-thread wall time [s] (another node)")
+    ap.add_argument("--measured", nargs="+", help="threads:wall [s] to compare with")
+    ap.add_argument("--order", nargs="+", choices=["grid", "longest", "predicted"],
+                    default=["grid"])
+    ap.add_argument("--predictor", help="case column whose magnitude ranks the cases "
+                    "(--order predicted), e.g. parameters.hinge.constant_moment")
     a = ap.parse_args()
+    if a.node:
+        return node_model(a)
+    if not a.figures:
+        ap.error("FIGURES or --node is required")
     with open(a.figures) as f:
         doc = json.load(f)
     tiny = max(doc["dispatch_tiny"], key=lambda d: d["requests"] / max(d["wall_s"], 1e-9))
