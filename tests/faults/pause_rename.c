@@ -6,7 +6,8 @@
  * then has exactly N case files per process under their final names and its other cases in
  * flight. When the first rename is held it creates RODEND_PAUSE_DIR/paused.<pid> (the state a
  * test waits for); a held rename goes on once RODEND_PAUSE_DIR/release exists (a test creates it
- * after what it wanted to do in that state: signal the run, start a second run), or never (kill).
+ * after what it wanted to do in that state: signal the run, start a second run) or once
+ * RODEND_PAUSE_DIR is removed, or never (kill).
  * Without RODEND_PAUSE_AFTER it does nothing. Test code only: never linked into rodend. */
 #define _GNU_SOURCE
 #include <dlfcn.h>
@@ -48,7 +49,8 @@ static void maybe_pause(const char* new_path) {
   if (atomic_exchange(&announced, 1) == 0) touch(dir, name);
   snprintf(release, sizeof release, "%s/release", dir);
   const struct timespec tick = {0, 5 * 1000 * 1000};
-  while (access(release, F_OK) != 0) nanosleep(&tick, NULL);
+  /* a test that ended without releasing (its folder removed) leaves no process held */
+  while (access(release, F_OK) != 0 && access(dir, F_OK) == 0) nanosleep(&tick, NULL);
 }
 
 int renameat(int olddirfd, const char* oldpath, int newdirfd, const char* newpath) {
