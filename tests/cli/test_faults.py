@@ -67,7 +67,7 @@ with tempfile.TemporaryDirectory() as tmp:
                        ("/dev/zero", "not a regular file"), (big, "larger than 16 MiB"),
                        (os.path.join(tmp, "absent.json"), "no such file")):
         try:
-            r = run(["run", path, "-q", "--results-root", os.path.join(tmp, "none")], timeout=20)
+            r = run(["run", path, "-q", "--results-root", os.path.join(tmp, "none")], timeout=120)
         except subprocess.TimeoutExpired:
             check(False, f"{path}: hangs")
             continue
@@ -125,7 +125,7 @@ with tempfile.TemporaryDirectory() as tmp:
                              stderr=subprocess.PIPE, text=True, env=hold.env())
         check(hold.wait(alive=lambda: p.poll() is None), f"{sig.name}: the run was not held")
         p.send_signal(sig)
-        before = "".join(read_until(p.stderr, "rodend: stopping"))
+        before = "".join(read_until(p.stderr, "rodend: stop"))
         hold.release()
         _, err = p.communicate(timeout=300)
         err = before + err

@@ -59,7 +59,7 @@ def exclusion(tmp):
                   f"{second or 'full run'} while {first or 'full run'} runs: exit "
                   f"{r.returncode} {r.stderr[-400:]}")
         if first == ["--shard", "1/2"] and not second:
-            m = run(["merge", study, "--results-root", root], timeout=60)
+            m = run(["merge", study, "--results-root", root], timeout=300)
             check(m.returncode == 2 and "holds" in m.stderr,
                   f"merge while a shard runs: exit {m.returncode} {m.stderr[-300:]}")
         hold.release()
@@ -96,19 +96,19 @@ def locked_file(tmp):
         "grid": [{"key": "parameters.contact.clearance", "values": [2e-4, 4e-4]}]})
     root = os.path.join(tmp, "lock-root")
     folder = os.path.join(root, "lock")
-    r = run(["run", study, "-q", "--results-root", root], timeout=60)
+    r = run(["run", study, "-q", "--results-root", root], timeout=300)
     check(r.returncode == 0, f"locked: first run {r.stderr}")
     path = sorted(glob.glob(os.path.join(folder, "cases", "*.h5")))[0]
     with h5py.File(path, "r+"):
-        r = run(["run", study, "-q", "--results-root", root], timeout=60)
+        r = run(["run", study, "-q", "--results-root", root], timeout=300)
         check(r.returncode == 2 and "locked" in r.stderr and path in r.stderr,
               f"run beside h5py r+: exit {r.returncode} {r.stderr[-400:]}")
-        m = run(["merge", study, "--results-root", root], timeout=60)
+        m = run(["merge", study, "--results-root", root], timeout=300)
         check(m.returncode == 1 and "locked" in m.stderr,
               f"merge beside h5py r+: exit {m.returncode} {m.stderr[-400:]}")
     check(not glob.glob(os.path.join(folder, "cases", "*.corrupt*")),
           "a locked case file was moved aside as corrupt")
-    r = run(["run", study, "--results-root", root], timeout=60)
+    r = run(["run", study, "--results-root", root], timeout=300)
     check(r.returncode == 0 and "2 of 2 cases already complete" in r.stderr,
           f"after h5py closed it: exit {r.returncode} {r.stderr[-400:]}")
 
