@@ -223,10 +223,11 @@ void add_output_commands(CLI::App& app, Cli& c) {
       "(docs/uncertainty.md): Sobol' indices with intervals (saltelli), Morris screening "
       "(morris), a polynomial-chaos surrogate, each metric's distribution and exceedance "
       "probabilities, history bands. Writes RESULTS/analysis/ and RESULTS/plots/analysis-*.png "
-      "(which `rodend report` embeds). Runs the Python module rodend.analyze; every option "
-      "after RESULTS is its own (rodend analyze RESULTS --help).");
+      "(which `rodend report` embeds). Runs the Python module rodend.analyze, whose options "
+      "`rodend analyze --help` lists.");
   c.analyze->allow_extras();
   c.analyze->prefix_command();
+  c.analyze->set_help_flag();  // --help goes to rodend.analyze, which knows the options
 }
 
 /// scenes, params, signals, metrics and choices: the catalogues.
