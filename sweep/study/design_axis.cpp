@@ -13,9 +13,10 @@ namespace {
 std::string draw_hint(const DesignFactor& f) {
   const DistributionKind k = f.distribution.kind;
   if (k == DistributionKind::normal)
-    return f.where + " is a normal distribution, which draws values of either sign and any size: "
-                     "for a quantity with limits use truncated-normal (with lower and upper) or, "
-                     "for a positive one, lognormal";
+    return f.where +
+           " is a normal distribution, which draws values of either sign and any size: "
+           "for a quantity with limits use truncated-normal (with lower and upper) or, "
+           "for a positive one, lognormal";
   if (!distribution_info(k).bounded)
     return f.where + " is a " + std::string(to_string(k)) +
            " distribution, unbounded: truncated-normal keeps the draws within lower and upper";
@@ -60,8 +61,8 @@ void check_design_keys(const Design& design, const std::vector<std::string>& sce
                        (scenes.size() == 1 ? "unknown parameter of scene " + names
                                            : "no scene of this study (" + names +
                                                  ") has parameter '" + path + "'") +
-                           " (see `rodend params " + (scenes.size() == 1 ? names : "SCENE") +
-                           "`)" + nearest_key("parameters", path, all));
+                           " (see `rodend params " + (scenes.size() == 1 ? names : "SCENE") + "`)" +
+                           nearest_key("parameters", path, all));
     }
   }
 }

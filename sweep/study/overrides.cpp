@@ -48,7 +48,7 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
 }  // namespace
 
 std::string study_detail::nearest_key(const std::string& section, const std::string& rest,
-                        const std::vector<const ParameterSet*>& params) {
+                                      const std::vector<const ParameterSet*>& params) {
   std::string best, type, unit;
   std::size_t best_d = std::string::npos;
   auto consider = [&](const std::string& name, const std::string& t, const std::string& u) {
@@ -71,15 +71,15 @@ std::string study_detail::nearest_key(const std::string& section, const std::str
          (unit.empty() || unit == "1" ? "" : " [" + unit + "]");
 }
 
-void study_detail::unknown_key(const std::string& key, const std::string& section, const std::string& rest,
-                 const ParameterSet& params, const std::string& scene) {
-  const std::string m = section == "parameters" ? "unknown parameter of scene " + scene +
-                                                      " (see `rodend params " + scene + "`)"
-                                                : "unknown " + section +
-                                                      " setting (see `rodend schema`)";
+void study_detail::unknown_key(const std::string& key, const std::string& section,
+                               const std::string& rest, const ParameterSet& params,
+                               const std::string& scene) {
+  const std::string m =
+      section == "parameters"
+          ? "unknown parameter of scene " + scene + " (see `rodend params " + scene + "`)"
+          : "unknown " + section + " setting (see `rodend schema`)";
   throw InputError(key, m + nearest_key(section, rest, {&params}));
 }
-
 
 /// `--set design.KEY=value` for the design's scalar keys; the loader checks the value.
 void set_design_key(Json& doc, const std::string& rest, const Json& value) {

@@ -97,7 +97,8 @@ CaseSpec resolve_case(const Grid& g, std::size_t index, bool check) {
     if (check) check_case(d, g.scene_signals[which]);
   } catch (const InputError& e) {
     if (g.axes.empty()) throw;
-    throw InputError(e.key_path(), e.problem() + case_context(g, index, c.coordinates, e.key_path()));
+    throw InputError(e.key_path(),
+                     e.problem() + case_context(g, index, c.coordinates, e.key_path()));
   }
   c.index = static_cast<long>(index);
   c.scene = d.scene;
