@@ -67,6 +67,18 @@ if [ "${RODEND_PYTHON_VENV:-1}" = 1 ] && [ "$build_dir" = build ] && [ -z "${ROD
   if RODEND_PIP_BUILD_DIR="$(pwd)/build" .venv/bin/python -m pip install --no-index --no-cache-dir \
     --no-build-isolation --quiet . >.venv/rodend-install.log 2>&1; then
     echo "setup: rodend installed into $(pwd)/.venv (.venv/bin/python -c 'import rodend')" >&2
+    # the Jupyter kernel "rodend": this .venv's python, for examples/study.ipynb (which names
+    # it) and any notebook; registered for this user (~/.local/share/jupyter/kernels/rodend,
+    # where every Jupyter of the user looks; written again on each set-up: the last clone set
+    # up is the one it runs). RODEND_JUPYTER_KERNEL=0 skips it.
+    if [ "${RODEND_JUPYTER_KERNEL:-1}" = 1 ]; then
+      if .venv/bin/python -m ipykernel install --user --name rodend \
+        --display-name "Python (rodend: $(pwd))" >.venv/kernel-install.log 2>&1; then
+        echo "setup: Jupyter kernel 'rodend' runs $(pwd)/.venv/bin/python" >&2
+      else
+        echo "setup: registering the Jupyter kernel failed (see .venv/kernel-install.log)" >&2
+      fi
+    fi
   else
     echo "setup: pip install into .venv failed (see .venv/rodend-install.log); use" \
       "PYTHONPATH=$(pwd)/python" >&2
