@@ -47,7 +47,7 @@ def missing_requirements():
             build.append(f"setuptools>=61 (this Python has {setuptools.__version__})")
     except ImportError:
         build.append("setuptools>=61")
-    if importlib.util.find_spec("wheel") is None:
+    if not bdist_wheel_found():
         build.append("wheel")
     if shutil.which("cmake") is None:
         build.append("cmake (the program)")
@@ -55,6 +55,20 @@ def missing_requirements():
         build.append("pybind11")
     runtime = [m for m in RUNTIME if importlib.util.find_spec(m) is None]
     return build, runtime
+
+
+def bdist_wheel_found():
+    """setuptools' bdist_wheel command: its own (setuptools >= 70.1) or the wheel package's,
+    registered by its distribution's entry points (an importable wheel module is not enough)."""
+    import importlib.util
+    if importlib.util.find_spec("setuptools.command.bdist_wheel") is not None:
+        return True
+    from importlib.metadata import entry_points
+    try:
+        commands = entry_points(group="distutils.commands")
+    except TypeError:  # Python < 3.10
+        commands = entry_points().get("distutils.commands", [])
+    return any(ep.name == "bdist_wheel" for ep in commands)
 
 
 def pybind11_cmake_found():
