@@ -10,6 +10,7 @@ executable runs too.
     test_package.py CMAKE BUILD_DIR [CXX_COMPILER_LAUNCHER]
 """
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -44,7 +45,7 @@ def main():
             for n in names:
                 with open(os.path.join(root, n), encoding="utf-8") as fh:
                     generic += [f"{n}: {line.strip()}" for line in fh
-                                if line.startswith(('#include "core/', '#include "sweep/'))]
+                                if re.match(r'\s*#.*"(core|sweep)/', line)]
         if generic:
             print("FAIL: installed headers include generic paths:\n" + "\n".join(generic[:10]),
                   file=sys.stderr)
