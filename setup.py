@@ -152,16 +152,16 @@ def compatible(build_dir):
 
 
 def cmake_build_dir():
-    """(the CMake build directory, whether it exists already and is reused)."""
+    """The CMake build directory: $RODEND_PIP_BUILD_DIR, else the clone's build when this
+    Python loads its extensions, else build-pip/<python tag>."""
     given = os.environ.get("RODEND_PIP_BUILD_DIR")
     if given:
-        return os.path.abspath(given), True
+        return os.path.abspath(given)
     clone_build = os.path.abspath(os.path.join(HERE, os.environ.get("RODEND_BUILD_DIR", "build")))
-    ok, _ = compatible(clone_build)
-    if ok:
-        return clone_build, True
+    if compatible(clone_build)[0]:
+        return clone_build
     tag = sysconfig.get_config_var("SOABI") or f"py{sys.version_info[0]}{sys.version_info[1]}"
-    return os.path.join(HERE, "build-pip", tag), False
+    return os.path.join(HERE, "build-pip", tag)
 
 
 class CMakeExtension(Extension):
@@ -173,7 +173,7 @@ class CMakeBuild(build_ext):
     """build_ext for rodend._rodend: configure (when new) and build the CMake target _rodend."""
 
     def build_extension(self, ext):
-        build_dir, _ = cmake_build_dir()
+        build_dir = cmake_build_dir()
         python = sys.executable
         cmake = shutil.which("cmake")
         ok, why = compatible(build_dir)
@@ -205,10 +205,10 @@ class CMakeBuild(build_ext):
         shutil.copyfile(os.path.join(build_dir, "python", built[0]), target)
 
 
-# setuptools' own scratch (build/lib..., the egg-info) goes beside the CMake build, not into the
-# clone's build/ (CMake's) nor its python/ folder
+# setuptools' own scratch (build/lib..., the egg-info) goes into the CMake build's folder
+# setuptools/, not among CMake's files nor into the clone's python/ folder
 check_requirements()
-scratch = os.path.join(cmake_build_dir()[0], "setuptools")
+scratch = os.path.join(cmake_build_dir(), "setuptools")
 os.makedirs(scratch, exist_ok=True)
 setup(version=cmake_project_version(), ext_modules=[CMakeExtension("rodend._rodend")], cmdclass={"build_ext": CMakeBuild},
       options={"build": {"build_base": scratch}, "egg_info": {"egg_base": scratch}})
