@@ -224,8 +224,8 @@ void add_output_commands(CLI::App& app, Cli& c) {
       "(docs/uncertainty.md): Sobol' indices with intervals (saltelli), Morris screening "
       "(morris), a polynomial-chaos surrogate, each metric's distribution and exceedance "
       "probabilities, history bands. Writes RESULTS/analysis/ and RESULTS/plots/analysis-*.png "
-      "(which `rodend report` embeds). Runs the Python module rodend.analyze; every option "
-      "after RESULTS is its own (rodend analyze RESULTS --help).");
+      "(which `rodend report` embeds). Runs the Python module rodend.analyze, whose options "
+      "`rodend analyze --help` lists.");
   c.analyze->allow_extras();
   c.analyze->prefix_command();
   c.calibrate = app.add_subcommand(
@@ -234,10 +234,13 @@ void add_output_commands(CLI::App& app, Cli& c) {
       "(docs/health-monitoring.md): a surrogate trained on a designed study of the test, "
       "checked on held-out cases, the posterior by Markov-chain Monte Carlo, a final full-model "
       "run at the posterior mode, and optionally the remaining life through the wear "
-      "evolution. Runs the Python module rodend.calibrate (rodend calibrate CONFIG --help). "
+      "evolution. Runs the Python module rodend.calibrate, whose options `rodend calibrate --help` lists. "
       "Exit 0 ok, 1 a failed diagnostic, 2 bad input.");
   c.calibrate->allow_extras();
   c.calibrate->prefix_command();
+  // --help goes to the Python module, which knows the options
+  c.analyze->set_help_flag();
+  c.calibrate->set_help_flag();
 }
 
 /// scenes, params, signals, metrics and choices: the catalogues.

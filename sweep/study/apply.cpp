@@ -56,6 +56,7 @@ void apply(Draft& d, const std::string& key, const Json& v,
     throw InputError(key, "expected a key path such as parameters.contact.clearance");
   if (section == "parameters") {
     if (d.skip_absent_parameters && !d.parameters.has(field)) return;
+    if (!d.parameters.has(field)) unknown_key(key, section, field, d.parameters, d.scene);
     try {
       d.parameters.set(field, v, from.first, from.second);
     } catch (const InputError& e) {

@@ -59,6 +59,20 @@ void check_case(const Draft& d, const std::vector<SignalId>& signals) {
                      "1e8 to stop at");
 }
 
+/// " (grid case N: {coordinates})" after the error of a case, "design case" in a study with a
+/// sampled design, then what the axis of the key in error says of it (a design factor's
+/// distribution).
+std::string case_context(const Grid& g, std::size_t index, const Json& coordinates,
+                         const std::string& key) {
+  const bool design = g.axes.back().keys.front() == "design.sample";
+  std::string s = std::string(design ? " (design case " : " (grid case ") + std::to_string(index) +
+                  ": " + coordinates.dump() + ")";
+  for (const Axis& a : g.axes)
+    for (std::size_t k = 0; k < a.keys.size() && k < a.hints.size(); ++k)
+      if (a.keys[k] == key && !a.hints[k].empty()) s += "; " + a.hints[k];
+  return s;
+}
+
 /// Case `index` of the grid; `check`: the per-case validation and the id from the canonical
 /// form (else the id stored by the validation pass).
 CaseSpec resolve_case(const Grid& g, std::size_t index, bool check) {
@@ -83,8 +97,8 @@ CaseSpec resolve_case(const Grid& g, std::size_t index, bool check) {
     if (check) check_case(d, g.scene_signals[which]);
   } catch (const InputError& e) {
     if (g.axes.empty()) throw;
-    throw InputError(e.key_path(), e.problem() + " (grid case " + std::to_string(index) + ": " +
-                                       c.coordinates.dump() + ")");
+    throw InputError(e.key_path(),
+                     e.problem() + case_context(g, index, c.coordinates, e.key_path()));
   }
   c.index = static_cast<long>(index);
   c.scene = d.scene;

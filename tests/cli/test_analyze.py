@@ -552,6 +552,11 @@ def test_bad_input(tmp):
     empty = os.path.join(tmp, "empty")
     os.makedirs(empty)
     _expect_error(lambda: rodend.analyze(empty, quiet=True), "design.json", "no design")
+    try:  # a folder that is not there is named as such, not as one without design.json
+        rodend.analyze(os.path.join(tmp, "nope"), quiet=True)
+        check(False, "a missing folder: no FileNotFoundError")
+    except FileNotFoundError as e:
+        check("nope: no such folder" in str(e), f"a missing folder: {e}")
     d, x = ishigami_design(50, "monte-carlo")
     folder = fx.write_folder(os.path.join(tmp, "bad"), d, x,
                              {"max_contact_force": fx.ishigami(x)})

@@ -159,6 +159,12 @@ def honest(tmp, study, folder):
     check(case.parameters["contact.clearance"]["value"] == float(np.float32(2e-4)), "float32")
     raises(lambda: case.metrics["max_penetraton"], KeyError, "nearest: max_penetration")
     raises(lambda: case.signals["eccentricty"], KeyError, "nearest: eccentricity")
+    # the Datasets too (xarray's own KeyError named only the key)
+    res = rodend.open_results(folder)
+    raises(lambda: res.histories["eccentricty"], KeyError, "nearest: eccentricity")
+    raises(lambda: res.summary_dataset["max_penetraton"], KeyError, "nearest: max_penetration")
+    raises(lambda: case.to_xarray()["eccentricty"], KeyError, "nearest: eccentricity")
+    check(float(res.histories["eccentricity"].max()) > 0, "a known variable of the Dataset")
     raises(lambda: rodend.parameters("gravity-drp"), ValueError, "nearest: gravity-drop")
     raises(lambda: rodend.open_results(folder).case("0000"), KeyError, "case id")
     # run_study takes the study as a dict: the same cases as the file, nothing left behind

@@ -1,4 +1,4 @@
-"""The analysis of a designed study (issue 30), behind rodend.analyze: one module per job.
+"""The analysis of a designed study, behind rodend.analyze: one module per job.
 
 run        rodend.analyze, analyze_arrays (one metric from arrays) and the command line
 inputs     read a results folder with design.json: the design, the groups (grid points), the

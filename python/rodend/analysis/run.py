@@ -1,4 +1,4 @@
-"""rodend.analyze and `rodend analyze`: the analysis of a study with a sampled design (issue 30).
+"""rodend.analyze and `rodend analyze`: the analysis of a study with a sampled design.
 
     python3 -m rodend.analyze results/S [--metric M]... [--threshold M=VALUE]...
                               [--history SIGNAL]... [--bootstrap N] [--confidence C]
