@@ -234,7 +234,8 @@ void add_output_commands(CLI::App& app, Cli& c) {
       "(docs/health-monitoring.md): a surrogate trained on a designed study of the test, "
       "checked on held-out cases, the posterior by Markov-chain Monte Carlo, a final full-model "
       "run at the posterior mode, and optionally the remaining life through the wear "
-      "evolution. Runs the Python module rodend.calibrate, whose options `rodend calibrate --help` lists. "
+      "evolution. Runs the Python module rodend.calibrate, whose options `rodend calibrate "
+      "--help` lists. "
       "Exit 0 ok, 1 a failed diagnostic, 2 bad input.");
   c.calibrate->allow_extras();
   c.calibrate->prefix_command();
