@@ -207,7 +207,12 @@ PeriodicMetrics PeriodicAccumulator::finish() const {
     m.free_play = a_pos - a_neg;
     m.stiffness_positive = 1.0 / b_pos;
     m.stiffness_negative = 1.0 / b_neg;
-    m.hysteresis = std::abs(load_->loop_area(k, 0, 1));
+    // the work of the hinge moment on the surface over the period, oint M d(theta): what the
+    // linkage and the actuator take from the load (dissipated, the loop run clockwise in
+    // (theta, M)); negative when the held actuator feeds energy into the loop. The moment is 0
+    // at the period's ends (a triangle from 0), so this is -oint theta dM, the loop's area in
+    // (M, theta) run the other way, whether or not the loop closes.
+    m.hysteresis = load_->loop_area(k, 1, 0);
   }
   return m;
 }
