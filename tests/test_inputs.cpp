@@ -231,8 +231,7 @@ double tri(double u) {
 
 }  // namespace
 
-TEST_CASE("hysteresis: the signed work of the hinge moment per cycle, oint M dtheta",
-          "[inputs]") {
+TEST_CASE("hysteresis: the signed work of the hinge moment per cycle, oint M dtheta", "[inputs]") {
   // A friction slider r in series with a spring K: theta = M/K + r. The slider holds at -R
   // until the rising moment comes within Mf of its peak A, crosses to +R while it rises from
   // A - Mf to A (linearly in M), holds, and crosses back while the falling moment goes from
