@@ -123,6 +123,7 @@ CaseRecord run_single_case(const CaseSpec& spec, History& history) {
   rec.rhs_calls = r.stats.rhs_calls;
   rec.metrics = obs.finish(r.stats);
   obs.record_wear(rec.metrics, history);
+  obs.record_sensors(rec.metrics, history);
   return rec;
 }
 

@@ -64,6 +64,7 @@ struct Draft {
   HealthLimits health;
   MetricsSettings metrics;
   WearEvolutionSettings wear_evolution;
+  SensorSettings sensors;
   /// the study's storage settings: read with the same reader (parse_output), never per case
   OutputSettings output;
   /// scene-axis studies: a parameter key this case's scene does not have is skipped (the study

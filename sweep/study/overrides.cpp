@@ -166,6 +166,15 @@ void apply_override(Json& doc, const std::string& key, const Json& value) {
   const std::string rest = key.substr(dot + 1);
   if (section == "design")  // its scalar keys (seed, size, method, base, levels)
     return set_design_key(doc, rest, value);
+  if (section == "sensors") {  // a value checked here; a sensor's signal once the case is built
+    SensorSettings probe;
+    apply_sensor_key(probe, rest, value, key);
+    if (doc.contains(section) && !doc[section].is_object())
+      throw InputError(section, "expected an object, got " + json_type_name(doc[section]));
+    if (doc.contains(section)) erase_path(doc[section], rest);
+    doc[section][rest] = value;
+    return;
+  }
   check_section_override(doc, key, section, rest, value);
   erase_path(doc[section], rest);
   // a preset sets every integrator field: asked for on the command line, it replaces the

@@ -48,6 +48,7 @@ void check_case(const Draft& d, const std::vector<SignalId>& signals) {
   validate(d.time);
   check_history_size(d.time, signals);
   const auto scene = build_checked(d.scene, d.parameters);
+  check_sensors(d.sensors, *scene);
   if (d.wear_evolution.enabled && !scene->features().has(Feature::wear))
     throw InputError("parameters.wear.model",
                      "a wear_evolution study needs a scene with a wear model and "
@@ -108,6 +109,7 @@ CaseSpec resolve_case(const Grid& g, std::size_t index, bool check) {
   c.health = d.health;
   c.metrics = d.metrics;
   c.wear_evolution = d.wear_evolution;
+  c.sensors = d.sensors;
   c.signals = g.scene_signals[which];
   c.output = g.output;
   if (check) {
