@@ -24,7 +24,7 @@ import numpy as np
 
 from . import bands as _bands
 from . import chaos as _chaos
-from . import figures, inputs, morris, output, sobol, stats
+from . import clustered, figures, inputs, morris, output, ranking, sobol, stats
 
 __all__ = ["analyze", "analyze_arrays", "main"]
 
@@ -75,8 +75,15 @@ def analyze_arrays(design, x, y, keep, confidence=0.95, bootstrap=200, threshold
         out["chaos"] = _chaos.fit(design, x[rows], yi, chaos) if np.ptp(yi) > 0 else \
             {"skipped": "the metric is constant over the sample"}
         out["_iid"] = yi
-    elif design["method"] != "morris":
+        out["correlation"] = ranking.correlations(x[rows], yi, bootstrap, confidence, seed)
+    elif design["method"] == "morris":
+        used = np.flatnonzero(keep)
+        out["distribution"], out["exceedance"] = clustered.spread(
+            y[used], used // (x.shape[1] + 1), thresholds, confidence, bootstrap, seed)
+        out["_iid"] = y[used]
+    else:
         raise ValueError("no usable case left (every case failed or is non-finite)")
+    out["_points"] = (x[keep], y[keep])
     return out
 
 
@@ -88,6 +95,7 @@ def _analyze_metric(design, rows, m, units, opts, thresholds):
     r.update(units=units.get(m, ""), failed=int(np.sum(~ok)),
              non_finite=int(np.sum(ok & ~np.isfinite(y))),
              used=int(np.sum(ok & np.isfinite(y))))
+    r["ranking"] = ranking.rank(r, [f["key"] for f in design["factors"]])
     return r
 
 
@@ -132,7 +140,7 @@ def _group(folder, design, coords, rows, metrics, units, thresholds, opts, suffi
         if opts["plots"]:
             result.setdefault("figures", []).extend(
                 _figures(folder, design, coords, suffix, m, r))
-        for k in ("_iid", "_chaos_y"):
+        for k in ("_iid", "_chaos_y", "_points"):
             r.pop(k, None)
         r.get("chaos", {}).pop("loo_prediction", None)
         result["metrics"][m] = r
