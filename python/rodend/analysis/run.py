@@ -24,7 +24,7 @@ import numpy as np
 
 from . import bands as _bands
 from . import chaos as _chaos
-from . import clustered, figures, inputs, morris, output, ranking, sobol, stats
+from . import clustered, factor_figures, figures, inputs, morris, output, ranking, sobol, stats
 
 __all__ = ["analyze", "analyze_arrays", "main"]
 
@@ -112,8 +112,12 @@ def _figures(folder, design, coords, suffix, m, r):
     if "first_order" in c:
         sets += [("first order (chaos)", c["first_order"], None),
                  ("total (chaos)", c["total"], None)]
-    if sets:
+    if sets and len(keys) > 1:
         paths.append(figures.indices(folder, f"{m}-indices{suffix}", title, keys, sets))
+    if "_points" in r:
+        paths.append(factor_figures.scatter(folder, f"{m}-scatter{suffix}", title, m,
+                                            design["factors"], *r["_points"], units,
+                                            r.get("ranking")))
     if "morris" in r:
         paths.append(figures.morris(folder, f"{m}-morris{suffix}", title, keys, r["morris"],
                                     units))
