@@ -24,7 +24,8 @@ import numpy as np
 
 from . import bands as _bands
 from . import chaos as _chaos
-from . import clustered, factor_figures, figures, inputs, morris, output, ranking, sobol, stats
+from . import (clustered, display, factor_figures, figures, inputs, morris, output, ranking,
+               sobol, stats)
 
 __all__ = ["analyze", "analyze_arrays", "main"]
 
@@ -96,6 +97,7 @@ def _analyze_metric(design, rows, m, units, opts, thresholds):
              non_finite=int(np.sum(ok & ~np.isfinite(y))),
              used=int(np.sum(ok & np.isfinite(y))))
     r["ranking"] = ranking.rank(r, [f["key"] for f in design["factors"]])
+    r["shown"] = dict(zip(("units", "factor"), display.unit(r["units"])))
     return r
 
 
