@@ -73,7 +73,9 @@ def analyze_arrays(design, x, y, keep, confidence=0.95, bootstrap=200, threshold
         yi = y[rows]
         out["distribution"] = stats.distribution(yi, confidence, bootstrap, seed)
         out["exceedance"] = [stats.exceedance(yi, t, confidence) for t in thresholds]
-        out["chaos"] = _chaos.fit(design, x[rows], yi, chaos) if np.ptp(yi) > 0 else \
+        out["chaos"] = {"skipped": "correlated factors (its indices assume independent "
+                                   "ones)"} if design.get("correlation") else \
+            _chaos.fit(design, x[rows], yi, chaos) if np.ptp(yi) > 0 else \
             {"skipped": "the metric is constant over the sample"}
         out["_iid"] = yi
         out["correlation"] = ranking.correlations(x[rows], yi, bootstrap, confidence, seed)
