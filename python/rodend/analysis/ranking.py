@@ -10,15 +10,18 @@ CorrelationAnalysis:
             of the other factors are regressed out; for a monotonic, non-linear effect
   Spearman  the rank correlation of x_i and y, the other factors ignored
 Their intervals are bootstrap percentile intervals (the points resampled, numpy, seeded),
-computed from the correlation matrices of the values and of their ranks: SRC = R_xx⁻¹ r_xy,
-PRCC = −P_iy / √(P_ii P_yy) with P the inverse of the ranks' correlation matrix (the same
-numbers as the regressions; the tests check them against OpenTURNS).
+computed with numpy: SRC = R_xx⁻¹ r_xy from the correlation matrix R of the values, PRCC from
+the regressions of the ranks, Spearman from their correlation matrix (the tests check them
+against OpenTURNS). A PRCC whose residual vanishes (the metric a monotonic function of the
+factors in a resample) is left out of its interval.
 
 The ranking (`rank`): the design's own measure where it has one, else the best measure of the
 sample: saltelli: the total Sobol' index (Saltelli, with its interval); morris: μ* (with its
 interval); otherwise the total Sobol' index of the polynomial chaos when its leave-one-out Q² is
 at least CHAOS_Q2, else |PRCC| (with its interval). Sorted by that measure, largest first.
 """
+import warnings
+
 import numpy as np
 import openturns as ot
 
@@ -31,15 +34,27 @@ def _ranks(a):
     return np.argsort(np.argsort(a, axis=0, kind="stable"), axis=0).astype(float)
 
 
+def _partial(r, i):
+    """The correlation of column i and the last column of r once the other columns are
+    regressed out (least squares with an intercept); NaN where a residual vanishes."""
+    others = np.column_stack([np.ones(len(r)), np.delete(r[:, :-1], i, axis=1)])
+    res = r[:, [i, -1]] - others @ np.linalg.lstsq(others, r[:, [i, -1]], rcond=None)[0]
+    a, b = res[:, 0] - res[:, 0].mean(), res[:, 1] - res[:, 1].mean()
+    den = np.sqrt(np.sum(a * a) * np.sum(b * b))
+    return float(np.sum(a * b) / den) if den > 1e-12 * len(r) * np.std(r[:, -1]) ** 2 \
+        else np.nan
+
+
 def _from_matrices(x, y):
-    """(SRC, PRCC, Spearman) from the correlation matrices of (x, y) and of their ranks."""
+    """(SRC, PRCC, Spearman): SRC from the correlation matrix of (x, y), PRCC from the
+    regressions of the ranks, Spearman the correlation of the ranks."""
     d = x.shape[1]
     with np.errstate(invalid="ignore", divide="ignore"):
         c = np.corrcoef(np.column_stack([x, y]), rowvar=False)
         src = np.linalg.lstsq(c[:d, :d], c[:d, d], rcond=None)[0]
-        cr = np.corrcoef(np.column_stack([_ranks(x), _ranks(y)]), rowvar=False)
-        p = np.linalg.pinv(cr)
-        prcc = -p[:d, d] / np.sqrt(np.diag(p)[:d] * p[d, d])
+        ranks = np.column_stack([_ranks(x), _ranks(y)])
+        cr = np.corrcoef(ranks, rowvar=False)
+        prcc = np.array([_partial(ranks, i) for i in range(d)])
         return src, prcc, cr[:d, d]
 
 
@@ -53,8 +68,11 @@ def _bootstrap(x, y, bootstrap, confidence, seed):
     out = []
     for j in range(3):
         vals = np.array([r[j] for r in reps])
-        lo, hi = np.nanquantile(vals, [a, 1 - a], axis=0)
-        out.append([[float(u), float(v)] for u, v in zip(lo, hi)])
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)    # a column of NaN: no interval
+            lo, hi = np.nanquantile(vals, [a, 1 - a], axis=0)
+        out.append([[float(u), float(v)] if np.isfinite(u) and np.isfinite(v) else None
+                    for u, v in zip(lo, hi)])
     return out
 
 
@@ -95,8 +113,8 @@ def _measure(r):
     if k:
         iv = k.get("prcc_interval")
         return ("|PRCC|, partial rank correlation", "abs_prcc", [abs(v) for v in k["prcc"]],
-                [sorted([abs(a), abs(b)]) if a * b > 0 else [0.0, max(abs(a), abs(b))]
-                 for a, b in iv] if iv else None, "1")
+                [None if v is None else sorted([abs(v[0]), abs(v[1])]) if v[0] * v[1] > 0
+                 else [0.0, max(abs(v[0]), abs(v[1]))] for v in iv] if iv else None, "1")
     return None
 
 

@@ -82,14 +82,14 @@ def _notes(r):
         out.append(f"  chaos: {c['method']}, {c['terms']} terms, degree {c['degree']}, "
                    f"Q² (leave-one-out) {c['q2_loo']:.4f}")
     elif c.get("skipped"):
-        out.append(f"  chaos: skipped ({c['skipped']})")
+        out.append(f"  chaos: skipped: {c['skipped']}")
     if k:
         out.append(f"  linear fit R² {k['r2_linear']:.3f} over {k['n']} points (SRC² are shares "
                    "of the variance when it is close to 1)")
     if "groups" in s:
         out.append(f"  Saltelli: {s['groups']} complete row groups, {s['removed_groups']} removed")
     if s.get("skipped"):
-        out.append(f"  Saltelli: skipped ({s['skipped']})")
+        out.append(f"  Saltelli: skipped: {s['skipped']}")
     return out
 
 
