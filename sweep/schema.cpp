@@ -64,6 +64,20 @@ Json design_schema(const std::string& key_pattern) {
          {"then",
           {{"properties", props}, {"required", required}, {"additionalProperties", false}}}});
   }
+  Json kinds_of_correlation = Json::array();
+  for (const auto& [k, name] : correlation_kinds())
+    kinds_of_correlation.push_back(std::string(name));
+  const Json correlation = {
+      {"type", "object"},
+      {"description",
+       "the factors' correlation matrix, a normal copula (monte-carlo, "
+       "latin-hypercube and sobol designs)"},
+      {"required", {"kind", "matrix"}},
+      {"additionalProperties", false},
+      {"properties",
+       {{"kind", {{"enum", kinds_of_correlation}}},
+        {"matrix",
+         {{"type", "array"}, {"items", {{"type", "array"}, {"items", {{"type", "number"}}}}}}}}}};
   const Json factor = {
       {"type", "object"},
       {"required", {"key", "distribution"}},
@@ -83,6 +97,7 @@ Json design_schema(const std::string& key_pattern) {
         {"levels",
          {{"type", "integer"}, {"minimum", 2}, {"maximum", kMaxMorrisLevels}, {"multipleOf", 2}}},
         {"base", {{"enum", bases}}},
+        {"correlation", correlation},
         {"factors",
          {{"type", "array"},
           {"minItems", 1},
