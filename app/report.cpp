@@ -49,7 +49,7 @@ std::string report::short_number(double v) {
 namespace {
 
 constexpr std::size_t summary_rows = 50;    ///< rows of the summary shown (all: summary.csv)
-constexpr std::size_t summary_metrics = 6;  ///< metric columns shown when no analysis names them
+constexpr std::size_t summary_metrics = 8;  ///< metric columns shown when no analysis names them
 
 std::string number(double v) {
   return std::isnan(v) ? std::string() : shortest_decimal(v);

@@ -12,7 +12,8 @@ namespace rodend::report {
 namespace fs = std::filesystem;
 namespace {
 
-constexpr std::size_t max_groups = 12;  ///< grid points shown (the rest: analysis.json)
+constexpr std::size_t max_groups = 12;        ///< grid points shown (the rest: analysis.json)
+constexpr std::size_t metrics_per_table = 4;  ///< ranking columns side by side
 
 double num(const Json& j) {
   return j.is_number() ? j.get<double>() : std::numeric_limits<double>::quiet_NaN();
@@ -85,10 +86,10 @@ void spread_row(std::ostream& h, const std::string& m, const Json& r) {
 }
 
 void spread_table(std::ostream& h, const Json& metrics, const std::string& level) {
-  h << "<table><tr><th>metric</th><th>mean</th><th>std</th><th>5 %</th><th>50 %</th>"
-       "<th>95 %</th><th>exceedance</th></tr>\n";
+  h << "<div class=\"wide\"><table><tr><th>metric</th><th>mean</th><th>std</th><th>5 %</th>"
+       "<th>50 %</th><th>95 %</th><th>exceedance</th></tr>\n";
   for (const auto& [m, r] : metrics.items()) spread_row(h, m, r);
-  h << "</table>\n<p class=\"note\">" << escape(level) << " intervals in brackets.";
+  h << "</table></div>\n<p class=\"note\">" << escape(level) << " intervals in brackets.";
   for (const auto& [m, r] : metrics.items()) {
     const std::string sample = text(r.value("distribution", Json::object()), "sample");
     if (!sample.empty()) {
@@ -103,10 +104,9 @@ void spread_table(std::ostream& h, const Json& metrics, const std::string& level
 /// The factors ranked, a column per metric, a row per rank.
 void ranking_table(std::ostream& h, const Json& metrics) {
   std::size_t rows = 0;
-  h << "<table><tr><th>rank</th>";
+  h << "<div class=\"wide\"><table><tr><th>rank</th>";
   for (const auto& [m, r] : metrics.items()) {
     const Json rk = r.value("ranking", Json());
-    if (!rk.is_object()) continue;
     const std::string u = text(rk, "units") == "1" ? "1" : shown_of(r).unit;
     h << "<th>" << escape(m) << "<br><small>by " << escape(text(rk, "by")) << " [" << escape(u)
       << "]</small></th>";
@@ -117,7 +117,6 @@ void ranking_table(std::ostream& h, const Json& metrics) {
     h << "<tr><td>" << i + 1 << "</td>";
     for (const auto& [m, r] : metrics.items()) {
       const Json rk = r.value("ranking", Json());
-      if (!rk.is_object()) continue;
       const double f = text(rk, "units") == "1" ? 1.0 : shown_of(r).factor;
       const Json fs = rk.value("factors", Json::array());
       const Json e = i < fs.size() ? fs[i] : Json();
@@ -129,7 +128,21 @@ void ranking_table(std::ostream& h, const Json& metrics) {
     }
     h << "</tr>\n";
   }
-  h << "</table>\n";
+  h << "</table></div>\n";
+}
+
+/// The rankings of the metrics that have one, a table per metrics_per_table of them.
+void rankings(std::ostream& h, const Json& metrics) {
+  Json chunk = Json::object();
+  for (const auto& [m, r] : metrics.items()) {
+    if (!r.is_object() || !r.contains("ranking") || !r["ranking"].is_object()) continue;
+    chunk[m] = r;
+    if (chunk.size() == metrics_per_table) {
+      ranking_table(h, chunk);
+      chunk = Json::object();
+    }
+  }
+  if (!chunk.empty()) ranking_table(h, chunk);
 }
 
 std::string where(const Json& grid) {
@@ -172,7 +185,7 @@ void write_answers(std::ostream& h, const fs::path& dir) {
     if (!at.empty()) h << "<h3>At " << escape(at) << "</h3>\n";
     const Json metrics = g.value("metrics", Json::object());
     spread_table(h, metrics, level);
-    ranking_table(h, metrics);
+    rankings(h, metrics);
   }
 }
 
