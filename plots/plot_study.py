@@ -404,7 +404,7 @@ def fig_polar_relative_position(study, cases, style):
             ha="center", va="center", fontsize="small")
     ax.set_xlabel("angle of p_ball − p_socket in the xy-plane [deg] (x along the rod)")
     set_suptitle(fig, title(study, "Ball centre relative to the socket centre, xy-plane "
-                              "(thesis fig. 5.4, 5.11, 6.15)" + (f"\n{which}" if which else "")))
+                              "(thesis fig. 5.4, 5.11, 6.15)" + (f",\n{which}" if which else "")))
     case_legend(fig, cases, style, extra)
     return fig
 
@@ -660,8 +660,8 @@ def first_impact_samples(study, metric, xkey):
     ax.set_xlabel(axis_label(short_key(xkey), xunit))
     ax.set_ylabel(axis_label("first-impact peak contact force", study.units.get(metric, "N")))
     ax.grid(True, alpha=0.3)
-    set_axes_title(ax, title(study, f"First-impact peak contact force against {short_key(xkey)}, "
-                              f"one point per sampled case ({int(ok.sum())} ok)"))
+    set_axes_title(ax, title(study, f"First-impact peak contact force against {short_key(xkey)},"
+                              f"\none point per sampled case ({int(ok.sum())} ok)"))
     return fig
 
 

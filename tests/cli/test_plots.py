@@ -142,6 +142,26 @@ with tempfile.TemporaryDirectory() as tmp:
     r = run(["report", os.path.join(tmp, "nope")])
     check(r.returncode == 2 and "nope" in r.stderr, f"report of a missing folder: {r.returncode} {r.stderr}")
 
+    # a designed study (12 sampled drops): the first-impact figure is a cloud against the first
+    # factor, no line in sample order; the polar panels show 9 cases and say which
+    designed = simulate(tmp, {
+        "name": "designed", "scene": "gravity-drop",
+        "time": {"end": 0.015, "sample_interval": 1e-3},
+        "design": {"method": "monte-carlo", "size": 12, "seed": 4, "factors": [
+            {"key": "parameters.contact.clearance", "distribution": "uniform",
+             "lower": 1e-4, "upper": 5e-4}]},
+    })
+    r = plot([designed])
+    check(r.returncode == 0, f"designed: exit {r.returncode}\n{r.stderr}")
+    from PIL import Image
+    out = os.path.join(designed, "plots")
+    cap = Image.open(os.path.join(out, "first_impact_force.png")).text.get("Description", "")
+    check("against contact.clearance" in cap and "one point per sampled case (12 ok)" in cap,
+          f"designed: first-impact figure caption {cap!r}")
+    cap = Image.open(os.path.join(out, "polar_relative_position.png")).text.get("Description", "")
+    check("the 9 of 12 cases with the largest peak contact force" in cap,
+          f"designed: polar figure caption {cap!r}")
+
     # a scene without a mechanism, one case, no grid
     drop = simulate(tmp, {
         "name": "drop",
