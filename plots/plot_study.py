@@ -13,9 +13,12 @@ Figures (file stem: what, thesis figure):
   eccentricity_force       eccentricity with the clearance, contact force (5.2; 3.24, 3.26)
   polar_relative_position  ball centre relative to the socket, xy-plane, clearance circle (5.4, 5.11, 6.15)
   polar_force_wear         peak contact force and time-integrated wear per contact-angle bin (5.5, 6.29)
+                           (both: at most 9 cases, those of the largest peak contact force, said in
+                           the title)
   surface_angle            surface angle and its difference to the first case (5.17)
   trajectories_xy_xz       xy and xz trajectories when the ball leaves the xy-plane (5.18-5.20)
-  first_impact_force       summary metric first_impact_peak_force against the first numeric grid axis (5.15)
+  first_impact_force       summary metric first_impact_peak_force against the first numeric grid axis (5.15);
+                           a designed study: one point per case against its first factor, no line
   hydraulics               chamber pressures and flows, spool, actuator load (6.16-6.22)
   spring_forces            outer and inner 3-D spring forces and moments (5.3, 5.7, 5.8, 6.13-6.14, 6.27-6.28)
   hinge_moment             applied hinge moment, surface angle, actuator position (6.23-6.25)
@@ -35,7 +38,8 @@ When the scene is a grid axis (kinematic and full-system runs in one study), the
 the grid point without the scene and the line style names the scene, so the curves the thesis
 compares (fig. 6.11-6.15) are overlaid.
 
-Needs only Debian's numpy, h5py and matplotlib (Agg backend).
+Each PNG carries its caption (its title) and the question it answers ("cases") as text chunks,
+which `rodend report` reads. Needs only Debian's numpy, h5py and matplotlib (Agg backend).
 """
 import argparse
 import math
