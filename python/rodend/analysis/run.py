@@ -14,7 +14,8 @@ its own) and each chosen metric:
                         Clopper–Pearson interval (stats)
 and quantile bands of chosen histories. Failed cases (status not ok) and non-finite values are
 left out and counted. Writes FOLDER/analysis/analysis.json, FOLDER/analysis/bands.h5 (histories
-asked) and FOLDER/plots/analysis-*.png; prints the indices with their intervals.
+asked) and FOLDER/plots/analysis-*.png; prints per metric its spread and its factors ranked by
+importance (ranking: the design's measure, else SRC/PRCC/Spearman; table: the printed layout).
 """
 import argparse
 import os
