@@ -161,6 +161,13 @@ with tempfile.TemporaryDirectory() as tmp:
     cap = Image.open(os.path.join(out, "polar_relative_position.png")).text.get("Description", "")
     check("the 9 of 12 cases with the largest peak contact force" in cap,
           f"designed: polar figure caption {cap!r}")
+    # its report before any analysis: the answers section says how to get them
+    r = run(["report", designed])
+    with open(os.path.join(designed, "report.html"), encoding="utf-8") as f:
+        html = f.read()
+    check(r.returncode == 0 and "No analysis yet: <code>rodend analyze" in html and
+          html.index("<h2>Answers") < html.index("<h2>Figures"),
+          f"designed: the report does not point to rodend analyze ({r.returncode} {r.stderr})")
 
     # a scene without a mechanism, one case, no grid
     drop = simulate(tmp, {
