@@ -155,6 +155,17 @@ with tempfile.TemporaryDirectory() as root:
     summary = page[page.find("<h2>Summary"):page.find("<h2>Provenance")]
     check("<th>max_penetration [m]</th>" in summary and "wall_time_s" not in summary,
           "the summary table is not limited to the grid axes and the key metrics")
+    check("95 % intervals in brackets." in first, "the answers do not give the intervals' level")
+    # the report's level as analyze prints it: 99.9 %, not rounded; none from a bootstrap with
+    # --bootstrap 0 (main printed "99.9 % intervals in brackets." and no word of the bootstrap)
+    r = run(["analyze", folder, "--metric", "max_penetration", "--no-plots", "--bootstrap", "0",
+             "--confidence", "0.999"])
+    check(r.returncode == 0 and "no intervals (bootstrap 0)" in r.stdout,
+          f"analyze --bootstrap 0: exit {r.returncode}\n{r.stderr}")
+    r = run(["report", folder])
+    page = open(os.path.join(folder, "report.html"), encoding="utf-8").read()
+    check(r.returncode == 0 and "99.9 % intervals in brackets (no intervals from a bootstrap: "
+          "bootstrap 0)." in page, "the report's answers do not say bootstrap 0 gave no intervals")
 
     # 4. rodend analyze of a folder without a design: exit 2 with a message
     plain = write_study(os.path.join(root, "plain.json"),
