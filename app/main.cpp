@@ -222,10 +222,11 @@ void add_output_commands(CLI::App& app, Cli& c) {
       "analyze",
       "Sensitivity and uncertainty analysis of a study with a sampled design "
       "(docs/uncertainty.md): Sobol' indices with intervals (saltelli), Morris screening "
-      "(morris), a polynomial-chaos surrogate, each metric's distribution and exceedance "
-      "probabilities, history bands. Writes RESULTS/analysis/ and RESULTS/plots/analysis-*.png "
-      "(which `rodend report` embeds). Runs the Python module rodend.analyze, whose options "
-      "`rodend analyze --help` lists.");
+      "(morris), a polynomial-chaos surrogate, sampling-based rankings (SRC, PRCC, Spearman), "
+      "each metric's distribution and exceedance probabilities, history bands; prints per "
+      "metric its spread and its factors ranked. Writes RESULTS/analysis/ and "
+      "RESULTS/plots/analysis-*.png (which `rodend report` embeds). Runs the Python module "
+      "rodend.analyze, whose options `rodend analyze --help` lists.");
   c.analyze->allow_extras();
   c.analyze->prefix_command();
   c.calibrate = app.add_subcommand(

@@ -13,9 +13,12 @@ Figures (file stem: what, thesis figure):
   eccentricity_force       eccentricity with the clearance, contact force (5.2; 3.24, 3.26)
   polar_relative_position  ball centre relative to the socket, xy-plane, clearance circle (5.4, 5.11, 6.15)
   polar_force_wear         peak contact force and time-integrated wear per contact-angle bin (5.5, 6.29)
+                           (both: at most 9 cases, those of the largest peak contact force, said in
+                           the title)
   surface_angle            surface angle and its difference to the first case (5.17)
   trajectories_xy_xz       xy and xz trajectories when the ball leaves the xy-plane (5.18-5.20)
-  first_impact_force       summary metric first_impact_peak_force against the first numeric grid axis (5.15)
+  first_impact_force       summary metric first_impact_peak_force against the first numeric grid axis (5.15);
+                           a designed study: one point per case against its first factor, no line
   hydraulics               chamber pressures and flows, spool, actuator load (6.16-6.22)
   spring_forces            outer and inner 3-D spring forces and moments (5.3, 5.7, 5.8, 6.13-6.14, 6.27-6.28)
   hinge_moment             applied hinge moment, surface angle, actuator position (6.23-6.25)
@@ -38,7 +41,8 @@ When the scene is a grid axis (kinematic and full-system runs in one study), the
 the grid point without the scene and the line style names the scene, so the curves the thesis
 compares (fig. 6.11-6.15) are overlaid.
 
-Needs only Debian's numpy, h5py and matplotlib (Agg backend).
+Each PNG carries its caption (its title) and the question it answers ("cases") as text chunks,
+which `rodend report` reads. Needs only Debian's numpy, h5py and matplotlib (Agg backend).
 """
 import argparse
 import math
@@ -223,6 +227,29 @@ class Style:
                 for s in self.scenes]
 
 
+READABLE_CASES = 9       # a figure of one panel (or one curve) per case shows at most this many
+
+
+def readable_cases(study, cases, limit=READABLE_CASES):
+    """(at most `limit` cases, a note saying which): the cases with the largest peak contact
+    force (summary metric max_contact_force) when there are more, else the first ones in case
+    order; the note is empty when every case is kept."""
+    if len(cases) <= limit:
+        return cases, ""
+    metric = "max_contact_force"
+    if metric in study.summary:
+        peak = np.asarray(study.summary[metric], dtype=float)
+        ranked = sorted(cases, key=lambda c: -np.nan_to_num(peak[c.row], nan=-np.inf))
+        return ranked[:limit], (f"the {limit} of {len(cases)} cases with the largest peak "
+                                f"contact force")
+    return cases[:limit], f"the first {limit} of {len(cases)} cases"
+
+
+def is_designed(study):
+    """A study with a sampled design: its cases are samples, not points of a line."""
+    return "design.sample" in study.summary
+
+
 def json_key(d):
     return tuple(sorted((k, format_value(v)) for k, v in d.items()))
 
@@ -363,7 +390,7 @@ def fig_eccentricity_force(study, cases, style):
 
 @figure("polar_relative_position", "polar relative position (fig. 5.4, 5.11, 6.15)")
 def fig_polar_relative_position(study, cases, style):
-    cases = with_signals(cases, "relative_position")
+    cases, which = readable_cases(study, with_signals(cases, "relative_position"))
     fig = plt.figure(figsize=(7.8, 7.6), layout="constrained")
     ax = fig.add_subplot(projection="polar")
     ax.set_title("", y=1.0)                     # no automatic title placement (costly on polar)
@@ -388,7 +415,7 @@ def fig_polar_relative_position(study, cases, style):
             ha="center", va="center", fontsize="small")
     ax.set_xlabel("angle of p_ball − p_socket in the xy-plane [deg] (x along the rod)")
     set_suptitle(fig, title(study, "Ball centre relative to the socket centre, xy-plane "
-                              "(thesis fig. 5.4, 5.11, 6.15)"))
+                              "(thesis fig. 5.4, 5.11, 6.15)" + (f",\n{which}" if which else "")))
     case_legend(fig, cases, style, extra)
     return fig
 
@@ -399,6 +426,7 @@ def fig_polar_force_wear(study, cases, style):
     cases = [c for c in cases if c.has("contact_angle") or c.has("relative_position")]
     if not cases:
         raise Skip("neither contact_angle nor relative_position recorded")
+    cases, which = readable_cases(study, cases)
     # bins centred on multiples of 360/POLAR_BINS degrees (0°, 90°, 270° are bin centres)
     half = np.pi / POLAR_BINS
     edges = np.linspace(-np.pi - half, np.pi - half, POLAR_BINS + 1)
@@ -454,7 +482,7 @@ def fig_polar_force_wear(study, cases, style):
                    fontsize="x-small", frameon=False)
     set_suptitle(fig, title(study, f"Contact force and wear over the contact angle in the xy-plane, "
                               f"{POLAR_BINS} bins,\neach normalised to its maximum "
-                              f"(thesis fig. 5.5, 6.29)"))
+                              f"(thesis fig. 5.5, 6.29)" + (f"; {which}" if which else "")))
     return fig
 
 
@@ -554,9 +582,12 @@ def fig_first_impact(study, cases, style):
     metric = "first_impact_peak_force"
     if metric not in study.summary:
         raise Skip(f"metric {metric} not in the summary")
-    numeric = [k for k in study.numeric_grid_keys() if k in study.varying_keys]
+    numeric = [k for k in study.numeric_grid_keys() if k in study.varying_keys
+               and k != "design.sample"]
     if not numeric:
         raise Skip("no numeric grid axis that varies")
+    if is_designed(study):
+        return first_impact_samples(study, metric, numeric[0])
     xkey = numeric[0]
     x_raw = study.summary[xkey].astype(float)
     y_all = study.summary[metric].astype(float)
@@ -622,6 +653,26 @@ def fig_first_impact(study, cases, style):
     set_axes_title(ax, title(study, f"First-impact peak contact force against {short_key(xkey)} "
                               f"(thesis fig. 5.15)"))
     bottom_legend(fig, handles, labels)
+    return fig
+
+
+def first_impact_samples(study, metric, xkey):
+    """A designed study: each ok case a point against the first factor, no line (the samples
+    have no order; `rodend analyze` draws the metric against every factor)."""
+    x, xunit = shown(study.summary[xkey].astype(float), study.summary_unit(xkey))
+    y = study.summary[metric].astype(float)
+    ok = np.isfinite(x) & np.isfinite(y)
+    if "status" in study.summary:
+        ok &= np.array([s == "ok" for s in study.summary["status"]])
+    if not ok.any():
+        raise Skip(f"no case finished ok with a finite {metric}")
+    fig, ax = plt.subplots(figsize=(7.5, 4.8), layout="constrained")
+    ax.plot(x[ok], y[ok], "o", ms=4, alpha=0.7)
+    ax.set_xlabel(axis_label(short_key(xkey), xunit))
+    ax.set_ylabel(axis_label("first-impact peak contact force", study.units.get(metric, "N")))
+    ax.grid(True, alpha=0.3)
+    set_axes_title(ax, title(study, f"First-impact peak contact force against {short_key(xkey)},"
+                              f"\none point per sampled case ({int(ok.sum())} ok)"))
     return fig
 
 
@@ -1137,16 +1188,29 @@ def fig_slider_acceleration(study, cases, style):
 input_figures.register(sys.modules[__name__])
 
 
-def save(fig, path, dpi):
+def save(fig, path, dpi, caption=None):
     """Save a figure. The constrained layout is computed once and then frozen: savefig would
-    otherwise draw the whole figure once more just to lay it out."""
+    otherwise draw the whole figure once more just to lay it out. A PNG carries the question
+    it answers and its caption as text chunks (rodend-question "cases", Description), which
+    `rodend report` groups and captions it by."""
     engine = fig.get_layout_engine()
     if engine is not None:
         engine.execute(fig)
         with matplotlib.rc_context({"figure.autolayout": False,
                                     "figure.constrained_layout.use": False}):
             fig.set_layout_engine(None)         # None, not "none": no placeholder engine
-    fig.savefig(path, dpi=dpi)
+    meta = {"rodend-question": "cases", "Description": caption} \
+        if caption and path.endswith(".png") else None
+    fig.savefig(path, dpi=dpi, metadata=meta)
+
+
+def caption_of(what, fig):
+    """A one-sentence caption: the figure's title (its first line), else what it shows."""
+    text = fig._suptitle.get_text() if fig._suptitle is not None else ""
+    if not text and fig.axes:
+        text = fig.axes[0].get_title()
+    first = (text.split("\nstudy ")[0] or what).replace("\n", " ")
+    return first[:1].upper() + first[1:].rstrip(".") + "."
 
 
 def main(argv=None):
@@ -1196,7 +1260,7 @@ def main(argv=None):
             continue
         for ext in (("png", "pdf") if args.pdf else ("png",)):
             path = os.path.join(out, f"{stem}.{ext}")
-            save(fig, path, args.dpi)
+            save(fig, path, args.dpi, caption_of(what, fig))
             print(path)
         plt.close(fig)
     return status

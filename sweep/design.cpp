@@ -71,8 +71,14 @@ std::string_view to_string(DistributionKind k) {
 }
 
 const std::vector<std::string_view>& design_keys() {
-  static const std::vector<std::string_view> k{"method", "size", "seed",
-                                               "levels", "base", "factors"};
+  static const std::vector<std::string_view> k{"method", "size",        "seed",   "levels",
+                                               "base",   "correlation", "factors"};
+  return k;
+}
+
+const std::vector<std::pair<CorrelationKind, std::string_view>>& correlation_kinds() {
+  static const std::vector<std::pair<CorrelationKind, std::string_view>> k{
+      {CorrelationKind::spearman, "spearman"}, {CorrelationKind::pearson, "pearson"}};
   return k;
 }
 
@@ -340,6 +346,38 @@ std::vector<double> morris_unit_points(std::size_t r, std::size_t d, int p, std:
   return u;
 }
 
+std::vector<double> cholesky(const std::vector<double>& a, std::size_t d) {
+  std::vector<double> l(d * d, 0.0);
+  double largest = 0.0;
+  for (std::size_t i = 0; i < d; ++i) largest = std::max(largest, std::abs(a[i * d + i]));
+  for (std::size_t j = 0; j < d; ++j) {
+    double pivot = a[j * d + j];
+    for (std::size_t k = 0; k < j; ++k) pivot -= l[j * d + k] * l[j * d + k];
+    if (!(pivot > 1e-12 * largest)) return {};
+    l[j * d + j] = std::sqrt(pivot);
+    for (std::size_t i = j + 1; i < d; ++i) {
+      double s = a[i * d + j];
+      for (std::size_t k = 0; k < j; ++k) s -= l[i * d + k] * l[j * d + k];
+      l[i * d + j] = s / l[j * d + j];
+    }
+  }
+  return l;
+}
+
+void apply_normal_copula(std::vector<double>& unit, const std::vector<double>& lower,
+                         std::size_t d) {
+  const boost::math::normal n01;
+  std::vector<double> z(d);
+  for (std::size_t p = 0; p * d < unit.size(); ++p) {
+    for (std::size_t j = 0; j < d; ++j) z[j] = boost::math::quantile(n01, inside(unit[p * d + j]));
+    for (std::size_t i = 0; i < d; ++i) {
+      double s = 0.0;
+      for (std::size_t k = 0; k <= i; ++k) s += lower[i * d + k] * z[k];
+      unit[p * d + i] = boost::math::cdf(n01, s);
+    }
+  }
+}
+
 Json Design::to_json(const std::vector<std::string>& units) const {
   Json j = {{"method", std::string(to_string(method))},
             {"size", size},
@@ -353,6 +391,19 @@ Json Design::to_json(const std::vector<std::string>& units) const {
     fs.push_back(std::move(f));
   }
   j["factors"] = std::move(fs);
+  if (!copula.empty()) {
+    Json given = Json::array(), normal = Json::array();
+    for (std::size_t i = 0; i < dims(); ++i) {
+      const auto row = static_cast<std::ptrdiff_t>(i * dims());
+      const auto end = row + static_cast<std::ptrdiff_t>(dims());
+      given.push_back(std::vector<double>(correlation.begin() + row, correlation.begin() + end));
+      normal.push_back(std::vector<double>(copula.begin() + row, copula.begin() + end));
+    }
+    for (const auto& [k, name] : correlation_kinds())
+      if (k == correlation_kind)
+        j["correlation"] = {
+            {"kind", std::string(name)}, {"matrix", given}, {"normal_copula", normal}};
+  }
   if (method == DesignMethod::morris) {
     j["levels"] = levels;
     j["delta"] = delta();

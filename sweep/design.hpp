@@ -26,10 +26,15 @@ enum class DesignMethod { monte_carlo, latin_hypercube, sobol, saltelli, morris 
 /// The catalogue of distributions (names: "design.factors[i].distribution").
 enum class DistributionKind { uniform, normal, truncated_normal, lognormal, triangular, discrete };
 
+/// How design.correlation gives the factors' dependence (a normal copula either way).
+enum class CorrelationKind { spearman, pearson };
+
 struct DesignMethodInfo {
   DesignMethod method;
   std::string_view name;
-  bool sample;  ///< draws a sample of N points: also a saltelli design's base for A and B
+  /// draws a sample of N points: also a saltelli design's base for A and B, and the methods
+  /// that accept correlated factors (design.correlation)
+  bool sample;
   std::string_view description;
 };
 struct DistributionInfo {
@@ -46,6 +51,9 @@ const std::vector<DistributionInfo>& distribution_catalogue();
 const std::vector<std::string_view>& design_keys();
 std::string_view to_string(DesignMethod m);
 std::string_view to_string(DistributionKind k);
+/// "spearman" (rank correlations of the factors) or "pearson" (the correlations of their normal
+/// scores, the normal copula's own matrix).
+const std::vector<std::pair<CorrelationKind, std::string_view>>& correlation_kinds();
 const DistributionInfo& distribution_info(DistributionKind k);
 
 /// One factor's distribution; its parameters are in the unit of the key it samples.
@@ -81,6 +89,11 @@ struct Design {
   std::uint64_t seed = 0;
   int levels = 4;  ///< morris: p
   std::vector<DesignFactor> factors;
+  /// design.correlation: its kind and matrix as given, and the normal copula's correlation
+  /// matrix R (d x d, row-major; from Spearman's rho_S: R = 2 sin(pi rho_S / 6)); empty for
+  /// independent factors
+  CorrelationKind correlation_kind = CorrelationKind::spearman;
+  std::vector<double> correlation, copula;
   std::vector<double> unit;    ///< points() x factors, row-major, in [0, 1]
   std::vector<double> values;  ///< the same mapped through the quantile functions
 
@@ -115,5 +128,13 @@ std::vector<double> saltelli_unit_points(DesignMethod base, std::size_t n, std::
 /// Morris's r trajectories of d + 1 points on the p-level grid, each factor moved once by
 /// p / (2 (p - 1)).
 std::vector<double> morris_unit_points(std::size_t r, std::size_t d, int p, std::uint64_t seed);
+
+/// The lower Cholesky factor L (L L^T = a) of a d x d symmetric matrix, row-major; empty when
+/// a is not positive definite (a pivot <= 1e-12 of the largest diagonal entry).
+std::vector<double> cholesky(const std::vector<double>& a, std::size_t d);
+/// Independent unit points (n x d, row-major) made dependent through the normal copula of
+/// Cholesky factor `lower`: u -> z = Phi^-1(u) -> L z -> Phi (OpenTURNS's NormalCopula).
+void apply_normal_copula(std::vector<double>& unit, const std::vector<double>& lower,
+                         std::size_t d);
 
 }  // namespace rodend

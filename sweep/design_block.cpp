@@ -4,6 +4,7 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <numbers>
 
 #include "core/errors.hpp"
 #include "core/json_text.hpp"
@@ -227,6 +228,67 @@ void read_method_keys(Design& d, const Json& block) {
   }
 }
 
+/// design.correlation.matrix: d x d numbers in [-1, 1], a unit diagonal, symmetric.
+std::vector<double> read_matrix(const Json& c, std::size_t d) {
+  const std::string where = "design.correlation.matrix";
+  const Json m = c.contains("matrix") ? c["matrix"] : Json();
+  const std::string shape = "expected " + std::to_string(d) + " rows of " + std::to_string(d) +
+                            " numbers, one per factor in the order of design.factors";
+  if (!m.is_array() || m.size() != d) throw InputError(where, shape);
+  std::vector<double> a(d * d);
+  for (std::size_t i = 0; i < d; ++i) {
+    const std::string row = where + "[" + std::to_string(i) + "]";
+    if (!m[i].is_array() || m[i].size() != d) throw InputError(row, shape);
+    for (std::size_t j = 0; j < d; ++j) {
+      const std::string at = row + "[" + std::to_string(j) + "]";
+      a[i * d + j] = finite_number(m[i][j], at);
+      if (i == j && a[i * d + j] != 1.0) throw InputError(at, "expected 1 on the diagonal");
+      if (std::abs(a[i * d + j]) > 1.0) throw InputError(at, "expected a correlation in [-1, 1]");
+    }
+  }
+  for (std::size_t i = 0; i < d; ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (std::abs(a[i * d + j] - a[j * d + i]) > 1e-12)
+        throw InputError(where + "[" + std::to_string(i) + "][" + std::to_string(j) + "]",
+                         "expected a symmetric matrix: it differs from [" + std::to_string(j) +
+                             "][" + std::to_string(i) + "]");
+  return a;
+}
+
+/// design.correlation {"kind", "matrix"}: the factors' dependence as a normal copula, for the
+/// methods that draw a sample.
+void read_correlation(Design& d, const Json& block) {
+  if (!block.contains("correlation")) return;
+  std::vector<std::string_view> accept;
+  for (const DesignMethodInfo& m : design_method_catalogue())
+    if (m.sample) accept.push_back(m.name);
+  if (d.method == DesignMethod::saltelli || d.method == DesignMethod::morris)
+    throw InputError("design.correlation",
+                     "a " + std::string(to_string(d.method)) +
+                         " design needs independent factors (its estimator moves one factor "
+                         "at a time); correlated factors: expected method " +
+                         quoted_names(accept) + ", analysed by the sampling-based measures");
+  const Json& c = block["correlation"];
+  if (!c.is_object())
+    throw InputError(
+        "design.correlation",
+        "expected {\"kind\": \"spearman\" or \"pearson\", \"matrix\": [[1, r], [r, 1]]}");
+  check_keys(c, {"kind", "matrix"}, "design.correlation");
+  d.correlation_kind = choice(
+                           correlation_kinds(), [](const auto& k) { return k.second; },
+                           c.contains("kind") ? c["kind"] : Json(), "design.correlation.kind")
+                           .first;
+  const std::size_t n = d.factors.size();
+  d.correlation = read_matrix(c, n);
+  d.copula = d.correlation;
+  if (d.correlation_kind == CorrelationKind::spearman)
+    for (double& r : d.copula) r = r == 1.0 ? 1.0 : 2.0 * std::sin(std::numbers::pi * r / 6.0);
+  if (cholesky(d.copula, n).empty())
+    throw InputError("design.correlation.matrix",
+                     "not positive definite: no set of factors has these correlations (a "
+                     "valid correlation matrix has only positive eigenvalues)");
+}
+
 }  // namespace
 
 Design parse_design(const Json& block, std::size_t max_points) {
@@ -248,6 +310,7 @@ Design parse_design(const Json& block, std::size_t max_points) {
   if (seed < 0) throw InputError("design.seed", "expected an integer seed >= 0");
   read_method_keys(d, block);
   d.factors = read_factors(block);
+  read_correlation(d, block);
   d.size = static_cast<std::size_t>(n);
   d.seed = static_cast<std::uint64_t>(seed);
   const std::size_t dims = d.factors.size();
@@ -261,6 +324,7 @@ Design parse_design(const Json& block, std::size_t max_points) {
   d.unit = d.method == DesignMethod::saltelli ? saltelli_unit_points(d.base, d.size, dims, d.seed)
            : d.method == DesignMethod::morris ? morris_unit_points(d.size, dims, d.levels, d.seed)
                                               : unit_points(d.method, d.size, dims, d.seed);
+  if (!d.copula.empty()) apply_normal_copula(d.unit, cholesky(d.copula, dims), dims);
   d.values.resize(points * dims);
   for (std::size_t p = 0; p < points; ++p)
     for (std::size_t j = 0; j < dims; ++j)

@@ -70,6 +70,24 @@ Json sensors_schema() {
           {"additionalProperties", sensor}};
 }
 
+/// design.correlation: its kind (the catalogue of correlation kinds) and its matrix.
+Json correlation_schema() {
+  Json kinds_of_correlation = Json::array();
+  for (const auto& [k, name] : correlation_kinds())
+    kinds_of_correlation.push_back(std::string(name));
+  return {
+      {"type", "object"},
+      {"description",
+       "the factors' correlation matrix, a normal copula (monte-carlo, "
+       "latin-hypercube and sobol designs)"},
+      {"required", {"kind", "matrix"}},
+      {"additionalProperties", false},
+      {"properties",
+       {{"kind", {{"enum", kinds_of_correlation}}},
+        {"matrix",
+         {{"type", "array"}, {"items", {{"type", "array"}, {"items", {{"type", "number"}}}}}}}}}};
+}
+
 /// The "design" block (sweep/design.hpp), from its catalogues: the methods, and per
 /// distribution its parameters.
 Json design_schema(const std::string& key_pattern) {
@@ -94,6 +112,7 @@ Json design_schema(const std::string& key_pattern) {
          {"then",
           {{"properties", props}, {"required", required}, {"additionalProperties", false}}}});
   }
+  const Json correlation = correlation_schema();
   const Json factor = {
       {"type", "object"},
       {"required", {"key", "distribution"}},
@@ -113,6 +132,7 @@ Json design_schema(const std::string& key_pattern) {
         {"levels",
          {{"type", "integer"}, {"minimum", 2}, {"maximum", kMaxMorrisLevels}, {"multipleOf", 2}}},
         {"base", {{"enum", bases}}},
+        {"correlation", correlation},
         {"factors",
          {{"type", "array"},
           {"minItems", 1},

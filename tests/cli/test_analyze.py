@@ -52,7 +52,7 @@ the layout of docs/results.md; the design points are drawn here with OpenTURNS a
 - no write through a link: links planted at analysis/analysis.json.tmp, analysis/bands.h5.tmp,
   analysis/analysis.json and plots/analysis-*.png leave the files they point to untouched.
 - --bootstrap 0: no bootstrap intervals (saltelli, morris, the std), said in the table;
-  --confidence 0.999 prints "99.9% intervals".
+  --confidence 0.999 prints "99.9 % intervals".
 - bad input: no design.json, an unknown metric (the nearest names), a bad threshold, broken
   Morris points: ValueError; the command line prints it and exits 2.
 """
@@ -265,7 +265,9 @@ def test_chaos_validation(tmp):
     """Indices are withheld from a surrogate that fails its validation: a metric of pure noise
     (5-fold Q² about 0), and a smooth metric fitted on points drawn with std 0.3 where design.json
     says std 1 (Q² = 1 on the points; the degree-12 surrogate's variance under N(0, 1) is 467
-    against 0.69 over the points: it differs where no point was drawn). The table says so."""
+    against 0.69 over the points: it differs where no point was drawn). The table says so and
+    why; the ranking is never by a withheld chaos's indices (checked also on a result whose
+    withheld chaos still carried indices with Q² 0.99: it ranks by |PRCC|)."""
     n = 1000
     rng = np.random.default_rng(1)
     x = np.column_stack([rng.normal(0, 0.3, n), rng.uniform(0, 1, n)])
@@ -279,12 +281,24 @@ def test_chaos_validation(tmp):
                        capture_output=True, text=True)
     check(r.returncode == 0 and r.stdout.count("indices withheld") == 2,
           f"withheld: rc {r.returncode}, stdout {r.stdout!r}, stderr {r.stderr[-500:]!r}")
+    out = r.stdout
     with open(os.path.join(folder, "analysis", "analysis.json")) as fh:
         metrics = json.load(fh)["groups"][0]["metrics"]
     for m, why in (("noise", "5-fold Q²"), ("tail", "variance under the factors")):
         c = metrics[m]["chaos"]
         check("first_order" not in c and "total" not in c and why in c.get("validation", ""),
               f"{m}: {c.get('validation')}, indices {c.get('first_order')}")
+        check(metrics[m]["ranking"]["measure"] != "chaos_total",
+              f"{m}: ranked by a withheld chaos: {metrics[m]['ranking']}")
+    # the ranking never takes a withheld chaos's indices, even were they left in the result
+    from rodend.analysis import ranking as rk
+    r = dict(metrics["tail"])
+    r["chaos"] = dict(r["chaos"], first_order=[0.5, 0.5], total=[0.5, 0.5], q2_loo=0.99)
+    check(rk.rank(r, ["parameters.a", "parameters.b"])["measure"] == "abs_prcc",
+          "a withheld chaos with indices ranks the factors")
+    check(all(f"indices withheld: {metrics[m]['chaos']['validation']}" in out
+              for m in ("noise", "tail")),
+          "the table does not give the reason the indices are withheld")
 
 
 def _discrete_quantile(u, values, weights):
@@ -514,7 +528,8 @@ def test_no_write_through_links(tmp):
     analysis/analysis.json.tmp and analysis/bands.h5.tmp, the final analysis.json and the
     figures plots/analysis-*.png) pointing outside the folder: every outside file is untouched
     and each final name is a regular file of the analysis (main wrote through the .tmp links
-    and the figures' links)."""
+    and the figures' links); the figures so written keep their palette and their question and
+    caption text chunks (the report reads them)."""
     xs = np.linspace(0, 1, 30)
     d = {"method": "monte-carlo", "size": 30, "seed": 1, "points": 30,
          "factors": [fx.uniform("parameters.k", 0, 1)]}
@@ -543,6 +558,12 @@ def test_no_write_through_links(tmp):
         if not name.endswith(".tmp"):
             check(os.path.isfile(path) and not os.path.islink(path),
                   f"links: {name} is not a regular file of the analysis")
+        if name.endswith(".png") and os.path.isfile(path):
+            from PIL import Image
+            with Image.open(path) as im:    # written atomically, still captioned and paletted
+                check(im.mode == "P" and im.info.get("rodend-question") and
+                      im.info.get("Description"),
+                      f"links: {name} lacks its palette or text chunks: {im.mode} {im.info}")
     left = [n for sub in ("analysis", "plots") for n in os.listdir(os.path.join(folder, sub))
             if n.startswith(".")]
     check(not left, f"links: temporary files left: {left}")
@@ -607,7 +628,8 @@ def test_csv_only(tmp):
 def test_bootstrap_confidence(tmp):
     """--bootstrap 0 means no bootstrap intervals (main: OpenTURNS's TypeError "Bootstrap
     sampling size should be positive" for saltelli); --confidence 0.999 heads the table with
-    "99.9% intervals" (main: "100% intervals")."""
+    "99.9 % intervals" (main: "100% intervals"; a rounding format such as :g on a level like
+    0.9999999 would print "100 %")."""
     d, x = ishigami_design(100)
     folder = fx.write_folder(os.path.join(tmp, "boot0"), d, x, {"y": fx.ishigami(x)})
     fs = [fx.uniform("parameters.p", 0, 1), fx.uniform("parameters.q", 0, 1)]
@@ -628,8 +650,73 @@ def test_bootstrap_confidence(tmp):
     r = subprocess.run([sys.executable, "-m", "rodend.analyze", folder, "--no-plots",
                         "--bootstrap", "20", "--confidence", "0.999"], capture_output=True,
                        text=True)
-    check(r.returncode == 0 and "99.9% intervals" in r.stdout and "100%" not in r.stdout,
+    check(r.returncode == 0 and "99.9 % intervals" in r.stdout and "100 %" not in r.stdout
+          and "100%" not in r.stdout,
           f"--confidence 0.999: rc {r.returncode}, {r.stdout[:300]!r}")
+
+
+def test_ranking(tmp):
+    """y = 3 x1 + x2 + 0.1 x3 on U(0, 1)^3 (monte-carlo, 2000 points): SRC_i = a_i / sqrt(sum
+    a_j^2) exactly for a linear y of independent factors of equal spread (0.948, 0.316, 0.032),
+    within 0.02 (the sample correlations' standard error, about 1/sqrt(2000) = 0.022 times
+    1 - SRC^2); the bootstrap interval at 99.9 % holds it (at 95 %, three intervals would miss
+    one in seven samples by chance); the numpy formulas of the intervals give the
+    OpenTURNS values on the full sample to 1e-10; the ranking is x1, x2, x3 by the chaos's total
+    index (Q² = 1: a linear metric). With design.correlation in design.json the chaos is
+    skipped and the ranking is by |PRCC|. The printed table labels every column."""
+    from rodend.analysis import ranking as rk
+    fs = [fx.uniform(f"parameters.x{i}", 0, 1) for i in (1, 2, 3)]
+    x = fx.mc_points(fs, 2000, 9)
+    a = np.array([3.0, 1.0, 0.1])
+    d = {"method": "monte-carlo", "size": 2000, "seed": 9, "points": 2000, "factors": fs}
+    folder = fx.write_folder(os.path.join(tmp, "linear"), d, x, {"y": x @ a}, units={"y": "rad"})
+    doc = rodend.analyze(folder, quiet=True, plots=False, confidence=0.999)
+    r = doc["groups"][0]["metrics"]["y"]
+    want = a / np.sqrt(np.sum(a ** 2))
+    c = r["correlation"]
+    check(np.allclose(c["src"], want, atol=0.02), f"SRC {c['src']} vs {want}")
+    for i in range(3):
+        lo, hi = c["src_interval"][i]
+        check(lo <= want[i] <= hi, f"SRC[{i}] interval [{lo}, {hi}] misses {want[i]}")
+    src, prcc, spear = rk._from_matrices(x, x @ a + 0.3 * np.sin(7 * x[:, 1]))
+    c2 = rk.correlations(x, x @ a + 0.3 * np.sin(7 * x[:, 1]), bootstrap=0)
+    for name, mine in (("src", src), ("prcc", prcc), ("spearman", spear)):
+        check(np.allclose(mine, c2[name], atol=1e-10), f"{name}: numpy {mine} vs OT {c2[name]}")
+    order = [f["factor"] for f in r["ranking"]["factors"]]
+    check(order == [f["key"] for f in fs] and r["ranking"]["measure"] == "chaos_total",
+          f"ranking {r['ranking']}")
+    check(r["shown"] == {"units": "mrad", "factor": 1000.0}, f"shown {r['shown']}")
+    text = rodend.analysis.output.table(doc)
+    check("y [mrad]" in text and "factors ranked by total Sobol' index (polynomial chaos" in text
+          and "SRC" in text and "PRCC" in text and "95 % quantile" in text and
+          "99.9 % interval" in text, text)
+    d["correlation"] = {"kind": "spearman", "matrix": np.eye(3).tolist()}
+    folder = fx.write_folder(os.path.join(tmp, "correlated"), d, x, {"y": x @ a})
+    r = rodend.analyze(folder, quiet=True, plots=False)["groups"][0]["metrics"]["y"]
+    check("skipped" in r["chaos"] and r["ranking"]["measure"] == "abs_prcc" and
+          [f["factor"] for f in r["ranking"]["factors"]] == [f["key"] for f in fs],
+          f"correlated: chaos {r['chaos']}, ranking {r['ranking']}")
+
+
+def test_morris_spread(tmp):
+    """A Morris design's spread over its points: y = x on U(0, 1) with 4 levels takes the
+    values 0, 1/3, 2/3, 1 equally often, so the mean is 1/2 and P(y > 0.5) = 1/2 up to the
+    draw; the intervals (a bootstrap over the 40 trajectories) hold them; intervals over
+    trajectories are wider than those an independent-points formula would give (the points of
+    a trajectory are dependent)."""
+    fs = [fx.uniform("parameters.p", 0, 1), fx.uniform("parameters.q", 0, 1)]
+    folder, unit = morris_folder(tmp, "morris-spread", fs, lambda x: x[:, 0], n=40)
+    r = rodend.analyze(folder, thresholds={"y": 0.5}, quiet=True, plots=False)
+    r = r["groups"][0]["metrics"]["y"]
+    dist, e = r["distribution"], r["exceedance"][0]
+    check(dist["trajectories"] == 40 and "Morris" in dist["sample"], f"{dist}")
+    check(abs(dist["mean"] - unit[:, 0].mean()) < 1e-12, "mean over the points")
+    lo, hi = dist["mean_interval"]
+    check(lo <= 0.5 <= hi, f"mean interval [{lo}, {hi}]")
+    lo, hi = e["interval"]
+    check(lo <= 0.5 <= hi and e["n"] == 120, f"P(y > 0.5) {e}")
+    check(r["ranking"]["measure"] == "mu_star" and
+          r["ranking"]["factors"][0]["factor"] == "parameters.p", f"ranking {r['ranking']}")
 
 
 def _expect_error(fn, text, what):
@@ -656,6 +743,8 @@ def main():
         test_scene_axis(tmp)
         test_bands(tmp)
         test_bands_corrupt(tmp)
+        test_ranking(tmp)
+        test_morris_spread(tmp)
         test_bad_input(tmp)
         test_bootstrap_confidence(tmp)
         test_no_write_through_links(tmp)

@@ -125,14 +125,49 @@ with tempfile.TemporaryDirectory() as tmp:
     check(r.returncode == 0 and r.stdout.strip() == page, f"report: {r.returncode} {r.stderr}")
     with open(page, encoding="utf-8") as f:
         html = f.read()
-    n_png = len(glob.glob(os.path.join(kin, "plots", "*.png")))
-    check(html.count('src="data:image/png;base64,') == n_png and n_png >= 5,
-          f"report: {html.count('data:image/png')} embedded figures, {n_png} drawn")
+    # every figure embedded, or past the page's budget of figures linked with its caption
+    pngs = glob.glob(os.path.join(kin, "plots", "*.png"))
+    embedded, linked = html.count('src="data:image/png;base64,'), html.count('class="more"')
+    check(embedded + linked == len(pngs) and embedded >= 1 and len(pngs) >= 5,
+          f"report: {embedded} embedded and {linked} linked figures, {len(pngs)} drawn")
+    budget = 1_300_000   # app/report_sections.hpp figure_budget_bytes
+    check(linked == 0 or sum(os.path.getsize(p) for p in pngs) > budget,
+          "report: figures linked although they fit the budget")
+    check(os.path.getsize(page) < 2_000_000, f"report of {os.path.getsize(page)} bytes")
+    check("What happened in the cases?" in html and "<figcaption>Eccentricity" in html,
+          "report: the study's figures are not grouped and captioned by their titles")
     check("max_contact_force [N]" in html and "git_revision" in html and "<h1>Study kin</h1>" in html,
           "report: no summary table header with units, provenance or title")
-    check("src=\"plots/" not in html and "href=" not in html, "report links to files: not self-contained")
+    check("src=\"plots/" not in html, "report: an image not embedded in the page")
     r = run(["report", os.path.join(tmp, "nope")])
     check(r.returncode == 2 and "nope" in r.stderr, f"report of a missing folder: {r.returncode} {r.stderr}")
+
+    # a designed study (12 sampled drops): the first-impact figure is a cloud against the first
+    # factor, no line in sample order; the polar panels show 9 cases and say which
+    designed = simulate(tmp, {
+        "name": "designed", "scene": "gravity-drop",
+        "time": {"end": 0.015, "sample_interval": 1e-3},
+        "design": {"method": "monte-carlo", "size": 12, "seed": 4, "factors": [
+            {"key": "parameters.contact.clearance", "distribution": "uniform",
+             "lower": 1e-4, "upper": 5e-4}]},
+    })
+    r = plot([designed])
+    check(r.returncode == 0, f"designed: exit {r.returncode}\n{r.stderr}")
+    from PIL import Image
+    out = os.path.join(designed, "plots")
+    cap = Image.open(os.path.join(out, "first_impact_force.png")).text.get("Description", "")
+    check("against contact.clearance" in cap and "one point per sampled case (12 ok)" in cap,
+          f"designed: first-impact figure caption {cap!r}")
+    cap = Image.open(os.path.join(out, "polar_relative_position.png")).text.get("Description", "")
+    check("the 9 of 12 cases with the largest peak contact force" in cap,
+          f"designed: polar figure caption {cap!r}")
+    # its report before any analysis: the answers section says how to get them
+    r = run(["report", designed])
+    with open(os.path.join(designed, "report.html"), encoding="utf-8") as f:
+        html = f.read()
+    check(r.returncode == 0 and "No analysis yet: <code>rodend analyze" in html and
+          html.index("<h2>Answers") < html.index("<h2>Figures"),
+          f"designed: the report does not point to rodend analyze ({r.returncode} {r.stderr})")
 
     # a scene without a mechanism, one case, no grid
     drop = simulate(tmp, {

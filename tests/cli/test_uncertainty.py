@@ -119,11 +119,53 @@ with tempfile.TemporaryDirectory() as root:
     within(1.0 - s_s, s["total_interval"][0], "total index of the clearance")
     within(1.0 - s_c, s["total_interval"][1], "total index of the stiffness scale")
 
-    # 3. the report embeds the analysis's figures
+    # the printed table: the spread with intervals and the factors ranked, labelled
+    check("factors ranked by total Sobol' index (Saltelli) [1]" in table and
+          "95 % quantile" in table and "[mm]" in table,
+          f"the printed table lacks the ranking, the quantiles or the unit:\n{table}")
+    rank = doc_metric(folder, "max_penetration")["ranking"]
+    want = ["parameters.contact.clearance", "parameters.contact.stiffness_scale"]
+    if s_s > s_c:
+        want.reverse()
+    check([f["factor"] for f in rank["factors"]] == want, f"ranking {rank}: expected {want}")
+
+    # 3. the report opens with the answers; its figures are grouped by question, captioned
+    r = run(["analyze", folder, "--metric", "max_penetration", "--threshold",
+             "max_penetration=1e-6", "--bootstrap", "100"])
+    check(r.returncode == 0, f"analyze with a threshold: exit {r.returncode}\n{r.stderr}")
+    exc = doc_metric(folder, "max_penetration")["exceedance"][0]
     r = run(["report", folder])
     check(r.returncode == 0, f"report: exit {r.returncode}\n{r.stderr}")
     page = open(os.path.join(folder, "report.html"), encoding="utf-8").read()
-    check("analysis-max_penetration" in page, "the report has no analysis figure")
+    answers, figures = page.find("<h2 id=\"answers\">Answers"), page.find("<h2>Figures")
+    check(0 < answers < figures < page.find("<h2>Summary"),
+          "the report does not open with the answers, then the figures and the summary")
+    first = page[answers:figures]
+    check(f"({exc['exceed']} of {exc['n']})" in first and "P(&gt; 0.001 mm)" in first,
+          "the answers lack the exceedance probability")
+    check("contact.clearance" in first and
+          "by total Sobol' index (Saltelli) [1]" in first, "the answers lack the ranking")
+    check("<h3>Which factors drive each metric?</h3>" in page and
+          "against each factor at every usable case" in page,
+          "the figures are not grouped by question and captioned")
+    check(page.index("Which factors drive") < page.index("How is each metric spread"),
+          "the questions are not in their order")
+    size = os.path.getsize(os.path.join(folder, "report.html"))
+    check(size < 2_000_000, f"report of {size} bytes: expected under 2 MB")
+    summary = page[page.find("<h2>Summary"):page.find("<h2>Provenance")]
+    check("<th>max_penetration [m]</th>" in summary and "wall_time_s" not in summary,
+          "the summary table is not limited to the grid axes and the key metrics")
+    check("95 % intervals in brackets." in first, "the answers do not give the intervals' level")
+    # the report's level as analyze prints it: 99.9 %, not rounded; none from a bootstrap with
+    # --bootstrap 0 (main printed "99.9 % intervals in brackets." and no word of the bootstrap)
+    r = run(["analyze", folder, "--metric", "max_penetration", "--no-plots", "--bootstrap", "0",
+             "--confidence", "0.999"])
+    check(r.returncode == 0 and "no intervals (bootstrap 0)" in r.stdout,
+          f"analyze --bootstrap 0: exit {r.returncode}\n{r.stderr}")
+    r = run(["report", folder])
+    page = open(os.path.join(folder, "report.html"), encoding="utf-8").read()
+    check(r.returncode == 0 and "99.9 % intervals in brackets (no intervals from a bootstrap: "
+          "bootstrap 0)." in page, "the report's answers do not say bootstrap 0 gave no intervals")
 
     # 4. rodend analyze of a folder without a design: exit 2 with a message
     plain = write_study(os.path.join(root, "plain.json"),

@@ -9,7 +9,10 @@ morris     Morris elementary effects from the design's unit-space trajectories
 chaos      a polynomial-chaos surrogate (OpenTURNS) with its exact leave-one-out Q² and validation
 basis      the chaos's basis per factor (a lognormal through its log), its orthonormality checked
 stats      a metric's distribution: mean, std, quantiles, exceedance, with intervals
+clustered  the same over a Morris design's points, intervals from its trajectories
+ranking    SRC, PRCC, Spearman (OpenTURNS CorrelationAnalysis) and the factors ranked
 bands      quantile bands of histories over time across the ok cases
-figures    the analysis-*.png figures
-output     analysis.json, bands.h5 and the table printed to stdout
+display    the units shown (mrad, mm) and number formats of the table, figures and report
+figures    the analysis-*.png figures (factor_figures: metric against factor, Morris's μ*)
+output     analysis.json, bands.h5; table: the table printed to stdout
 """

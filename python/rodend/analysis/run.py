@@ -14,7 +14,8 @@ its own) and each chosen metric:
                         Clopper–Pearson interval (stats)
 and quantile bands of chosen histories. Failed cases (status not ok) and non-finite values are
 left out and counted. Writes FOLDER/analysis/analysis.json, FOLDER/analysis/bands.h5 (histories
-asked) and FOLDER/plots/analysis-*.png; prints the indices with their intervals.
+asked) and FOLDER/plots/analysis-*.png; prints per metric its spread and its factors ranked by
+importance (ranking: the design's measure, else SRC/PRCC/Spearman; table: the printed layout).
 """
 import argparse
 import os
@@ -24,7 +25,8 @@ import numpy as np
 
 from . import bands as _bands
 from . import chaos as _chaos
-from . import figures, inputs, morris, output, sobol, stats
+from . import (clustered, display, factor_figures, figures, inputs, morris, output, ranking,
+               sobol, stats)
 
 __all__ = ["analyze", "analyze_arrays", "main"]
 
@@ -77,11 +79,20 @@ def analyze_arrays(design, x, y, keep, confidence=0.95, bootstrap=200, threshold
         yi = y[rows]
         out["distribution"] = stats.distribution(yi, confidence, bootstrap, seed)
         out["exceedance"] = [stats.exceedance(yi, t, confidence) for t in thresholds]
-        out["chaos"] = _chaos.fit(design, x[rows], yi, chaos) if np.ptp(yi) > 0 else \
+        out["chaos"] = {"skipped": "correlated factors (its indices assume independent "
+                                   "ones)"} if design.get("correlation") else \
+            _chaos.fit(design, x[rows], yi, chaos) if np.ptp(yi) > 0 else \
             {"skipped": "the metric is constant over the sample"}
         out["_iid"] = yi
-    elif design["method"] != "morris":
+        out["correlation"] = ranking.correlations(x[rows], yi, bootstrap, confidence, seed)
+    elif design["method"] == "morris":
+        used = np.flatnonzero(keep)
+        out["distribution"], out["exceedance"] = clustered.spread(
+            y[used], used // (x.shape[1] + 1), thresholds, confidence, bootstrap, seed)
+        out["_iid"] = y[used]
+    else:
         raise ValueError("no usable case left (every case failed or is non-finite)")
+    out["_points"] = (x[keep], y[keep])
     return out
 
 
@@ -93,6 +104,8 @@ def _analyze_metric(design, rows, m, units, opts, thresholds):
     r.update(units=units.get(m, ""), failed=int(np.sum(~ok)),
              non_finite=int(np.sum(ok & ~np.isfinite(y))),
              used=int(np.sum(ok & np.isfinite(y))))
+    r["ranking"] = ranking.rank(r, [f["key"] for f in design["factors"]])
+    r["shown"] = dict(zip(("units", "factor"), display.unit(r["units"])))
     return r
 
 
@@ -109,8 +122,12 @@ def _figures(folder, design, coords, suffix, m, r):
     if "first_order" in c:
         sets += [("first order (chaos)", c["first_order"], None),
                  ("total (chaos)", c["total"], None)]
-    if sets:
+    if sets and len(keys) > 1:
         paths.append(figures.indices(folder, f"{m}-indices{suffix}", title, keys, sets))
+    if "_points" in r:
+        paths.append(factor_figures.scatter(folder, f"{m}-scatter{suffix}", title, m,
+                                            design["factors"], *r["_points"], units,
+                                            r.get("ranking")))
     if "morris" in r:
         paths.append(figures.morris(folder, f"{m}-morris{suffix}", title, keys, r["morris"],
                                     units))
@@ -119,7 +136,8 @@ def _figures(folder, design, coords, suffix, m, r):
                                  r["exceedance"]))
     if c.get("loo_prediction") is not None:
         paths.append(figures.chaos(folder, f"{m}-chaos{suffix}", title, r["_chaos_y"],
-                                   c["loo_prediction"], c["q2_loo"], units))
+                                   c["loo_prediction"], c["q2_loo"], units,
+                                   c.get("validation") if "withheld" in c else None))
     return paths
 
 
@@ -137,7 +155,7 @@ def _group(folder, design, coords, rows, metrics, units, thresholds, opts, suffi
         if opts["plots"]:
             result.setdefault("figures", []).extend(
                 _figures(folder, design, coords, suffix, m, r))
-        for k in ("_iid", "_chaos_y"):
+        for k in ("_iid", "_chaos_y", "_points"):
             r.pop(k, None)
         r.get("chaos", {}).pop("loo_prediction", None)
         result["metrics"][m] = r
