@@ -83,8 +83,8 @@ def check_study(cfg, scratch):
         for a, b in (("design.size", "surrogate.cases"), ("design.seed", "surrogate.seed"),
                      ("design.method", "surrogate.method")):
             msg = msg.replace(a, b)
-        for k in ("parameters", "integrator", "time", "scene", "signals"):
-            msg = msg.replace(f": {k}", f": study.{k}", 1) if f": {k}" in msg else msg
+        for k in ("parameters", "integrator", "time", "scene", "signals"):  # the key path only
+            msg = msg.replace(f"{cfg['file']}: {k}", f"{cfg['file']}: study.{k}", 1)
         raise _config.ConfigError(msg) from None
 
 
