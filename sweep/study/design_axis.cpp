@@ -58,7 +58,7 @@ void check_design_keys(const Design& design, const std::vector<std::string>& sce
       std::string names;
       for (const std::string& n : scenes) names += (names.empty() ? "" : ", ") + n;
       throw InputError(f.where + ".key",
-                       (scenes.size() == 1 ? "unknown parameter of scene " + names
+                       (scenes.size() == 1 ? "unknown parameter '" + path + "' of scene " + names
                                            : "no scene of this study (" + names +
                                                  ") has parameter '" + path + "'") +
                            " (see `rodend params " + (scenes.size() == 1 ? names : "SCENE") + "`)" +

@@ -74,13 +74,11 @@ std::string study_detail::nearest_key(const std::string& section, const std::str
 void study_detail::unknown_key(const std::string& key, const std::string& section,
                                const std::string& rest, const ParameterSet& params,
                                const std::string& scene) {
-  // the name itself when the key path does not end with it (a design factor's `key`)
-  const std::string name = key.ends_with(rest) ? "" : "'" + section + "." + rest + "': ";
   const std::string m =
       section == "parameters"
           ? "unknown parameter of scene " + scene + " (see `rodend params " + scene + "`)"
           : "unknown " + section + " setting (see `rodend schema`)";
-  throw InputError(key, name + m + nearest_key(section, rest, {&params}));
+  throw InputError(key, m + nearest_key(section, rest, {&params}));
 }
 
 /// `--set design.KEY=value` for the design's scalar keys; the loader checks the value.
