@@ -258,6 +258,7 @@ class IdTemplate {
   };
   std::vector<Slot> slots_;          // in the order of the text
   std::vector<std::string> pieces_;  // slots_.size() + 1
+  std::uint64_t prefix_hash_ = 0;    // FNV-1a 64 state after pieces_[0]
 };
 
 /// Every case resolved and checked once (its id kept), distinct points checked to be distinct
