@@ -119,6 +119,12 @@ struct RunPlan {
 /// times: a file replaced, renamed over or rewritten gets another), 0 when there is none.
 std::uint64_t case_file_stamp(const std::filesystem::path& path);
 
+/// The files of the rows of plan.spool: each is there and holds its case (a file whose
+/// identity changed since it was noted is read again: checksum and case id). Throws
+/// std::runtime_error naming those that are gone or hold another case, with the count of
+/// complete cases and the resume command (sweep/case_file_check.cpp).
+void check_case_files(const RunPlan& plan);
+
 /// Records the identity of the file of case `i` (id `id`), just written (thread-safe for
 /// distinct cases; nothing when the plan does not track case `i`: an MPI rank's own plan).
 void note_case_file(const RunPlan& plan, std::size_t i, const std::string& id);
