@@ -143,6 +143,7 @@ struct Cli {
   CLI::App* schema = nullptr;
   CLI::App* report = nullptr;
   CLI::App* analyze = nullptr;
+  CLI::App* calibrate = nullptr;
   CLI::App* scenes = nullptr;
   CLI::App* params = nullptr;
   CLI::App* signals = nullptr;
@@ -204,7 +205,7 @@ void add_study_commands(CLI::App& app, Cli& c) {
   c.rdir->add_option("--results-root", c.results_root, "as for run");
 }
 
-/// schema, report and analyze.
+/// schema, report, analyze and calibrate.
 void add_output_commands(CLI::App& app, Cli& c) {
   c.schema = app.add_subcommand(
       "schema",
@@ -223,10 +224,24 @@ void add_output_commands(CLI::App& app, Cli& c) {
       "(docs/uncertainty.md): Sobol' indices with intervals (saltelli), Morris screening "
       "(morris), a polynomial-chaos surrogate, each metric's distribution and exceedance "
       "probabilities, history bands. Writes RESULTS/analysis/ and RESULTS/plots/analysis-*.png "
-      "(which `rodend report` embeds). Runs the Python module rodend.analyze; every option "
-      "after RESULTS is its own (rodend analyze RESULTS --help).");
+      "(which `rodend report` embeds). Runs the Python module rodend.analyze, whose options "
+      "`rodend analyze --help` lists.");
   c.analyze->allow_extras();
   c.analyze->prefix_command();
+  c.calibrate = app.add_subcommand(
+      "calibrate",
+      "Estimate unknown parameters (a clearance, a friction coefficient) from a measured record "
+      "(docs/health-monitoring.md): a surrogate trained on a designed study of the test, "
+      "checked on held-out cases, the posterior by Markov-chain Monte Carlo, a final full-model "
+      "run at the posterior mode, and optionally the remaining life through the wear "
+      "evolution. Runs the Python module rodend.calibrate, whose options `rodend calibrate "
+      "--help` lists. "
+      "Exit 0 ok, 1 a failed diagnostic, 2 bad input.");
+  c.calibrate->allow_extras();
+  c.calibrate->prefix_command();
+  // --help goes to the Python module, which knows the options
+  c.analyze->set_help_flag();
+  c.calibrate->set_help_flag();
 }
 
 /// scenes, params, signals, metrics and choices: the catalogues.
@@ -319,6 +334,7 @@ int dispatch(Cli& c, const mpi::Session& mpi_session) {
   }
   if (*c.params) return list_params(c.scene_name, c.as_json);
   if (*c.analyze) return exec_analyze(c.analyze->remaining());
+  if (*c.calibrate) return exec_calibrate(c.calibrate->remaining());
   if (*c.report) {
     std::cout << write_report(c.report_dir, c.report_out).string() << "\n";
     return 0;

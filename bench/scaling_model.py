@@ -32,6 +32,26 @@ with every prediction that they limit. Set them to your file system's figures.
   /usr/bin/python3 bench/scaling_model.py FIGURES.json [--lock-s-scale 0.05]
 --lock-s-scale re-evaluates the model with the locked time per case scaled (e.g. after the HDF5
 lock is cut by another change: measure again instead when you can).
+
+The node model (--node NODE.json, from bench/scaling_node.py) adds what the model above leaves
+out: the node's own slowdown with its cores busy, and the end of a run, when the last cases run
+on few threads. Inputs:
+  c_i   the cost of case i on one thread of an otherwise idle node (its integration and its
+        file), in grid order
+  F     the serial part of a run: start, study loading, resolving the cases (the summary is a
+        few ms and counted in c_i)
+  s(k)  the node's slowdown with k cores busy: how much longer a case takes while k - 1 other
+        threads (or processes) run; s(1) = 1, interpolated linearly between measured points
+        and constant past the last (with only s(N) known: linear in k, an assumption)
+The run is simulated as OpenMP's schedule(dynamic, 1) runs it: each thread that is free takes the
+next case in order (grid order, or longest first when asked), and every running case advances at
+1/s(k) of its one-thread speed while k cases run. W(T) = F + the time the last case ends. The
+HDF5 lock is left out (0.6 % of a one-thread run since the case files are written outside it).
+  /usr/bin/python3 bench/scaling_model.py --node NODE.json --threads 8 16 \
+      [--slowdown 16:1.30] [--one-thread-wall 9.58] [--measured 8:1.61 16:0.918] \
+      [--order grid|longest|predicted --predictor KEY]
+--slowdown replaces the measured s(k) (points k:s); --one-thread-wall scales the measured costs
+and F together to another node's one-thread wall time (the relative costs assumed to carry over).
 """
 import argparse
 import json
@@ -131,15 +151,115 @@ def limiter(c, n, ranks, threads, mpi, fs):
     return top
 
 
+def slowdown_of(points):
+    """s(k) from measured points {k: s}: s(1) = 1, linear between points, constant past the last."""
+    pts = sorted({1: 1.0, **{int(k): float(v) for k, v in points.items()}}.items())
+
+    def s(k):
+        for (k0, s0), (k1, s1) in zip(pts, pts[1:]):
+            if k <= k1:
+                return s0 + (s1 - s0) * (k - k0) / (k1 - k0)
+        return pts[-1][1]
+    return s
+
+
+def simulate(costs, threads, s):
+    """Dynamic scheduling of `costs` (one-thread costs, in the order the threads take them) on
+    `threads` threads, each running case advancing at 1/s(k) while k run. Returns (the time the
+    last case ends, the CPU time of the cases, the time the first thread found no case left)."""
+    n, nxt, t, cpu, idle_from = len(costs), 0, 0.0, 0.0, None
+    running = []
+    while nxt < n and len(running) < threads:
+        running.append(costs[nxt])
+        nxt += 1
+    while running:
+        k, m = len(running), min(running)
+        dt = m * s(k)
+        t += dt
+        cpu += k * dt
+        left = [r - m for r in running if r - m > 1e-12 * m]
+        for _ in range(k - len(left)):  # each thread that finished takes the next case
+            if nxt < n:
+                left.append(costs[nxt])
+                nxt += 1
+            elif idle_from is None:
+                idle_from = t
+        running = left
+    return t, cpu, t if idle_from is None else idle_from
+
+
+def ordered(cases, order, predictor):
+    """The one-thread costs in the order the threads take them."""
+    if order == "grid":
+        return [c["cost_s"] for c in cases]
+    if order == "longest":
+        return sorted((c["cost_s"] for c in cases), reverse=True)
+    keyed = sorted(cases, key=lambda c: -abs(c[predictor]))  # stable: grid order among equals
+    return [c["cost_s"] for c in keyed]
+
+
+def node_model(a):
+    with open(a.node) as f:
+        doc = json.load(f)
+    c = doc["costs"]
+    costs_sum = sum(x["cost_s"] for x in c["cases"])
+    serial = c["serial_cpu_s"]
+    scale = 1.0 if a.one_thread_wall is None else a.one_thread_wall / (serial + costs_sum)
+    cases = [dict(x, cost_s=x["cost_s"] * scale) for x in c["cases"]]
+    serial *= scale
+    if a.slowdown:
+        points, source = dict(p.split(":") for p in a.slowdown), "given (--slowdown)"
+    else:
+        key = "wall_ratio" if a.slowdown_from == "wall" else "cpu_ratio"
+        points = {r["k"]: r[key] for r in doc["slowdown"]}
+        source = f"measured ({key}, load average {doc['load_average_before'][0]:.1f})"
+    s = slowdown_of(points)
+    measured = dict((int(k), float(v)) for k, v in (p.split(":") for p in a.measured or []))
+    costs_one = [x["cost_s"] for x in cases]
+    mean = costs_sum * scale / len(cases)
+    print(f"{doc['study']} {' '.join(doc['set'])}: {len(cases)} cases, mean cost {mean:.4f} s, "
+          f"max/mean {max(costs_one) / mean:.2f}, min/mean {min(costs_one) / mean:.2f}; "
+          f"serial F = {serial:.3f} s; one thread {serial + mean * len(cases):.3f} s "
+          f"(scaled x{scale:.3f}); s(k) {source}: "
+          + ", ".join(f"s({k})={v}" for k, v in sorted(points.items(), key=lambda p: int(p[0]))))
+    print(f"{'threads':>7} {'order':9} {'s(T)':>6} {'predicted [s]':>14} {'CPU [s]':>8} "
+          f"{'tail [s]':>8} {'measured [s]':>13} {'error':>7}")
+    for threads in a.threads:
+        for order in a.order:
+            end, cpu, idle = simulate(ordered(cases, order, a.predictor), threads, s)
+            w = serial + end
+            meas = measured.get(threads)
+            err = f"{(w - meas) / meas:+7.1%}" if meas and order == "grid" else ""
+            shown = f"{meas:13.3f}" if meas and order == "grid" else f"{'':13}"
+            print(f"{threads:7d} {order:9} {s(threads):6.3f} {w:14.3f} {serial + cpu:8.2f} "
+                  f"{end - idle:8.3f} {shown} {err}")
+
+
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("figures")
+    ap = argparse.ArgumentParser(description="the lock/manager/file-system model on FIGURES "
+                                 "(bench/scaling_measure.py), or with --node the node model")
+    ap.add_argument("figures", nargs="?")
+    ap.add_argument("--node", help="bench/scaling_node.py's JSON: the node model")
     ap.add_argument("--fs-metadata-ops", type=float, default=20000.0,
                     help="metadata operations per second of the shared file system (assumed)")
     ap.add_argument("--fs-bandwidth", type=float, default=20e9,
                     help="write bandwidth of the shared file system [bytes/s] (assumed)")
     ap.add_argument("--lock-s-scale", type=float, default=1.0)
+    ap.add_argument("--threads", type=int, nargs="+", default=[1, 2, 4, 8, 16])
+    ap.add_argument("--slowdown", nargs="+", help="k:s points replacing the measured s(k)")
+    ap.add_argument("--slowdown-from", choices=["cpu", "wall"], default="cpu")
+    ap.add_argument("--one-thread-wall", type=float,
+                    help="scale costs and F to this one-thread wall time [s] (another node)")
+    ap.add_argument("--measured", nargs="+", help="threads:wall [s] to compare with")
+    ap.add_argument("--order", nargs="+", choices=["grid", "longest", "predicted"],
+                    default=["grid"])
+    ap.add_argument("--predictor", help="case column whose magnitude ranks the cases "
+                    "(--order predicted), e.g. parameters.hinge.constant_moment")
     a = ap.parse_args()
+    if a.node:
+        return node_model(a)
+    if not a.figures:
+        ap.error("FIGURES or --node is required")
     with open(a.figures) as f:
         doc = json.load(f)
     tiny = max(doc["dispatch_tiny"], key=lambda d: d["requests"] / max(d["wall_s"], 1e-9))

@@ -67,6 +67,8 @@ inline constexpr SignalId kStepSignals[] = {SignalId::time,
                                             SignalId::actuator_position,
                                             SignalId::hinge_moment,
                                             SignalId::chamber_pressures,
+                                            SignalId::lvdt_position,
+                                            SignalId::surface_acceleration,
                                             SignalId::kinetic_energy,
                                             SignalId::input_work,
                                             SignalId::dissipated_energy,
@@ -195,7 +197,7 @@ std::unique_ptr<Scene> make_scene(std::string_view name, const ParameterSet& par
 /// For tests: while it lives, make_scene builds scene `name` with `make` instead of the
 /// catalogue's factory (the name, the defaults and the study's checks stay the catalogue's), e.g.
 /// to wrap a scene in one that fails. One at a time; create and destroy it while no study loads
-/// or runs.
+/// or runs (worker threads read it through an atomic pointer, never while it changes).
 class SceneFactoryOverride {
  public:
   SceneFactoryOverride(std::string_view name, SceneFactory make);

@@ -1,6 +1,7 @@
 // The scene catalogue, built from scenes/scenes.def.
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -92,9 +93,15 @@ std::string_view scene_default_parameters_json(std::string_view scene) {
 }
 
 namespace {
-// the scene a SceneFactoryOverride builds instead, and its factory (null: none)
-std::string g_override_name;
-SceneFactory g_override_make = nullptr;
+// the scene a SceneFactoryOverride builds instead, and its factory
+struct FactoryOverride {
+  std::string name;
+  SceneFactory make;
+};
+// Installed and removed on the test's thread, read by every worker thread that makes a scene:
+// an atomic pointer to an object that does not change while it is installed (the release
+// store publishes its fields to the acquire load), so no worker reads a half-written name.
+std::atomic<const FactoryOverride*> g_override{nullptr};
 }  // namespace
 
 std::unique_ptr<Scene> make_scene(std::string_view name, const ParameterSet& params) {
@@ -102,19 +109,22 @@ std::unique_ptr<Scene> make_scene(std::string_view name, const ParameterSet& par
   if (!e)
     throw InputError(
         "scene", "unknown scene '" + std::string(name) + "'; expected one of: " + known_scenes());
-  if (g_override_make && name == g_override_name) return g_override_make(params);
+  if (const FactoryOverride* o = g_override.load(std::memory_order_acquire); o && name == o->name)
+    return o->make(params);
   return e->make(params);
 }
 
 SceneFactoryOverride::SceneFactoryOverride(std::string_view name, SceneFactory make) {
-  if (g_override_make) throw std::logic_error("a SceneFactoryOverride is already in place");
-  g_override_name = std::string(name);
-  g_override_make = make;
+  auto* o = new FactoryOverride{std::string(name), make};
+  const FactoryOverride* none = nullptr;
+  if (!g_override.compare_exchange_strong(none, o, std::memory_order_acq_rel)) {
+    delete o;
+    throw std::logic_error("a SceneFactoryOverride is already in place");
+  }
 }
 
 SceneFactoryOverride::~SceneFactoryOverride() {
-  g_override_make = nullptr;
-  g_override_name.clear();
+  delete g_override.exchange(nullptr, std::memory_order_acq_rel);
 }
 
 }  // namespace rodend

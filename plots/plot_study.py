@@ -25,8 +25,11 @@ Figures (file stem: what, thesis figure):
   ball_motion              ball (and socket) motion and forces, scenes without a mechanism (3.24, 3.26)
   body_motion              free-body position, velocity, attitude, rates (3.21-3.23)
   bode                     frequency response: gain and phase of surface and piston against the drive
-                           frequency, one curve per clearance (and amplitude) (docs/inputs.md)
-  free_play_loop           free-play ground test: surface angle against hinge moment, one panel per case
+                           frequency, one surface curve per clearance (and amplitude), the piston's
+                           clearances merged where they agree, the linearised model (docs/inputs.md)
+  free_play_loop           free-play ground test: surface angle against hinge moment over the periods
+                           after the first, near zero moment and less the elastic deflection, with the
+                           metric's branch lines extrapolated to zero moment and the ringing marked
   slider_acceleration      planar-slider-crank: slider acceleration against crank angle over the last
                            full revolution, the ideal joint overlaid, and each clearance's eccentricity
                            orbit (journal centre relative to bearing centre) (Wang et al. 2019)
@@ -48,6 +51,8 @@ import warnings
 
 # the package rodend beside plots/ (its reader needs no compiled module), else an installed one
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "python"))
+# the figure modules beside this file (also when it is run by runpy, which adds no path)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import matplotlib  # noqa: E402
 
@@ -58,6 +63,8 @@ from matplotlib.lines import Line2D  # noqa: E402
 
 from rodend.naming import DISPLAY_UNITS, coordinate_label, format_value, short_key  # noqa: E402
 from rodend.study import NotAStudy, open_study  # noqa: E402
+
+import input_figures  # noqa: E402
 
 # how each SI unit is shown on an axis: (shown unit, factor), one table shared with the legend
 # labels (rodend.naming)
@@ -1126,103 +1133,8 @@ def fig_slider_acceleration(study, cases, style):
 
 # --- driver -------------------------------------------------------------------------------
 
-@figure("bode", "Bode diagram of the frequency response, one curve per clearance")
-def fig_bode(study, cases, style):
-    summ = study.summary
-    if "surface_gain" not in summ or not np.isfinite(np.asarray(summ["surface_gain"], float)).any():
-        raise Skip("no gain/phase metrics (a sine command's frequency response) in the summary")
-    freqs = np.asarray(summ["drive_frequency"], float)
-    if len(set(freqs[np.isfinite(freqs)])) < 2:
-        raise Skip("one drive frequency: no frequency axis for a Bode diagram")
-    # one curve per grid point less the frequency: group the cases by their other coordinates
-    groups = {}
-    for c in cases:
-        key = json_key({k: v for k, v in c.coordinates.items()
-                        if not k.endswith("motion.frequency") and not k.endswith(".cycles")
-                        and k != "time.end"})
-        groups.setdefault(key, []).append(c)
-    fig, axes = plt.subplots(2, 2, sharex=True, figsize=(11, 7), layout="constrained")
-    cmap = plt.get_cmap("tab10")
-    handles, labels = [], []
-    # colour: the clearance; line style: the other coordinates (the amplitude)
-    clearances = sorted({clearance_of(m[0]) or 0.0 for m in groups.values()})
-    others = []
-    for key in groups:
-        rest = tuple(kv for kv in key if not kv[0].endswith("contact.clearance"))
-        if rest not in others:
-            others.append(rest)
-    dashes = ["-", "--", ":", "-."]
-    for key, members in groups.items():
-        rows = [c.row for c in members]
-        f = np.asarray(summ["drive_frequency"], float)[rows]
-        order = np.argsort(f)
-        color = cmap(clearances.index(clearance_of(members[0]) or 0.0) % 10)
-        ls = dashes[others.index(tuple(kv for kv in key
-                                       if not kv[0].endswith("contact.clearance"))) % 4]
-        for col, what in enumerate(("surface", "piston")):
-            g = np.asarray(summ[f"{what}_gain"], float)[rows][order]
-            ph = np.degrees(np.unwrap(np.nan_to_num(np.asarray(summ[f"{what}_phase"], float)[rows][order])))
-            ph[~np.isfinite(g)] = np.nan
-            axes[0, col].semilogx(f[order], 20 * np.log10(g), marker="o", ls=ls, color=color,
-                                  ms=3, lw=1)
-            axes[1, col].semilogx(f[order], ph, marker="o", ls=ls, color=color, ms=3, lw=1)
-        handles.append(Line2D([], [], color=color, marker="o", ls=ls, lw=1))
-        desc = ", ".join(coordinate_label(k, members[0].coordinates[k],
-                                          members[0].coordinate_unit(k))
-                         for k, _ in key) or "all cases"
-        labels.append(desc)
-    axes[0, 0].set_title("surface angle / rigid-linkage angle of the command", fontsize="small", loc="left")
-    axes[0, 1].set_title("piston position / command", fontsize="small", loc="left")
-    for col in range(2):
-        axes[0, col].set_ylabel("gain [dB]")
-        axes[1, col].set_ylabel("phase [deg]")
-        axes[1, col].set_xlabel("drive frequency [Hz]")
-        for r in range(2):
-            axes[r, col].grid(True, which="both", alpha=0.3)
-    set_suptitle(fig, title(study, "Frequency response (Bode diagram): gain and phase at the "
-                              "drive frequency over settled periods (docs/inputs.md)"))
-    bottom_legend(fig, handles, labels)
-    return fig
-
-
-@figure("free_play_loop", "free-play loop: surface angle against hinge moment, one per clearance")
-def fig_free_play_loop(study, cases, style):
-    summ = study.summary
-    if "free_play" not in summ or not np.isfinite(np.asarray(summ["free_play"], float)).any():
-        raise Skip("no free-play metrics (a triangle hinge moment) in the summary")
-    cases = [c for c in with_signals(cases, "hinge_moment", "surface_angle")
-             if np.isfinite(float(summ["free_play"][c.row]))]
-    if not cases:
-        raise Skip("no case with a free-play loop recorded (signals hinge_moment, surface_angle)")
-    fig, axes = plt.subplots(1, 2, figsize=(12, 5.2), layout="constrained")
-    handles, labels = [], []
-    for c in cases:
-        t, m, a = sigs(c, "time", "hinge_moment", "surface_angle")
-        kp, kn = (float(summ[f"stiffness_{side}"][c.row]) for side in ("positive", "negative"))
-        k = 0.5 * (kp + kn)
-        axes[0].plot(m, np.degrees(a), color=style(c), lw=0.8)
-        # the loop less the elastic deflection M/K: the free-play is the step across M = 0
-        axes[1].plot(m, np.degrees(a - m / k), color=style(c), lw=0.8)
-        fp = float(summ["free_play"][c.row])
-        text = f"{c.label}: free-play {math.degrees(fp):.3f} deg"
-        crank, clearance = c.parameter("geometry.crank"), clearance_of(c)
-        if crank and clearance:
-            text += f" (2c/s {math.degrees(2 * clearance / float(crank)):.3f})"
-        text += f", K+ {kp / 1e3:.2f}, K- {kn / 1e3:.2f} kN m/rad"
-        handles.append(Line2D([], [], color=style(c), lw=2))
-        labels.append(text)
-    axes[0].set_ylabel("surface angle θ [deg]")
-    axes[1].set_ylabel("θ − M/K [deg], K the mean loaded stiffness")
-    axes[0].set_title("the loop", fontsize="small", loc="left")
-    axes[1].set_title("the loop less the elastic deflection: free-play across M = 0",
-                      fontsize="small", loc="left")
-    for ax in axes:
-        ax.set_xlabel(axis_label("hinge moment", cases[0].unit("hinge_moment")))
-        ax.grid(True, alpha=0.3)
-    bottom_legend(fig, handles, labels)
-    set_suptitle(fig, title(study, "Free-play ground test: surface angle against a slowly "
-                              "reversing hinge moment, actuator holding (docs/inputs.md)"))
-    return fig
+# the inputs' figures (bode, free_play_loop) are in plots/input_figures.py
+input_figures.register(sys.modules[__name__])
 
 
 def save(fig, path, dpi):

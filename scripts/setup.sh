@@ -2,11 +2,23 @@
 # Set-up for rodend: install the Debian 12 packages the project needs (only the
 # missing ones), then configure and build. Non-interactive and idempotent.
 #
-#   bash scripts/setup.sh            # Release build in ./build
+#   bash scripts/setup.sh            # Release build in ./build, every target
 #   RODEND_BUILD_DIR=build-asan RODEND_CMAKE_ARGS="-DRODEND_SANITIZE=ON" bash scripts/setup.sh
 #   RODEND_BUILD_TARGETS=rodend_tests bash scripts/setup.sh   # only the unit-test executable
+#
+# Warnings are errors (-Werror, RODEND_WERROR=ON) in a build this script configures afresh,
+# unless RODEND_WERROR_DEFAULT says otherwise (scripts/main.sh: OFF, a user's build); a build
+# directory configured before keeps its setting (switching it would recompile everything);
+# RODEND_WERROR=ON|OFF sets it either way (.ci/run: ON). Each step prints what it took.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+step_start=$(date +%s)
+took() {  # "setup: STEP took Ns", then restart the clock
+  local now
+  now=$(date +%s)
+  echo "setup: $1 took $((now - step_start)) s" >&2
+  step_start=$now
+}
 
 packages=(
   build-essential cmake pkg-config git
@@ -35,15 +47,29 @@ if [ ${#missing[@]} -gt 0 ]; then
 else
   echo "setup: all Debian packages present" >&2
 fi
+took "the Debian packages"
 
 build_dir="${RODEND_BUILD_DIR:-build}"
+werror=()
+if [ -n "${RODEND_WERROR:-}" ]; then
+  werror=(-DRODEND_WERROR="$RODEND_WERROR")
+elif [ ! -f "$build_dir/CMakeCache.txt" ]; then
+  werror=(-DRODEND_WERROR="${RODEND_WERROR_DEFAULT:-ON}")
+fi
 # shellcheck disable=SC2086
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE="${RODEND_BUILD_TYPE:-Release}" \
-  -DRODEND_WERROR="${RODEND_WERROR:-ON}" ${RODEND_CMAKE_ARGS:-} >/dev/null
+  "${werror[@]}" ${RODEND_CMAKE_ARGS:-} >/dev/null
+if grep -q '^RODEND_WERROR:BOOL=ON' "$build_dir/CMakeCache.txt"; then
+  echo "setup: $build_dir: warnings are errors (RODEND_WERROR=ON)" >&2
+else
+  echo "setup: $build_dir: warnings are not errors (RODEND_WERROR=OFF; the tests' own code and CI keep -Werror)" >&2
+fi
+took "configuring $build_dir"
 # RODEND_BUILD_TARGETS: build only these targets (space-separated; default: all)
 targets=()
 for t in ${RODEND_BUILD_TARGETS:-}; do targets+=(--target "$t"); done
 cmake --build "$build_dir" -j"$(nproc)" "${targets[@]}"
+took "building ${RODEND_BUILD_TARGETS:-every target}"
 
 # The Python package (docs/python.md "Installing"): rodend installed with pip into a virtual
 # environment of this clone, .venv/ (its own copy: nothing is written into the system's Python,
@@ -59,7 +85,9 @@ for site in $(/usr/bin/python3 -c 'import site; print(*site.getsitepackages(), s
     rm -f "$site/rodend.pth" && echo "setup: removed $site/rodend.pth (an earlier set-up's)" >&2
   fi
 done
-if [ "${RODEND_PYTHON_VENV:-1}" = 1 ] && [ "$build_dir" = build ] && [ -z "${RODEND_BUILD_TARGETS:-}" ] &&
+python_built=0  # the Python module is among the targets built
+case " ${RODEND_BUILD_TARGETS:-_rodend} " in *" _rodend "*) python_built=1 ;; esac
+if [ "${RODEND_PYTHON_VENV:-1}" = 1 ] && [ "$build_dir" = build ] && [ "$python_built" = 1 ] &&
   compgen -G "build/python/_rodend*.so" >/dev/null; then
   if [ ! -x .venv/bin/python ]; then
     /usr/bin/python3 -m venv --system-site-packages .venv
@@ -67,8 +95,23 @@ if [ "${RODEND_PYTHON_VENV:-1}" = 1 ] && [ "$build_dir" = build ] && [ -z "${ROD
   if RODEND_PIP_BUILD_DIR="$(pwd)/build" .venv/bin/python -m pip install --no-index --no-cache-dir \
     --no-build-isolation --quiet . >.venv/rodend-install.log 2>&1; then
     echo "setup: rodend installed into $(pwd)/.venv (.venv/bin/python -c 'import rodend')" >&2
+    # the Jupyter kernel "rodend": this .venv's python, for examples/study.ipynb (which names
+    # it) and any notebook; registered for this user (~/.local/share/jupyter/kernels/rodend,
+    # where every Jupyter of the user looks; written again on each set-up: the last clone set
+    # up is the one it runs). RODEND_JUPYTER_KERNEL=0 skips it.
+    if [ "${RODEND_JUPYTER_KERNEL:-1}" = 1 ]; then
+      if .venv/bin/python -m ipykernel install --user --name rodend \
+        --display-name "Python (rodend: $(pwd))" >.venv/kernel-install.log 2>&1; then
+        echo "setup: Jupyter kernel 'rodend' runs $(pwd)/.venv/bin/python" >&2
+      else
+        echo "setup: registering the Jupyter kernel failed (see .venv/kernel-install.log)" >&2
+      fi
+    fi
   else
     echo "setup: pip install into .venv failed (see .venv/rodend-install.log); use" \
       "PYTHONPATH=$(pwd)/python" >&2
   fi
+fi
+if [ "${RODEND_PYTHON_VENV:-1}" = 1 ] && [ "$python_built" = 1 ] && [ -x .venv/bin/python ]; then
+  took "the Python package in .venv"
 fi

@@ -4,6 +4,7 @@ summaries of the shipped studies (standard library only):
 
     build/rodend run studies/planar-slider-crank-clearance.json
     build/rodend run studies/planar-slider-crank-band.json
+    build/rodend run studies/planar-slider-crank-start-angle.json    (the starting angle)
     build/rodend run studies/planar-slider-crank-flexible-rod.json   (issue 36 item 4a)
     build/rodend run studies/planar-slider-crank-guide.json          (item 4b)
     build/rodend run studies/planar-slider-crank-motor.json          (item 4c)
@@ -62,31 +63,83 @@ def baseline(results):
               f"{float(r['steady_min_eccentricity_ratio']):.3f} |")
 
 
+FRICTION = "parameters.friction.dynamic_coefficient"
+
+
+def friction_group(r):
+    """The band's two friction readings: the frictionless joint (c_f = 0, the published Adams
+    contact code's normal force only) and the dry joint (c_f 0.1-0.3)."""
+    return "frictionless" if float(r[FRICTION]) == 0.0 else "dry"
+
+
 def band(results):
     by_c = {}
     for r in rows(results, "planar-slider-crank-band"):
         assert r["status"] == "ok", r
-        by_c.setdefault(float(r[CLEARANCE]), []).append(r)
-    print("| clearance | cases | measured | " + " | ".join(label for _, label in METRICS) + " |")
-    print("| --- " * (3 + len(METRICS)) + "|")
-    for c in sorted(by_c):
+        by_c.setdefault((friction_group(r), float(r[CLEARANCE])), []).append(r)
+    print("| joint | clearance | cases | settled | measured | " +
+          " | ".join(label for _, label in METRICS) + " |")
+    print("| --- " * (5 + len(METRICS)) + "|")
+    for g, c in sorted(by_c, reverse=True):
         cells = []
         for k, _ in METRICS:
-            v = [float(r[k]) for r in by_c[c] if not math.isnan(float(r[k]))]
+            v = [float(r[k]) for r in by_c[(g, c)] if not math.isnan(float(r[k]))]
             fmt = "{:.3f}" if k == "steady_min_eccentricity_ratio" else "{:.0f}"
             cells.append(fmt.format(min(v)) + " – " + fmt.format(max(v)))
-        print(f"| {c * 1e3:.1f} mm | {len(by_c[c])} | {MEASURED[c]} | " + " | ".join(cells) + " |")
+        settled = sum(int(float(r["slider_response_settled"])) for r in by_c[(g, c)])
+        print(f"| {g} | {c * 1e3:.1f} mm | {len(by_c[(g, c)])} | {settled} | {MEASURED[c]} | " +
+              " | ".join(cells) + " |")
     print()
     # the largest median-revolution peak of each clearance and what set it
-    keys = ["parameters.friction.dynamic_coefficient", "parameters.rod.inertia",
-            "parameters.gravity", "parameters.contact.ball_radius",
-            "parameters.contact.bearing_length"]
+    keys = [FRICTION, "parameters.rod.inertia", "parameters.gravity",
+            "parameters.contact.ball_radius", "parameters.contact.bearing_length"]
     k = METRICS[0][0]
-    for c in sorted(by_c):
+    for g, c in sorted(by_c, reverse=True):
         for pick, name in ((max, "largest"), (min, "smallest")):
-            r = pick(by_c[c], key=lambda r: float(r[k]))
-            print(f"- {c * 1e3:.1f} mm, {name} median revolution peak {float(r[k]):.1f} m/s² at " +
-                  ", ".join(f"{x.split('.')[-1]} {r[x]}" for x in keys))
+            r = pick(by_c[(g, c)], key=lambda r: float(r[k]))
+            print(f"- {g}, {c * 1e3:.1f} mm, {name} median revolution peak {float(r[k]):.1f} m/s² "
+                  "at " + ", ".join(f"{x.split('.')[-1]} {r[x]}" for x in keys))
+
+
+def start_angle(results):
+    """The starting angle (studies/planar-slider-crank-start-angle.json): per friction and
+    clearance, the median and 95 % revolution peaks (unfiltered and low-passed) at theta0 = 0,
+    their range over the starting angles and its deviation from theta0 = 0, the settled cases."""
+    angle = "parameters.drive.initial_crank_angle"
+    by = {}
+    for r in rows(results, "planar-slider-crank-start-angle"):
+        assert r["status"] == "ok", r
+        by.setdefault((float(r[FRICTION]), float(r[CLEARANCE])), []).append(r)
+    print("| c_f | clearance | measured | " +
+          " | ".join(f"{label} at θ₀ = 0; over θ₀" for _, label in METRICS[:4]) +
+          " | settled | min abs(e)/c |")
+    print("| --- " * 9 + "|")
+    for f, c in sorted(by):
+        rs = by[(f, c)]
+        zero = next(r for r in rs if float(r[angle]) == 0.0)
+        cells = []
+        for k, _ in METRICS[:4]:
+            v = [float(r[k]) for r in rs]
+            z = float(zero[k])
+            cells.append(f"{z:.1f}; {min(v):.1f} – {max(v):.1f} "
+                         f"({100 * (min(v) - z) / z:+.0f} … {100 * (max(v) - z) / z:+.0f} %)")
+        settled = sum(int(float(r["slider_response_settled"])) for r in rs)
+        ecc = min(float(r["steady_min_eccentricity_ratio"]) for r in rs)
+        print(f"| {f} | {c * 1e3:.1f} mm | {MEASURED[c]} | " + " | ".join(cells) +
+              f" | {settled} of {len(rs)} | {ecc:.3f} |")
+    print()
+    # does the low-passed median grow with clearance, starting angle by starting angle?
+    low = METRICS[2][0]
+    for f in sorted({f for f, _ in by}):
+        lp = {}
+        for c in sorted(MEASURED):
+            for r in by.get((f, c), []):
+                lp.setdefault(float(r[angle]), []).append(float(r[low]))
+        grows = [a for a, v in lp.items() if all(y > x for x, y in zip(v, v[1:]))]
+        print(f"- c_f {f}: the low-passed median grows with clearance from {len(grows)} of "
+              f"{len(lp)} starting angles" +
+              (" (θ₀/π = " + ", ".join(f"{a / math.pi:g}" for a in sorted(grows)) + ")"
+               if grows else ""))
 
 
 # the model forms (issue 36 items 4-5): study, its varied keys (short names), what it adds
@@ -153,5 +206,10 @@ if __name__ == "__main__":
         band(where)
     else:
         print("(no results of planar-slider-crank-band)")
+    print()
+    if (Path(where) / "planar-slider-crank-start-angle" / "summary.csv").exists():
+        start_angle(where)
+    else:
+        print("(no results of planar-slider-crank-start-angle)")
     print()
     model_forms(where)

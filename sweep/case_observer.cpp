@@ -57,6 +57,35 @@ CaseObserver::CaseObserver(const Scene& scene, const CaseSpec& spec, History* h)
       h->values[i].reserve(n * static_cast<std::size_t>(signal_spec(spec.signals[i]).width));
   }
   if (const WearModel* w = scene.wear_model()) wear_.emplace(*w);
+  if (h)
+    for (const SensorSpec& s : active_sensors(spec.sensors, scene))
+      sensors_.emplace_back(s, spec.sensors.noise_scale, spec.sensors.seed, spec.design_sample);
+}
+
+void CaseObserver::on_step(const SignalFrame& f) {
+  metrics_.on_step(f);
+  for (SensorChannel& s : sensors_) s.advance(f);
+}
+
+void CaseObserver::record_sensors(MetricValues& m, History& h) const {
+  metrics_.finish_sensed(sensors_, m);
+  for (const SensorChannel& s : sensors_) {
+    const SensorSpec& x = s.spec();
+    const std::string time = x.name + "_time", unit(signal_spec(s.signal()).unit);
+    const std::size_t n = s.times().size();
+    std::string what = "sensor " + x.name + ": " + x.signal;
+    if (signal_spec(s.signal()).width > 1) what += "[" + std::to_string(x.component) + "]";
+    h.arrays.push_back(
+        {"sensors", time, "s", "sample times of sensor " + x.name, {n}, s.times(), {time}});
+    h.arrays.push_back({"sensors",
+                        x.name,
+                        unit,
+                        what + " as the instrument reports it (noise, " +
+                            "bias, quantisation, low-pass, own sampling rate: docs/sensors.md)",
+                        {n},
+                        s.values(),
+                        {time}});
+  }
 }
 
 std::atomic<bool>& case_interrupt() {
@@ -69,6 +98,10 @@ void CaseObserver::on_sample(const SignalFrame& f) {
   if (case_interrupt().load(std::memory_order_relaxed)) throw CaseInterrupted{};
   if (wear_) sliding_work_ = f.get(SignalId::sliding_work);
   if (!history_) return;
+  if (!sensors_started_) {  // the frame at t = 0 starts them; the later samples are not theirs
+    for (SensorChannel& s : sensors_) s.start(f);
+    sensors_started_ = true;
+  }
   for (std::size_t i = 0; i < history_->signals.size(); ++i) {
     const SignalId id = history_->signals[i];
     const double* v = f.data(id);

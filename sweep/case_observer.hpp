@@ -11,6 +11,7 @@
 #include "core/wear.hpp"
 #include "sweep/metrics.hpp"
 #include "sweep/results.hpp"
+#include "sweep/sensor_channel.hpp"
 #include "sweep/study.hpp"
 
 namespace rodend {
@@ -34,7 +35,7 @@ class CaseObserver final : public RunObserver {
   /// evolution need only their wear).
   CaseObserver(const Scene& scene, const CaseSpec& spec, History* history);
   void on_sample(const SignalFrame& f) override;
-  void on_step(const SignalFrame& f) override { metrics_.on_step(f); }
+  void on_step(const SignalFrame& f) override;
   bool wants_steps() const override { return history_ != nullptr; }
   bool wants_peak(ContactPeak::Kind kind, int, double t0, double bound) const override {
     return metrics_.wants_peak(kind, t0, bound);
@@ -51,12 +52,19 @@ class CaseObserver final : public RunObserver {
   double sliding_work() const { return sliding_work_; }
   /// Adds the wear metrics and the maps (group "wear") of this run to a case's record.
   void record_wear(MetricValues& m, History& h) const;
+  /// The sensors' records (group "sensors"): per sensor its samples and their times; and the
+  /// sensed_* metrics read from them.
+  void record_sensors(MetricValues& m, History& h) const;
+  /// The sensors of the case (those of spec.sensors its scene has), as recorded so far.
+  const std::vector<SensorChannel>& sensors() const { return sensors_; }
 
  private:
   History* history_;
   MetricsAccumulator metrics_;
   std::optional<WearAccumulator> wear_;
   double sliding_work_;
+  std::vector<SensorChannel> sensors_;  // with a history only
+  bool sensors_started_ = false;
 };
 
 /// Writes wear metrics for the maps `ball`, `socket` into `m` and the maps, with their axes,

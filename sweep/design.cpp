@@ -208,10 +208,13 @@ double Distribution::moment_std() const {
 
 Json Distribution::to_json() const {
   Json j = {{"distribution", std::string(to_string(kind))}};
+  // a truncated normal's study keys mean and std are its parent normal's: recorded under
+  // names that say so, mean and std below being always the distribution's own moments
+  const bool parent = kind == DistributionKind::truncated_normal;
   for (const std::string_view key : distribution_info(kind).keys) {
     const std::string k(key);
-    if (k == "mean") j[k] = mean;
-    if (k == "std") j[k] = std;
+    if (k == "mean") j[parent ? "parent_mean" : k] = mean;
+    if (k == "std") j[parent ? "parent_std" : k] = std;
     if (k == "lower") j[k] = lower;
     if (k == "upper") j[k] = upper;
     if (k == "mode") j[k] = mode;

@@ -62,7 +62,8 @@ struct Distribution {
   double quantile(double u) const;
   double moment_mean() const;  ///< E[X]
   double moment_std() const;   ///< sqrt(Var[X])
-  /// {"distribution", its parameters, "mean", "std"} (moments; for truncated-normal the parent's)
+  /// {"distribution", its parameters, "mean", "std"}: mean and std are the moments (E[X],
+  /// sqrt(Var[X])); a truncated normal's parent parameters are "parent_mean", "parent_std"
   Json to_json() const;
 };
 

@@ -2,11 +2,13 @@
 // method's own keys and the factors with their distributions; then the points drawn.
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
 
 #include "core/errors.hpp"
 #include "core/json_text.hpp"
 #include "sweep/design.hpp"
+#include "sweep/results.hpp"
 
 namespace rodend {
 namespace {
@@ -90,6 +92,26 @@ void read_discrete(Distribution& d, const Json& f, const std::string& where) {
   }
 }
 
+/// A lognormal of this mean and std whose every drawn value is a positive finite number: the
+/// log's std sqrt(ln(1 + (std/mean)^2)) positive and finite (std/mean within about 1e-154 to
+/// 1e154) and the quantiles at the ends of the unit interval inside (0, inf).
+void check_lognormal_spread(const Distribution& d, const std::string& where) {
+  const double ratio = d.std / d.mean;
+  bool ok = std::isfinite(std::log1p(ratio * ratio)) && std::log1p(ratio * ratio) > 0.0;
+  try {
+    ok = ok && std::isfinite(d.quantile(1.0)) && d.quantile(0.0) > 0.0;
+  } catch (const std::exception&) {  // Boost.Math's overflow or domain error
+    ok = false;
+  }
+  if (!ok)
+    throw InputError(where + ".std",
+                     "std / mean = " + shortest_decimal(ratio) +
+                         " gives a lognormal whose drawn values are not all positive finite "
+                         "numbers (its log's std sqrt(ln(1 + (std/mean)^2)) is 0 or infinite, or "
+                         "its quantiles overflow); expected a ratio between about 1e-154 and 1e154 "
+                         "and a mean far from the largest double");
+}
+
 /// The distribution's own checks: positive spreads, ordered bounds, a truncation that keeps
 /// some probability.
 void check_distribution(const Distribution& d, const std::string& where) {
@@ -102,6 +124,7 @@ void check_distribution(const Distribution& d, const std::string& where) {
     throw InputError(where + ".upper", "expected upper > lower (the bounds are inverted or equal)");
   if (d.kind == K::lognormal && !(d.mean > 0.0))
     throw InputError(where + ".mean", "expected a mean > 0 (a lognormal variable is positive)");
+  if (d.kind == K::lognormal) check_lognormal_spread(d, where);
   if (d.kind == K::triangular && !(d.mode >= d.lower && d.mode <= d.upper))
     throw InputError(where + ".mode", "expected lower <= mode <= upper");
   // an interval far in a tail holds no probability in double precision: its moments are not

@@ -30,8 +30,9 @@ constexpr std::size_t kHeader = 16;  // a block's size, before it; keeps 16-byte
 Region g_regions[kSlots];
 std::atomic<int> g_mapped{0};  // regions mapped: 0 lets free() skip the search
 std::atomic<bool> g_enabled{false};
-thread_local int t_stack[kMaxDepth];
-thread_local int t_depth = 0;
+// initial-exec: reaching them allocates nothing (this code runs inside malloc)
+[[gnu::tls_model("initial-exec")]] thread_local int t_stack[kMaxDepth];
+[[gnu::tls_model("initial-exec")]] thread_local int t_depth = 0;
 
 int find_region(const void* p) {
   if (g_mapped.load(std::memory_order_acquire) == 0) return -1;
@@ -112,21 +113,28 @@ extern "C" void rodend_reserve_enable(void) noexcept {
   rodend::g_enabled.store(true);
 }
 
-extern "C" void* rodend_reserve_alloc(std::size_t size) noexcept {
-  if (size > (std::size_t{1} << 40)) return nullptr;
+extern "C" void* rodend_reserve_alloc_aligned(std::size_t alignment, std::size_t size) noexcept {
+  if (size > (std::size_t{1} << 40) || alignment > (std::size_t{1} << 30) ||
+      (alignment & (alignment - 1)) != 0)
+    return nullptr;
+  if (alignment < kHeader) alignment = kHeader;
   if (size == 0) size = 1;  // a block's size is never 0 (rodend_reserve_block_size)
-  const std::size_t need = kHeader + ((size + 15) & ~std::size_t{15});
   for (int d = rodend::t_depth - 1; d >= 0; --d) {
     rodend::Region& r = g_regions[rodend::t_stack[d]];
-    const std::size_t used = r.used.load();
-    if (used + need > r.size.load()) continue;
-    auto* block = reinterpret_cast<unsigned char*>(r.base.load()) + used;
-    r.used.store(used + need);
+    const std::uintptr_t base = r.base.load();
+    const std::uintptr_t at = (base + r.used.load() + kHeader + alignment - 1) & ~(alignment - 1);
+    const std::size_t end = at - base + ((size + 15) & ~std::size_t{15});
+    if (end > r.size.load()) continue;
+    r.used.store(end);
     r.live.fetch_add(1);
-    *reinterpret_cast<std::size_t*>(block) = size;  // fresh pages: the rest is zero
-    return block + kHeader;
+    *reinterpret_cast<std::size_t*>(at - kHeader) = size;  // fresh pages: the rest is zero
+    return reinterpret_cast<void*>(at);
   }
   return nullptr;
+}
+
+extern "C" void* rodend_reserve_alloc(std::size_t size) noexcept {
+  return rodend_reserve_alloc_aligned(kHeader, size);
 }
 
 extern "C" std::size_t rodend_reserve_block_size(const void* p) noexcept {

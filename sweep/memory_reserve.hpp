@@ -6,8 +6,8 @@
 // is free is not enough with -j 2: while one thread is inside HDF5, the other (integrating a
 // case) may take that memory. So a MemoryReserve maps its bytes for the whole HDF5 session, and
 // an allocation of the reserving thread that the system refuses is served from them instead
-// (app/malloc_fallback.cpp, the rodend executable's malloc, which forwards everything else to
-// glibc). The reserve's blocks are ordinary memory to their users; freeing the last one
+// (app/malloc_fallback.cpp, the rodend executable's allocator: every entry point glibc's rules
+// for a replacement name, each glibc's first). The reserve's blocks are ordinary memory to their users; freeing the last one
 // unmaps the reserve. Whoever else runs short gets NULL, which rodend's own code turns into the
 // clean "out of memory" exit (sweep/runner.cpp).
 //
@@ -44,6 +44,8 @@ void rodend_reserve_enable(void) noexcept;
 /// A block of `size` bytes (16-byte aligned, zeroed) from the calling thread's innermost
 /// reserve with room, or NULL.
 void* rodend_reserve_alloc(std::size_t size) noexcept;
+/// The same, aligned to `alignment` (a power of two; at least 16 is given); NULL if it is not one.
+void* rodend_reserve_alloc_aligned(std::size_t alignment, std::size_t size) noexcept;
 /// The usable size of `p` if a reserve's block (then `p` stays valid), else 0.
 std::size_t rodend_reserve_block_size(const void* p) noexcept;
 /// Frees `p` and returns 1 if it is a reserve's block; 0 (and nothing done) otherwise.

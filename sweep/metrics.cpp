@@ -54,6 +54,10 @@ MetricsAccumulator::MetricsAccumulator(const Scene& scene, const MetricsSettings
   v_.fill(kNaN);
   if (has_crank_ && settings_.lowpass_cutoff > 0.0)
     lowpass_.emplace(settings_.lowpass_cutoff, settings_.lowpass_order);
+  if (has_surface_ && provides(scene, SignalId::surface_acceleration))
+    accel_hf_.emplace(settings_.feature_highpass, settings_.onset_window);
+  if (has_chambers_ && has_contact_)
+    pressure_hf_.emplace(settings_.feature_highpass, settings_.onset_window);
   if (has_contact_) {
     for (MetricId id : {MetricId::first_impact_peak_force, MetricId::max_contact_force,
                         MetricId::max_eccentricity, MetricId::max_penetration,
@@ -73,6 +77,8 @@ void MetricsAccumulator::on_step(const SignalFrame& f) {
   if (has_crank_) step_crank(f, t, dt);
   if (has_energy_) step_energy(f);
   if (periodic_.active()) periodic_.on_step(f);
+  if (accel_hf_) accel_hf_->add(t, f.get(SignalId::surface_acceleration));
+  if (pressure_hf_) pressure_hf_->add(t, f.get(SignalId::chamber_pressures, 0));
   t_prev_ = t;
   first_step_ = false;
 }
@@ -276,6 +282,8 @@ void MetricsAccumulator::on_contact_peak(const ContactPeak& p) {
 }
 
 void MetricsAccumulator::on_contact_onset(double t, double impact_speed) {
+  onset_times_.push_back(t);
+  if (pressure_hf_) pressure_hf_->onset(t);
   if (has_contact_ && onsets_++ == 0) {
     at(v_, MetricId::first_contact_time) = t;
     at(v_, MetricId::first_impact_speed) = impact_speed;
@@ -515,6 +523,7 @@ MetricValues MetricsAccumulator::finish(const RunStats& stats) const {
     if (revolution_ >= 1) finish_crank(v);
   }
   if (periodic_.active()) finish_periodic(v);
+  finish_features(v);
   at(v, MetricId::max_penetration_fraction) = stats.max_penetration_fraction;
   at(v, MetricId::max_penetration_strain) = stats.max_penetration_strain;
   at(v, MetricId::max_quaternion_norm_error) = stats.max_quaternion_norm_error;

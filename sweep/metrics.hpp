@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/integrator.hpp"
+#include "sweep/feature_metrics.hpp"
 #include "sweep/periodic_metrics.hpp"
 
 namespace rodend {
@@ -42,6 +43,10 @@ struct MetricsSettings {
   /// [Hz] cut-off of the anti-alias low-pass of the rig metrics (ButterworthLowPass); 0 = off
   double lowpass_cutoff = 1000.0;
   int lowpass_order = 4;  ///< [-] order of that Butterworth low-pass
+  /// [Hz] the diagnostic features' high-pass: above the linkage's 71 Hz mode and the commands
+  double feature_highpass = 200.0;
+  /// [s] pressure_ripple's window after an onset: 0.7 periods of the linkage's 71 Hz mode
+  double onset_window = 0.01;
 };
 
 /// A Butterworth low-pass of order n and cut-off f_c, run forward (causal, as the anti-alias
@@ -131,6 +136,9 @@ class MetricsAccumulator {
   void on_contact_peak(const ContactPeak& p);
   /// Final values; the driver's stats supply the health metrics.
   MetricValues finish(const RunStats& stats) const;
+  /// The sensed_* diagnostic features from the case's sensors' records
+  /// (sweep/feature_metrics.cpp), into values finish() returned.
+  void finish_sensed(const std::vector<SensorChannel>& sensors, MetricValues& v) const;
 
  private:
   /// The rig metrics (RigRevolution): one frame into the revolution under way, and the end of
@@ -186,6 +194,11 @@ class MetricsAccumulator {
   std::vector<RigRevolution> rig_revolutions_;
   std::optional<ButterworthLowPass> lowpass_;
   bool lowpass_started_ = false;
+  // the diagnostic features (sweep/feature_metrics.cpp): exact surface acceleration and
+  // chamber-1 pressure, the onsets' times
+  std::optional<HighPassFeature> accel_hf_, pressure_hf_;
+  std::vector<double> onset_times_;
+  void finish_features(MetricValues& v) const;
 };
 
 }  // namespace rodend

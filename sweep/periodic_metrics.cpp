@@ -207,9 +207,53 @@ PeriodicMetrics PeriodicAccumulator::finish() const {
     m.free_play = a_pos - a_neg;
     m.stiffness_positive = 1.0 / b_pos;
     m.stiffness_negative = 1.0 / b_neg;
-    m.hysteresis = std::abs(load_->loop_area(k, 0, 1));
+    // the work of the hinge moment on the surface over the period, oint M d(theta): what the
+    // linkage and the actuator take from the load (dissipated, the loop run clockwise in
+    // (theta, M)); negative when the held actuator feeds energy into the loop. The moment is 0
+    // at the period's ends (a triangle from 0), so this is -oint theta dM, the loop's area in
+    // (M, theta) run the other way, whether or not the loop closes.
+    m.hysteresis = load_->loop_area(k, 1, 0);
   }
   return m;
+}
+
+std::optional<PeriodicInput> PeriodicAccumulator::drive() const {
+  if (command_) return command_in_;
+  if (load_) return load_in_;
+  return std::nullopt;
+}
+
+std::pair<double, double> PeriodicAccumulator::sensed_response(const std::vector<double>& t,
+                                                               const std::vector<double>& y,
+                                                               double scale) const {
+  const PeriodicMetrics exact = finish();
+  if (!command_ || !std::isfinite(exact.surface_gain) || t.size() != y.size()) return {kNaN, kNaN};
+  const int n = command_->completed();
+  PeriodSamples s(command_in_, 1, 3);
+  for (std::size_t i = 0; i < t.size(); ++i) s.add(t[i], std::span<const double>(&y[i], 1));
+  if (s.completed() != n) return {kNaN, kNaN};
+  std::complex<double> out = 0.0, in = 0.0;
+  for (int k = n - 2; k <= n - 1; ++k) out += s.fourier(k, 0), in += command_->fourier(k, 1);
+  const std::complex<double> h = scale * out / in;
+  return {std::abs(h), std::arg(h)};
+}
+
+std::pair<double, double> PeriodicAccumulator::sensed_loop(const std::vector<double>& t,
+                                                           const std::vector<double>& moment,
+                                                           const std::vector<double>& angle) const {
+  if (!load_ || load_->completed() < 1 || t.size() != moment.size() || t.size() != angle.size())
+    return {kNaN, kNaN};
+  PeriodSamples s(load_in_, 2, 2);
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    const double v[2] = {moment[i], angle[i]};
+    s.add(t[i], v);
+  }
+  if (s.completed() != load_->completed()) return {kNaN, kNaN};
+  const int k = s.completed() - 1;
+  const double A = load_in_.amplitude;  // the branches as finish() reads them
+  const double a_pos = s.fit(k, 0, 1, 0.2 * A, 0.9 * A).first;
+  const double a_neg = s.fit(k, 0, 1, -0.9 * A, -0.2 * A).first;
+  return {s.loop_area(k, 1, 0), a_pos - a_neg};  // oint M dtheta, as finish()
 }
 
 }  // namespace rodend

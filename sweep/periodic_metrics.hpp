@@ -58,6 +58,18 @@ class PeriodicAccumulator {
   bool active() const { return command_.has_value() || load_.has_value(); }
   void on_step(const SignalFrame& f);
   PeriodicMetrics finish() const;
+  /// The input the metrics read over: the command, else the hinge moment (none: nullopt).
+  std::optional<PeriodicInput> drive() const;
+  /// surface_gain and surface_phase from a sensor's samples (t, y), linear between them, with
+  /// the surface angle y x `scale` (1 for an angle, -1/(2 pi f)^2 for an acceleration): over the
+  /// periods finish() uses, against the exact surface_angle_command. NaN when finish()'s are.
+  std::pair<double, double> sensed_response(const std::vector<double>& t,
+                                            const std::vector<double>& y, double scale) const;
+  /// hysteresis and free_play from the samples of a moment and an angle sensor taken at the
+  /// same times: {hysteresis, free_play}, NaN when they cannot be read.
+  std::pair<double, double> sensed_loop(const std::vector<double>& t,
+                                        const std::vector<double>& moment,
+                                        const std::vector<double>& angle) const;
 
   /// The settling tolerance: the complex response ratios of the last two whole periods differ
   /// by at most this fraction of the last (0.5 %: 0.5 % of gain, 0.29 deg of phase).

@@ -82,12 +82,21 @@ void Progress::case_done(bool failed) {
     std::fprintf(stderr, "\r[%ld/%ld] %ld failed, elapsed %s, ETA %s   ", done_, total_, failed_,
                  format_duration(elapsed).c_str(), format_duration(eta).c_str());
     if (done_ == total_) std::fprintf(stderr, "\n");
+    line_open_ = done_ != total_;
   } else if (done_ == total_ || elapsed - last_print_ >= 10.0) {
     last_print_ = elapsed;
     std::fprintf(stderr, "rodend: %ld/%ld cases done, %ld failed, elapsed %s, ETA %s\n", done_,
                  total_, failed_, format_duration(elapsed).c_str(), format_duration(eta).c_str());
   }
   std::fflush(stderr);
+}
+
+void Progress::break_line() {
+  std::lock_guard lock(mutex_);
+  if (!line_open_) return;
+  std::fprintf(stderr, "\n");
+  std::fflush(stderr);
+  line_open_ = false;
 }
 
 bool in_shard(const CaseSpec& c, const RunOptions& o) {
@@ -114,6 +123,7 @@ CaseRecord run_single_case(const CaseSpec& spec, History& history) {
   rec.rhs_calls = r.stats.rhs_calls;
   rec.metrics = obs.finish(r.stats);
   obs.record_wear(rec.metrics, history);
+  obs.record_sensors(rec.metrics, history);
   return rec;
 }
 
@@ -578,6 +588,7 @@ int run_study(const Study& study, const RunOptions& opt) {
                                plan.cases_dir.string() +
                                "; no summary written. Resume with: " + plan.resume);
     if (const int sig = stop_signal(); sig != 0) {
+      progress.break_line();
       run_message(opt.events, std::string("stopped by ") + stop_signal_name(sig) + ": " +
                                   std::to_string(complete()) + " of " +
                                   std::to_string(plan.in_scope) + " case(s) complete in " +

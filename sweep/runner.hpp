@@ -154,10 +154,14 @@ class Progress {
  public:
   Progress(bool enabled, long total, long already, const RunEvents& events = {});
   void case_done(bool failed);
+  /// Ends the updating progress line of a terminal, so that a message after it (the stop after
+  /// a signal) starts on a line of its own.
+  void break_line();
 
  private:
   RunEvents events_;
   bool enabled_, tty_;
+  bool line_open_ = false;  // an updating line without its newline is on the terminal
   long total_, done_, failed_ = 0;
   std::chrono::steady_clock::time_point start_;
   long already_;

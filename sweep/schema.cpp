@@ -40,6 +40,36 @@ Json parameter_schema(const Json& leaf) {
   return s;
 }
 
+/// The "sensors" block (sweep/sensors.hpp): a default set, the seed, the noise factor and the
+/// sensors by name.
+Json sensors_schema() {
+  Json signals = Json::array();
+  for (SignalId id : kStepSignals)
+    if (id != SignalId::time) signals.push_back(std::string(signal_spec(id).name));
+  const Json number = {{"type", "number"}};
+  const Json sensor = {
+      {"type", "object"},
+      {"additionalProperties", false},
+      {"properties",
+       {{"signal", {{"enum", signals}, {"description", "the signal read (accepted-step frames)"}}},
+        {"component", {{"type", "integer"}, {"minimum", 0}, {"maximum", 2}}},
+        {"noise_std", {{"type", "number"}, {"minimum", 0}, {"description", "white noise, std"}}},
+        {"bias", number},
+        {"quantisation", {{"type", "number"}, {"minimum", 0}}},
+        {"filter_order", {{"type", "integer"}, {"minimum", 0}, {"maximum", 2}}},
+        {"cutoff", {{"type", "number"}, {"exclusiveMinimum", 0}, {"description", "[Hz]"}}},
+        {"rate", {{"type", "number"}, {"exclusiveMinimum", 0}, {"description", "[Hz]"}}}}}};
+  return {{"type", "object"},
+          {"description",
+           "instruments recording signals with noise, bias, quantisation, a "
+           "low-pass and their own sampling rate (docs/sensors.md)"},
+          {"properties",
+           {{"defaults", {{"enum", sensor_set_names()}}},
+            {"seed", {{"type", "integer"}, {"minimum", 0}}},
+            {"noise_scale", {{"type", "number"}, {"minimum", 0}}}}},
+          {"additionalProperties", sensor}};
+}
+
 /// The "design" block (sweep/design.hpp), from its catalogues: the methods, and per
 /// distribution its parameters.
 Json design_schema(const std::string& key_pattern) {
@@ -123,10 +153,12 @@ Json scene_rule(const std::vector<std::string>& scenes, const Json& condition) {
   const Json factor_key = {{"properties", {{"key", {{"enum", keys}}}}}};
   Json axis_keys = keys;
   axis_keys.push_back("scene");
-  const Json axis_key = {{"properties", {{"key", {{"enum", axis_keys}}}}}};
+  // a sensors key names a sensor of the study's own choosing (docs/sensors.md)
+  const Json key_rule = {{"anyOf", {{{"enum", axis_keys}}, {{"pattern", "^sensors\\."}}}}};
+  const Json axis_key = {{"properties", {{"key", key_rule}}}};
   const Json grid_entry = {
       {"anyOf",
-       {{{"required", {"key"}}, {"properties", {{"key", {{"enum", axis_keys}}}}}},
+       {{{"required", {"key"}}, {"properties", {{"key", key_rule}}}},
         {{"required", {"zip"}}, {"properties", {{"zip", {{"items", axis_key}}}}}}}}};
   return {{"if", condition},
           {"then",
@@ -207,6 +239,7 @@ void add_study_properties(Json& props, const std::string& key_pattern) {
                    {"description", "axes combined as a cartesian product, last axis fastest"},
                    {"items", {{"$ref", "#/$defs/grid_entry"}}}};
   props["design"] = design_schema(key_pattern);
+  props["sensors"] = sensors_schema();
   props["output"] = {{"description",
                       "results directory (default results/<name>), or an object with it and the "
                       "storage settings of the histories"},
@@ -247,7 +280,7 @@ Json grid_defs(const std::string& key_pattern) {
 }  // namespace
 
 Json study_schema() {
-  std::set<std::string> sections{"parameters"};
+  std::set<std::string> sections{"parameters", "sensors"};
   Json props = settings_properties(sections);
   std::string key_pattern;
   for (const std::string& s : sections) key_pattern += (key_pattern.empty() ? "" : "|") + s;

@@ -30,6 +30,7 @@
 #include "core/signals.hpp"
 #include "sweep/design.hpp"
 #include "sweep/metrics.hpp"
+#include "sweep/sensors.hpp"
 
 namespace rodend {
 
@@ -81,7 +82,8 @@ struct CaseSpec {
   MetricsSettings metrics;
   std::vector<SignalId> signals;  ///< recorded signals, catalogue order, time first
   WearEvolutionSettings wear_evolution;
-  OutputSettings output;  ///< how its histories are stored (the study's)
+  OutputSettings output;   ///< how its histories are stored (the study's)
+  SensorSettings sensors;  ///< what instruments record (sweep/sensors.hpp; none by default)
   /// its point of the study's sampled design ("design.sample"; -1 without a design): part of
   /// the id, so that two design points drawn alike (a discrete factor) stay two cases
   long design_sample = -1;

@@ -219,6 +219,54 @@ TEST_CASE("every distribution's drawn points have its closed-form moments", "[de
   }
 }
 
+TEST_CASE("design.json records every distribution's moments as mean and std", "[design]") {
+  // a truncated normal's study keys mean and std are its parent's: design.json gives them as
+  // parent_mean and parent_std, and mean and std as the moments (closed form: the variance of
+  // the parent N(3, 1) on [2, 4] as in the test above; N(1, 0.35) on [0.5, 2]: 1.0521, 0.2999,
+  // as OpenTURNS's TruncatedNormal gives them)
+  using K = DistributionKind;
+  const Json t = make(K::truncated_normal, 3.0, 1.0, 2.0, 4.0).to_json();
+  const double phi1 = std::exp(-0.5) / std::sqrt(2.0 * M_PI), mass = std::erf(1.0 / std::sqrt(2.0));
+  CHECK(t.at("mean").get<double>() == Approx(3.0).epsilon(1e-12));
+  CHECK(t.at("std").get<double>() == Approx(std::sqrt(1.0 - 2.0 * phi1 / mass)).epsilon(1e-12));
+  CHECK(t.at("parent_mean").get<double>() == 3.0);
+  CHECK(t.at("parent_std").get<double>() == 1.0);
+  const Json u = make(K::truncated_normal, 1.0, 0.35, 0.5, 2.0).to_json();
+  CHECK(u.at("mean").get<double>() == Approx(1.0521).margin(5e-5));
+  CHECK(u.at("std").get<double>() == Approx(0.2999).margin(5e-5));
+  CHECK(u.at("parent_std").get<double>() == 0.35);
+  // the others: their own mean and std (given, or the moments)
+  CHECK(make(K::lognormal, 2.0, 0.5).to_json().at("std").get<double>() == 0.5);
+  CHECK(make(K::triangular, 0.0, 1.0, 4.0).to_json().at("mean").get<double>() == Approx(5.0 / 3));
+  CHECK_FALSE(make(K::normal, 1.0, 0.5).to_json().contains("parent_mean"));
+}
+
+TEST_CASE("a lognormal whose drawn values would overflow is a bad input naming its std",
+          "[design]") {
+  // std/mean = 1e160: (std/mean)^2 overflows, the log's std is infinite (Boost.Math's "Scale
+  // parameter is inf" while drawing); 1e-200: it underflows to a log std of 0
+  for (const double sd : {1e160 * 3e-4, 1e-200 * 3e-4}) {
+    Json f = Json::parse(R"({"key": "parameters.contact.clearance", "distribution": "lognormal",
+                             "mean": 3e-4})");
+    f["std"] = sd;
+    const Json block = {{"method", "monte-carlo"}, {"size", 4}, {"seed", 1}, {"factors", {f}}};
+    INFO(sd);
+    CHECK_THROWS_WITH(parse_design(block, 1000),
+                      Catch::Contains("design.factors[0].std") &&
+                          Catch::Contains("not all positive finite numbers"));
+  }
+  // mean near the largest double: the quantiles overflow though the ratio is fine
+  Json f = Json::parse(R"({"key": "parameters.contact.clearance", "distribution": "lognormal",
+                           "mean": 1e307, "std": 1e308})");
+  const Json block = {{"method", "monte-carlo"}, {"size", 4}, {"seed", 1}, {"factors", {f}}};
+  CHECK_THROWS_WITH(parse_design(block, 1000), Catch::Contains("design.factors[0].std"));
+  // an ordinary spread passes
+  f["mean"] = 0.2;
+  f["std"] = 0.05;
+  const Json fine = {{"method", "monte-carlo"}, {"size", 4}, {"seed", 1}, {"factors", {f}}};
+  CHECK_NOTHROW(parse_design(fine, 1000));
+}
+
 TEST_CASE("overrides change the design's scalar keys and refuses the rest", "[design]") {
   const Json doc = doc_with(two_factor_design("monte-carlo", 8, 1));
   const Json seeded = apply_overrides(doc, {"design.seed=2", "design.size=4"}, "d.json");

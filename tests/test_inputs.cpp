@@ -3,6 +3,7 @@
 // linearised actuator-and-linkage model derived in docs/inputs.md, and the free-play loop of the
 // ground test against the geometric free-play 2c/s.
 #include <Eigen/Dense>
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <complex>
@@ -198,6 +199,75 @@ TEST_CASE("period samples: the Fourier projection, the loop area and the branch 
 
 namespace {
 
+/// A scene that only declares a triangle hinge moment and the signals the free-play loop reads:
+/// the loop's frames are made by the test (the loop metrics' own arithmetic, no dynamics).
+class LoopStub final : public Scene {
+ public:
+  explicit LoopStub(PeriodicInput load) : load_(load) {}
+  std::string_view name() const override { return "loop-stub"; }
+  Features features() const override { return {}; }
+  int state_size() const override { return 1; }
+  void initial_state(double* x) const override { x[0] = 0.0; }
+  void state_scale(double* s) const override { s[0] = 1.0; }
+  void derivatives(double, const double*, const DiscreteState&, double* d) const override {
+    d[0] = 0.0;
+  }
+  std::span<const SignalId> signals() const override { return kSignals; }
+  void outputs(double, const double*, const DiscreteState&, SignalFrame&) const override {}
+  EnergyTerms energy(double, const double*, const DiscreteState&) const override { return {}; }
+  PeriodicInputs periodic_inputs() const override { return {std::nullopt, load_}; }
+
+ private:
+  static constexpr SignalId kSignals[] = {SignalId::time, SignalId::surface_angle,
+                                          SignalId::hinge_moment};
+  PeriodicInput load_;
+};
+
+/// The triangle of docs/inputs.md, tri(u) rising 0 -> 1 -> -1 -> 0 over one period.
+double tri(double u) {
+  const double v = u - std::floor(u);
+  return v < 0.25 ? 4 * v : v < 0.75 ? 2 - 4 * v : 4 * v - 4;
+}
+
+}  // namespace
+
+TEST_CASE("hysteresis: the signed work of the hinge moment per cycle, oint M dtheta", "[inputs]") {
+  // A friction slider r in series with a spring K: theta = M/K + r. The slider holds at -R
+  // until the rising moment comes within Mf of its peak A, crosses to +R while it rises from
+  // A - Mf to A (linearly in M), holds, and crosses back while the falling moment goes from
+  // -A + Mf to -A. The spring's part closes on itself; each crossing does 2R (A - Mf/2) of
+  // work against the load, so oint M dtheta = 4R (A - Mf/2) > 0: the loop dissipates. Run the
+  // other way in theta (theta = M/K - r, the surface leading the load, as when the held servo
+  // feeds energy in) the same loop gives the opposite sign; |area| would give +4R(A - Mf/2).
+  const double f = 2.0, A = 400.0, K = 6000.0, R = 1e-3, Mf = 40.0;
+  const PeriodicInput load{f, 0.05, 3, A};
+  for (double sense : {1.0, -1.0}) {
+    CAPTURE(sense);
+    LoopStub stub(load);
+    PeriodicAccumulator acc(stub);
+    REQUIRE(acc.active());
+    SignalFrame fr;
+    const int n = 30001;  // samples over the three periods, not on the crossings' ends
+    for (int i = 0; i <= n; ++i) {
+      const double t = 0.05 + i * 3.0 / f / n;
+      const double u = f * (t - 0.05), v = u - std::floor(u), M = A * tri(u);
+      const double up = std::clamp((M - (A - Mf)) / Mf, 0.0, 1.0);
+      const double down = std::clamp((-A + Mf - M) / Mf, 0.0, 1.0);
+      const double r = v < 0.25 ? -R + 2 * R * up : v < 0.75 ? R - 2 * R * down : -R;
+      fr.set(SignalId::time, t);
+      fr.set(SignalId::hinge_moment, M);
+      fr.set(SignalId::surface_angle, M / K + sense * r);
+      acc.on_step(fr);
+    }
+    // the trapezoids are exact but on the samples that straddle a crossing's ends: error of
+    // order 4 x 2R x (step in M) = 4 x 2e-3 x 0.2 N m, below 1e-3 of the 1.56 J
+    const double expected = sense * 4 * R * (A - Mf / 2);
+    CHECK(acc.finish().hysteresis == Approx(expected).epsilon(1e-3));
+  }
+}
+
+namespace {
+
 /// The transfer functions piston/command and surface/surface-command of the linearised model of
 /// docs/inputs.md#the-linearised-actuator-and-linkage, at f [Hz], from the scene's parameters.
 struct Response {
@@ -346,16 +416,17 @@ TEST_CASE("free-play ground test: the loop's free-play is the geometric 2c/s", "
     p.set("hinge.cycles", 2);
     const PeriodicMetrics m = run_periodic(p, bdf, 2.0);
     const double s = p.number("geometry.crank");
-    // the tolerance: the Hertz penetration the lines miss at zero load, 0.17 delta(F_max) per
-    // side (F_max = M/s), and the linkage's geometry across its M/K = 66 mrad deflection,
-    // second order in that angle: 0.15 mrad
+    // the tolerance: the Hertz penetration the lines miss at zero load, 0.204 delta(F_max) per
+    // side (F_max = M/s; the least-squares line of x^(2/3) on [0.2, 0.9] meets x = 0 at 0.204,
+    // the secant at 0.173: plots/linear_actuator.py), and the linkage's geometry across its
+    // M/K = 66 mrad deflection, second order in that angle: 0.15 mrad
     const double nu = p.number("contact.ball_poisson_ratio");
     const double E = p.number("contact.ball_youngs_modulus");
     REQUIRE(p.number("contact.socket_youngs_modulus") == E);
     const double Rb = p.number("contact.ball_radius"), Rs = Rb + c;
     const double K = 4.0 / 3.0 * E / (2.0 * (1.0 - nu * nu)) * std::sqrt(Rb * Rs / c);
     const double delta = std::pow(M / s / K, 2.0 / 3.0);
-    const double tol = 2.0 * 0.17 * delta / s + 1.5e-4;
+    const double tol = 2.0 * 0.204 * delta / s + 1.5e-4;
     measured("free-play error [rad]", m.free_play - 2.0 * c / s, tol);
     CHECK(std::abs(m.free_play - 2.0 * c / s) < tol);
     // both sides see the same linkage: the two stiffnesses agree, and with the chain's series

@@ -360,12 +360,23 @@ double RodEndMechanism::mechanical_energy(const Eval& e, double kinetic) const {
          spring_potential(crank_spring_, e.crank_anchor, e.ball);
 }
 
+double RodEndMechanism::surface_acceleration(const Eval& e) const {
+  // the crank spring's torque on the crank, as evaluate() has it: a step frame may come from
+  // evaluate_state(), which leaves the springs out
+  const auto spring = evaluate_spring(crank_spring_, e.crank_anchor, e.ball);
+  const Vec3 arm = e.crank_anchor.p_W - geometry_.crank_pivot();
+  const double torque = arm.cross(-spring.force_on_body).z() - spring.moment_on_body.z();
+  // the surface's equation of motion (derivatives(), eq. 4.16)
+  return (torque - surface_damping_ * e.theta_dot + e.hinge_moment) / surface_inertia_;
+}
+
 void RodEndMechanism::step_outputs(const Eval& e, double command, double kinetic,
                                    SignalFrame& f) const {
   f.set(SignalId::surface_angle, e.theta);
   f.set(SignalId::hinge_moment, e.hinge_moment);
   f.set(SignalId::surface_angle_command,
         geometry_.ideal_crank_angle(geometry_.rod_zero() + command));  // thesis eq. 4.1
+  f.set(SignalId::surface_acceleration, surface_acceleration(e));
   f.set(SignalId::kinetic_energy, kinetic);
 }
 

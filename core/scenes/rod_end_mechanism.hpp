@@ -101,6 +101,8 @@ class RodEndMechanism {
   /// commanded by `command` [m] (surface_angle_command) and the kinetic energy `kinetic` [J]
   /// (kinetic_energy(e), or the scene's own with its further bodies).
   void step_outputs(const Eval& e, double command, double kinetic, SignalFrame& f) const;
+  /// The surface's angular acceleration at e (its crank spring evaluated here) [rad/s^2].
+  double surface_acceleration(const Eval& e) const;
 
   ContactGap gap(const double* x) const;
   /// The contact alone at the mechanism state x (the driver's peak location).

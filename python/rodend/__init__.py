@@ -26,6 +26,7 @@ directory of another name), or next to itself. It is loaded when first needed (r
 catalogues, InputError, __version__): reading results (open_results, rodend.study, the figures
 of plots/) works without it.
 """
+import errno
 import glob
 import importlib.util
 import json
@@ -135,7 +136,6 @@ class Case:
         """The histories as an xarray.Dataset over time (vector components labelled: x, y, z
         or the catalogue's names), CF attributes (short long_name, the sentence in
         description)."""
-        import xarray as xr
         t = self.signals.get("time")
         data, coords = {}, {}
         for name, v in self.signals.items():
@@ -149,7 +149,7 @@ class Case:
             data[name] = (dims, v, naming.attrs(name, self.units[name], self.long_names[name]))
         if t is not None:
             coords["time"] = ("time", t, naming.attrs("time", "s", self.long_names["time"]))
-        return xr.Dataset(data, coords=coords,
+        return naming.dataset(data, coords=coords,
                           attrs={"Conventions": naming.CONVENTIONS, "case_id": self.case_id,
                                  "status": self.status})
 
@@ -204,11 +204,15 @@ def run_study(study, *, threads=1, results_root="results", set=None, rerun_faile
     of "key.path=value" strings, as `--set`; values may be numpy scalars and arrays. Messages go
     to the logger "rodend"; `progress`: False, True (a tqdm bar where tqdm is installed, else
     the progress line, on sys.stderr) or a callable taking a rodend.Progress after each case
-    (rodend/progress.py). Raises InputError for a bad study, TypeError naming the argument of a
+    (rodend/progress.py). Raises FileNotFoundError for a study file that
+    is not there, InputError for a bad study, TypeError naming the argument of a
     wrong type, KeyboardInterrupt on Ctrl-C once the cases in flight are written."""
     if isinstance(threads, bool) or not isinstance(threads, numbers.Integral):
         raise TypeError(f"threads: expected an integer >= 1, got {type(threads).__name__} "
                         f"{threads!r}")
+    if not 1 <= threads <= 4096:  # the extension's C int would refuse 2**31 with its signature
+        raise _extension().InputError(f"threads: expected an integer from 1 to 4096 (as "
+                                      f"--threads), got {int(threads)}")
     if not isinstance(rerun_failed, bool) and type(rerun_failed).__name__ != "bool_":
         raise TypeError(f"rerun_failed: expected True or False, got "
                         f"{type(rerun_failed).__name__} {rerun_failed!r}")
@@ -300,7 +304,10 @@ class _StudyFile:
                 fh.write(_json(self.study))
             self.path = path
             return path
-        return _path_arg("study", self.study)
+        path = _path_arg("study", self.study)
+        if not os.path.lexists(path):  # as open() would say, not a bad study
+            raise FileNotFoundError(errno.ENOENT, "no such study file", path)
+        return path
 
     def __exit__(self, kind, error, tb):
         if self.tmp:
@@ -355,7 +362,7 @@ def __getattr__(name):
         from .progress import Progress
         return Progress
     if name == "analyze":
-        # the analysis of a designed study (issue 30; rodend/analysis/run.py), imported on first
+        # the analysis of a designed study (rodend/analysis/run.py), imported on first
         # use: it needs openturns and matplotlib, which nothing else of the module does
         from .analysis.run import analyze
         return analyze

@@ -43,7 +43,6 @@ def time_axis(res):
 def lazy_histories(res):
     """Every recorded signal (or those asked for) over res.dimensions() and time; nothing is
     read until values are accessed, then only the case files selected."""
-    import xarray as xr
     s = res.summary
     axes = res.dimensions()
     shape, dims = tuple(a[2] for a in axes), tuple(a[0] for a in axes)
@@ -73,13 +72,12 @@ def lazy_histories(res):
         if extra in s:
             coords[extra] = (dims, s[extra].to_numpy().reshape(shape),
                              {"long_name": extra.replace("_", " ")})
-    return xr.Dataset(variables, coords=coords, attrs=res._dataset_attrs())
+    return naming.dataset(variables, coords=coords, attrs=res._dataset_attrs())
 
 
 def case_dataset(res, row, names=None):
     """Case `row` of the summary: its signals over time (components labelled), its grid
     values as scalar coordinates; read now."""
-    import xarray as xr
     s = res.summary
     data, coords = {}, {}
     with res._files.open(row) as f:
@@ -102,4 +100,4 @@ def case_dataset(res, row, names=None):
                 coords[key] = ((), s[key].iloc[row], res._attrs(key))
     attrs = res._dataset_attrs()
     attrs.update({k: s[k].iloc[row] for k in ("case_id", "status", "scene") if k in s})
-    return xr.Dataset(data, coords=coords, attrs=attrs)
+    return naming.dataset(data, coords=coords, attrs=attrs)

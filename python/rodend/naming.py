@@ -1,4 +1,4 @@
-"""Names and labels of what rodend returns from Python (issue 35 items 5 and 6): the CF
+"""Names and labels of what rodend returns from Python: the CF
 `Conventions` attribute, short `long_name`s (the sentence kept in `description`), the labels of
 vector components, the labels of grid coordinates in the figures' display units, and the error
 raised for an unknown name, which names the nearest valid ones. Nothing here touches a file:
@@ -81,6 +81,33 @@ def check_names(kind, names, valid, where=""):
     for n in names:
         if n not in valid:
             raise unknown(kind, n, valid, where)
+
+
+_DATASET = None
+
+
+def dataset(data_vars=None, coords=None, attrs=None):
+    """An xarray.Dataset whose missing variable (`ds["contact_forse"]`) raises UnknownName
+    naming the nearest ones (a KeyError, as xarray's own), instead of a bare KeyError."""
+    global _DATASET
+    if _DATASET is None:
+        import xarray as xr
+
+        class Dataset(xr.Dataset):
+            """xarray.Dataset; an unknown variable name raises rodend.UnknownName."""
+            __slots__ = ()
+
+            def __getitem__(self, key):
+                try:
+                    return super().__getitem__(key)
+                except KeyError:
+                    if not isinstance(key, str):
+                        raise
+                    raise unknown("variable", key, list(self.data_vars) + list(self.coords),
+                                  "(not in this Dataset)") from None
+
+        _DATASET = Dataset
+    return _DATASET(data_vars, coords=coords, attrs=attrs)
 
 
 class Names(dict):

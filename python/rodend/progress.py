@@ -1,4 +1,4 @@
-"""Messages and progress of rodend.run_study where a Python user looks (issue 35 item 3).
+"""Messages and progress of rodend.run_study where a Python user looks.
 
 The runner's messages (cases already complete, temporary files removed, a summary repaired, a
 case file moved aside, the resume command after an interrupt) go to the logger "rodend":
@@ -44,6 +44,7 @@ class TextLine:
 
     def __init__(self):
         self.last = None
+        self.open = False  # an updating line without its newline is on the terminal
 
     def __call__(self, p):
         out = sys.stderr
@@ -51,14 +52,22 @@ class TextLine:
                 f"ETA {_duration(p.eta_s)}")
         if getattr(out, "isatty", lambda: False)():
             out.write("\r" + text + "   " + ("\n" if p.done == p.total else ""))
+            self.open = p.done != p.total
         elif p.done == p.total or self.last is None or p.elapsed_s - self.last >= 10.0:
             self.last = p.elapsed_s
             out.write(f"rodend: {p.done}/{p.total} cases done, {p.failed} failed, elapsed "
                       f"{_duration(p.elapsed_s)}, ETA {_duration(p.eta_s)}\n")
         out.flush()
 
+    def break_line(self):
+        """Ends the updating line, so that a message starts on a line of its own."""
+        if self.open:
+            sys.stderr.write("\n")
+            sys.stderr.flush()
+            self.open = False
+
     def close(self):
-        pass
+        self.break_line()
 
 
 class Bar:
@@ -69,15 +78,24 @@ class Bar:
 
     def __call__(self, p):
         if self.bar is None:
-            self.bar = self.tqdm(total=p.total, initial=p.done - 1, unit="case",
+            self.bar = self.tqdm(total=p.total, initial=p.done - 1, unit="case", smoothing=0,
                                  desc="rodend", file=sys.stderr)
+        # the bar's clock is the run's: its rate is the cases done in this run over the run's
+        # time, as the ETA (not one case over the microseconds since the bar was made)
+        self.bar.start_t = self.bar._time() - p.elapsed_s
         self.bar.n = p.done
         self.bar.set_postfix_str(f"{p.failed} failed", refresh=False)
         self.bar.refresh()
 
+    def break_line(self):
+        """Closes the bar (left as it is) so that a message starts on a line of its own; the
+        next case opens another."""
+        self.close()
+
     def close(self):
         if self.bar is not None:
             self.bar.close()
+            self.bar = None
 
 
 def display(progress):
@@ -108,6 +126,8 @@ class Reporter:
     def message(self, text):
         if self.rename:
             text = text.replace(*self.rename)
+        if self.shown is not None:
+            self.shown.break_line()
         log_message(text)
 
     def progress(self, done, total, failed, elapsed_s, eta_s):

@@ -121,13 +121,12 @@ class Results:
     def summary_dataset(self):
         """The summary as an xarray.Dataset: every column over the study's dimensions() (a
         3 x 3 grid gives a 3 x 3 table), the axis keys as coordinates."""
-        import xarray as xr
         axes = self.dimensions()
         shape, dims = tuple(a[2] for a in axes), tuple(a[0] for a in axes)
         coords = self._axis_coords(axes)
         data = {col: (dims, self.summary[col].to_numpy().reshape(shape), self._attrs(col))
                 for col in self.summary.columns if col not in coords}
-        return xr.Dataset(data, coords=coords, attrs=self._dataset_attrs())
+        return naming.dataset(data, coords=coords, attrs=self._dataset_attrs())
 
     # ---------------------------------------------------------------------------------------
     def _reference_rows(self):

@@ -45,7 +45,7 @@ std::string placeholder(std::size_t slot) {
 template <class T>
 T load(const unsigned char* p) {
   T v;
-  std::memcpy(&v, p, sizeof v);  // little-endian host and file (static_assert in results.cpp)
+  std::memcpy(&v, p, sizeof v);  // little-endian host and file (static_assert in case_file.cpp)
   return v;
 }
 template <class T>

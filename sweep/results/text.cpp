@@ -4,15 +4,9 @@
 #include <ctime>
 #include <string>
 
+#include "rodend_revision.hpp"  // RODEND_VERSION, RODEND_GIT_REVISION (sweep/CMakeLists.txt)
 #include "sweep/results.hpp"
 #include "sweep/results_dir.hpp"
-
-#ifndef RODEND_VERSION
-#define RODEND_VERSION "unknown"
-#endif
-#ifndef RODEND_GIT_REVISION
-#define RODEND_GIT_REVISION "unknown"
-#endif
 
 namespace rodend {
 

@@ -56,6 +56,7 @@ void apply(Draft& d, const std::string& key, const Json& v,
     throw InputError(key, "expected a key path such as parameters.contact.clearance");
   if (section == "parameters") {
     if (d.skip_absent_parameters && !d.parameters.has(field)) return;
+    if (!d.parameters.has(field)) unknown_key(key, section, field, d.parameters, d.scene);
     try {
       d.parameters.set(field, v, from.first, from.second);
     } catch (const InputError& e) {
@@ -63,6 +64,7 @@ void apply(Draft& d, const std::string& key, const Json& v,
     }
     return;
   }
+  if (section == "sensors") return apply_sensor_key(d.sensors, field, v, key);
   const std::vector<std::string>& sections = case_sections();
   if (std::find(sections.begin(), sections.end(), section) == sections.end())
     throw InputError(
@@ -92,9 +94,11 @@ void apply_section(Draft& d, const Json& doc, const std::string& section, const 
                        "set twice (once as a dotted key, once nested); expected each setting "
                        "once");
   }
-  // a preset sets every integrator field: apply it first, so the keys beside it override it
-  std::stable_partition(flat.begin(), flat.end(),
-                        [](const auto& kv) { return kv.first == "integrator.preset"; });
+  // a preset sets every integrator field, a default sensor set every key of its sensors: apply
+  // them first, so the keys beside them override them
+  std::stable_partition(flat.begin(), flat.end(), [](const auto& kv) {
+    return kv.first == "integrator.preset" || kv.first == "sensors.defaults";
+  });
   for (const auto& [k, v] : flat) apply(d, k, v, origins.of_study(k));
 }
 

@@ -25,6 +25,7 @@ Draft base_draft(const std::string& name, const Json& doc, bool several, const O
   base.integrator = *preset_settings(name, kDefaultPreset);  // overridden below
   try {
     for (const std::string& section : case_sections()) apply_section(base, doc, section, origins);
+    apply_section(base, doc, "sensors", origins);
   } catch (const InputError& e) {
     rethrow_for_scene(e, name, several);
   }

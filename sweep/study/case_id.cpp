@@ -59,6 +59,7 @@ Json CaseSpec::canonical() const {
       {"scene", scene}, {"parameters", as_doubles(identity_values(parameters))}, {"signals", sig}};
   write_settings(*this, c);
   if (design_sample >= 0) c["design_sample"] = design_sample;
+  if (!sensors.empty()) c["sensors"] = sensors_json(sensors);  // ids without sensors unchanged
   return c;
 }
 

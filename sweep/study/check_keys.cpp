@@ -9,8 +9,8 @@ namespace rodend {
 
 const std::vector<std::string>& study_keys() {
   static const std::vector<std::string> keys{
-      "name",   "description", "scene", "parameters", "integrator",     "time",  "signals",
-      "health", "metrics",     "grid",  "output",     "wear_evolution", "design"};
+      "name",   "description", "scene", "parameters", "integrator",     "time",   "signals",
+      "health", "metrics",     "grid",  "output",     "wear_evolution", "design", "sensors"};
   return keys;
 }
 

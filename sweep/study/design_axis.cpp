@@ -6,16 +6,37 @@
 
 namespace rodend::study_detail {
 
+namespace {
+
+/// What to say when a factor's draw is a value its parameter refuses: an unbounded distribution
+/// reaches values a bounded one would not.
+std::string draw_hint(const DesignFactor& f) {
+  const DistributionKind k = f.distribution.kind;
+  if (k == DistributionKind::normal)
+    return f.where +
+           " is a normal distribution, which draws values of either sign and any size: "
+           "for a quantity with limits use truncated-normal (with lower and upper) or, "
+           "for a positive one, lognormal";
+  if (!distribution_info(k).bounded)
+    return f.where + " is a " + std::string(to_string(k)) +
+           " distribution, unbounded: truncated-normal keeps the draws within lower and upper";
+  return f.where + " draws values the parameter refuses: narrow its bounds";
+}
+
+}  // namespace
+
 Axis design_axis(const Design& design) {
   Axis axis;
   const std::size_t n = design.points(), d = design.dims();
   axis.keys.push_back("design.sample");
   axis.wheres.push_back("design");
+  axis.hints.emplace_back();
   axis.values.emplace_back();
   for (std::size_t p = 0; p < n; ++p) axis.values.back().emplace_back(static_cast<long>(p));
   for (std::size_t j = 0; j < d; ++j) {
     axis.keys.push_back(design.factors[j].key);
     axis.wheres.push_back(design.factors[j].where);
+    axis.hints.push_back(draw_hint(design.factors[j]));
     std::vector<Json> column;
     column.reserve(n);
     for (std::size_t p = 0; p < n; ++p) column.emplace_back(design.values[p * d + j]);
@@ -28,11 +49,21 @@ void check_design_keys(const Design& design, const std::vector<std::string>& sce
   for (const DesignFactor& f : design.factors) {
     if (f.key.rfind("parameters.", 0) != 0) continue;  // settings: checked by apply()
     const std::string path = f.key.substr(11);
-    if (std::none_of(scenes.begin(), scenes.end(), [&](const std::string& scene) {
-          return ParameterSet::defaults_for(scene).has(path);
-        }))
-      throw InputError(f.where + ".key", "no scene of this study has parameter '" + path +
-                                             "' (see `rodend params SCENE`)");
+    std::vector<ParameterSet> defaults;
+    for (const std::string& scene : scenes) defaults.push_back(ParameterSet::defaults_for(scene));
+    if (std::none_of(defaults.begin(), defaults.end(),
+                     [&](const ParameterSet& p) { return p.has(path); })) {
+      std::vector<const ParameterSet*> all;
+      for (const ParameterSet& p : defaults) all.push_back(&p);
+      std::string names;
+      for (const std::string& n : scenes) names += (names.empty() ? "" : ", ") + n;
+      throw InputError(f.where + ".key",
+                       (scenes.size() == 1 ? "unknown parameter of scene " + names
+                                           : "no scene of this study (" + names +
+                                                 ") has parameter '" + path + "'") +
+                           " (see `rodend params " + (scenes.size() == 1 ? names : "SCENE") + "`)" +
+                           nearest_key("parameters", path, all));
+    }
   }
 }
 

@@ -66,6 +66,7 @@ struct Draft {
   HealthLimits health;
   MetricsSettings metrics;
   WearEvolutionSettings wear_evolution;
+  SensorSettings sensors;
   /// the study's storage settings: read with the same reader (parse_output), never per case
   OutputSettings output;
   /// scene-axis studies: a parameter key this case's scene does not have is skipped (the study
@@ -162,11 +163,23 @@ void apply_section(Draft& d, const Json& doc, const std::string& section, const 
 /// The document as a whole: an object, nested a few levels, no NUL, only study keys.
 void check_document(const Json& doc);
 
+// overrides.cpp
+/// "; nearest: SECTION.KEY, expected TYPE [UNIT]": the key of `section` nearest to `rest` (a
+/// parameter of any of `params` for "parameters", else a setting), or "" when there is none.
+std::string nearest_key(const std::string& section, const std::string& rest,
+                        const std::vector<const ParameterSet*>& params);
+/// Throws the InputError of an unknown key (`key`, `section`.`rest`) of a study of `scene`: the
+/// scene's name (where to see its parameters) and the nearest key, for --set and study files.
+[[noreturn]] void unknown_key(const std::string& key, const std::string& section,
+                              const std::string& rest, const ParameterSet& params,
+                              const std::string& scene);
+
 // grid.cpp, design_axis.cpp
 struct Axis {
   std::vector<std::string> keys;          // several for a zip group
   std::vector<std::string> wheres;        // per key, its place in the study ("grid[0].zip[1]")
   std::vector<std::vector<Json>> values;  // per key, same length
+  std::vector<std::string> hints;         // per key (or none): added to a case's error on it
   std::size_t size() const { return values.empty() ? 0 : values.front().size(); }
 };
 /// The grid's axes, each a single key or a zip group (cartesian product, last axis fastest),

@@ -45,10 +45,10 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
-/// A key path `--set` does not know: names the nearest one that exists, with its type and unit.
-[[noreturn]] void unknown_override_key(const std::string& key, const std::string& section,
-                                       const std::string& rest, const ParameterSet& params,
-                                       const std::string& scene) {
+}  // namespace
+
+std::string study_detail::nearest_key(const std::string& section, const std::string& rest,
+                                      const std::vector<const ParameterSet*>& params) {
   std::string best, type, unit;
   std::size_t best_d = std::string::npos;
   auto consider = [&](const std::string& name, const std::string& t, const std::string& u) {
@@ -56,24 +56,30 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
     if (dist < best_d) best_d = dist, best = name, type = t, unit = u;
   };
   if (section == "parameters") {
-    const Json leaves = params.leaves();  // outlives items()
-    for (const auto& [p, leaf] : leaves.items())
-      consider(p, json_type_name(leaf["value"]), leaf.value("unit", ""));
+    for (const ParameterSet* p : params) {
+      const Json leaves = p->leaves();  // outlives items()
+      for (const auto& [path, leaf] : leaves.items())
+        consider(path, json_type_name(leaf["value"]), leaf.value("unit", ""));
+    }
   } else {
     for (const StudyField& f : study_fields())
       if (f.section == section)
         consider(f.name, f.type == "integer" ? "an integer" : "a " + f.type, f.unit);
   }
-  std::string m = section == "parameters" ? "unknown parameter of scene " + scene +
-                                                " (see `rodend params " + scene + "`)"
-                                          : "unknown " + section + " setting (see `rodend schema`)";
-  if (!best.empty())
-    m += "; nearest: " + section + "." + best + ", expected " + type +
+  if (best.empty()) return "";
+  return "; nearest: " + section + "." + best + ", expected " + type +
          (unit.empty() || unit == "1" ? "" : " [" + unit + "]");
-  throw InputError(key, m);
 }
 
-}  // namespace
+void study_detail::unknown_key(const std::string& key, const std::string& section,
+                               const std::string& rest, const ParameterSet& params,
+                               const std::string& scene) {
+  const std::string m =
+      section == "parameters"
+          ? "unknown parameter of scene " + scene + " (see `rodend params " + scene + "`)"
+          : "unknown " + section + " setting (see `rodend schema`)";
+  throw InputError(key, m + nearest_key(section, rest, {&params}));
+}
 
 /// `--set design.KEY=value` for the design's scalar keys; the loader checks the value.
 void set_design_key(Json& doc, const std::string& rest, const Json& value) {
@@ -135,7 +141,7 @@ void check_section_override(const Json& doc, const std::string& key, const std::
   d.parameters = ParameterSet::defaults_for(d.scene);
   const bool known =
       section == "parameters" ? d.parameters.has(rest) : find_setting(section, rest) != nullptr;
-  if (!known) unknown_override_key(key, section, rest, d.parameters, d.scene);
+  if (!known) unknown_key(key, section, rest, d.parameters, d.scene);
   apply(d, key, value);
   if (doc.contains(section) && !doc[section].is_object())
     throw InputError(section, "expected an object, got " + json_type_name(doc[section]));
@@ -160,6 +166,15 @@ void apply_override(Json& doc, const std::string& key, const Json& value) {
   const std::string rest = key.substr(dot + 1);
   if (section == "design")  // its scalar keys (seed, size, method, base, levels)
     return set_design_key(doc, rest, value);
+  if (section == "sensors") {  // a value checked here; a sensor's signal once the case is built
+    SensorSettings probe;
+    apply_sensor_key(probe, rest, value, key);
+    if (doc.contains(section) && !doc[section].is_object())
+      throw InputError(section, "expected an object, got " + json_type_name(doc[section]));
+    if (doc.contains(section)) erase_path(doc[section], rest);
+    doc[section][rest] = value;
+    return;
+  }
   check_section_override(doc, key, section, rest, value);
   erase_path(doc[section], rest);
   // a preset sets every integrator field: asked for on the command line, it replaces the

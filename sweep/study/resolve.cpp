@@ -49,6 +49,7 @@ void check_case(const Draft& d, const std::vector<SignalId>& signals) {
   validate(d.time);
   check_history_size(d.time, signals);
   const auto scene = build_checked(d.scene, d.parameters);
+  check_sensors(d.sensors, *scene);
   if (d.wear_evolution.enabled && !scene->features().has(Feature::wear))
     throw InputError("parameters.wear.model",
                      "a wear_evolution study needs a scene with a wear model and "
@@ -58,6 +59,20 @@ void check_case(const Draft& d, const std::vector<SignalId>& signals) {
     throw InputError("wear_evolution",
                      "needs a clearance_limit, a backlash_limit or a max_cycles below "
                      "1e8 to stop at");
+}
+
+/// " (grid case N: {coordinates})" after the error of a case, "design case" in a study with a
+/// sampled design, then what the axis of the key in error says of it (a design factor's
+/// distribution).
+std::string case_context(const Grid& g, std::size_t index, const Json& coordinates,
+                         const std::string& key) {
+  const bool design = g.axes.back().keys.front() == "design.sample";
+  std::string s = std::string(design ? " (design case " : " (grid case ") + std::to_string(index) +
+                  ": " + coordinates.dump() + ")";
+  for (const Axis& a : g.axes)
+    for (std::size_t k = 0; k < a.keys.size() && k < a.hints.size(); ++k)
+      if (a.keys[k] == key && !a.hints[k].empty()) s += "; " + a.hints[k];
+  return s;
 }
 
 /// The case of draft `d` (of the grid's scene `which`; its parameters moved out), but its
@@ -70,6 +85,7 @@ void fill_case(const Grid& g, Draft& d, std::size_t which, CaseSpec& c) {
   c.health = d.health;
   c.metrics = d.metrics;
   c.wear_evolution = d.wear_evolution;
+  c.sensors = d.sensors;
   c.signals = g.scene_signals[which];
   c.output = g.output;
 }
@@ -98,8 +114,8 @@ CaseSpec resolve_case(const Grid& g, std::size_t index, bool check) {
     if (check) check_case(d, g.scene_signals[which]);
   } catch (const InputError& e) {
     if (g.axes.empty()) throw;
-    throw InputError(e.key_path(), e.problem() + " (grid case " + std::to_string(index) + ": " +
-                                       c.coordinates.dump() + ")");
+    throw InputError(e.key_path(),
+                     e.problem() + case_context(g, index, c.coordinates, e.key_path()));
   }
   c.index = static_cast<long>(index);
   fill_case(g, d, which, c);

@@ -48,11 +48,14 @@ std::string scene_list(const Study& study) {
 void check_scene_axis_keys(const Study& study, const Json& doc, const std::vector<Axis>& axes) {
   std::vector<ParameterSet> defaults;
   for (const std::string& n : study.scenes) defaults.push_back(ParameterSet::defaults_for(n));
+  std::vector<const ParameterSet*> all;
+  for (const ParameterSet& p : defaults) all.push_back(&p);
   auto check_known = [&](const std::string& path, const std::string& where) {
     if (std::none_of(defaults.begin(), defaults.end(),
                      [&](const ParameterSet& p) { return p.has(path); }))
       throw InputError(where, "no scene of this study (" + scene_list(study) + ") has parameter '" +
-                                  path + "' (see `rodend params SCENE`)");
+                                  path + "' (see `rodend params SCENE`)" +
+                                  nearest_key("parameters", path, all));
   };
   if (doc.contains("parameters")) {
     std::vector<std::pair<std::string, Json>> flat;

@@ -93,11 +93,20 @@ def write_folder(folder, design, x, metrics, status=None, grid=None, units=None,
     return folder
 
 
-def write_case(folder, case_id, time, signals, units):
-    with h5py.File(os.path.join(folder, "cases", f"{case_id}.h5"), "w") as f:
+def write_case(folder, case_id, time, signals, units, compression=None):
+    """A case file as rodend writes it: its case id (root attribute case_id), /signals, and the
+    checksum header in its 512-byte user block (docs/results.md, "Crash safety")."""
+    path = os.path.join(folder, "cases", f"{case_id}.h5")
+    with h5py.File(path, "w", userblock_size=512) as f:
+        f.attrs["case_id"] = case_id
         g = f.create_group("signals")
         g.create_dataset("time", data=time)
         g["time"].attrs["units"] = "s"
         for name, v in signals.items():
-            g.create_dataset(name, data=v)
+            g.create_dataset(name, data=v, compression=compression)
             g[name].attrs["units"] = units[name]
+    with open(path, "r+b") as fh:
+        fh.write(b"RODEND-CHECKSUM 1\n")
+    from common import reseal
+    reseal(path)
+    return path

@@ -86,3 +86,67 @@ def finish(name):
         print(f"{name}: {len(failures)} failure(s)", file=sys.stderr)
         sys.exit(1)
     print(f"{name}: all checks passed")
+
+
+class Pause:
+    """A run held at a state by the rename hook (tests/faults/pause_rename.c, whose path CTest
+    gives in RODEND_PAUSE_LIB): the first `after` case files of each process are renamed into
+    place, every later rename waits. `env()` is the environment that preloads the hook;
+    `wait(processes)` waits until that many processes hold a rename (the state; `timeout` only
+    bounds a failure); `release()` lets the held renames go on."""
+
+    def __init__(self, directory, after):
+        import tempfile
+        self.dir = tempfile.mkdtemp(prefix="pause-", dir=directory)
+        self.after = after
+
+    def env(self, base=None):
+        env = dict(os.environ if base is None else base)
+        lib = os.environ["RODEND_PAUSE_LIB"]
+        env["LD_PRELOAD"] = (env.get("LD_PRELOAD", "") + " " + lib).strip()
+        env["RODEND_PAUSE_AFTER"] = str(self.after)
+        env["RODEND_PAUSE_DIR"] = self.dir
+        # a sanitizer build's runtime must otherwise come first among the preloaded libraries
+        env["ASAN_OPTIONS"] = (env.get("ASAN_OPTIONS", "") + ":verify_asan_link_order=0").lstrip(":")
+        return env
+
+    def paused(self):
+        return [p for p in os.listdir(self.dir) if p.startswith("paused.")]
+
+    def wait(self, processes=1, alive=None, timeout=300.0):
+        """True once `processes` processes hold a rename; False if `alive()` turns false first
+        or after `timeout` seconds (a failure bound, not a measure)."""
+        import time
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            if len(self.paused()) >= processes:
+                return True
+            if alive is not None and not alive():
+                return False
+            time.sleep(0.01)
+        return False
+
+    def release(self):
+        open(os.path.join(self.dir, "release"), "w").close()
+
+
+def read_until(stream, text, lines=None, timeout=300.0):
+    """Reads `stream` (a child's stderr, text mode) line by line until a line holds `text`;
+    returns the lines read (appended to `lines` if given). Ends at end of file; `timeout`
+    bounds a failure only (a child that neither writes nor ends)."""
+    import threading
+    out = [] if lines is None else lines
+    found = threading.Event()
+
+    def reader():
+        for line in stream:
+            out.append(line)
+            if text in line:
+                found.set()
+                return
+        found.set()
+
+    t = threading.Thread(target=reader, daemon=True)
+    t.start()
+    found.wait(timeout)
+    return out

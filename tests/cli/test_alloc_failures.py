@@ -10,7 +10,7 @@ the run must end in one of two ways:
   - exit 2 with a message ("rodend: error: ..." or "rodend: out of memory ..."), after which a
     run without the failure completes to the undisturbed results;
 never a crash (a signal), never exit 1 (an allocation failure is no case result), never a hang
-(60 s), and nothing left behind that a resume does not accept.
+(300 s, a failure bound), and nothing left behind that a resume does not accept.
 
 Truncations: a case file and summary.h5 cut at a sample of lengths are fed to `rodend merge`,
 `rodend compare` and `rodend report`: each reports the damage naming the file (exit 1 or 2),
@@ -72,7 +72,7 @@ def run_injected(path, root, k, persist):
                RODEND_FAIL_ALLOC_PERSIST="1" if persist else "0", RODEND_FAIL_ALLOC_SPARE=SPARE)
     try:
         return subprocess.run([rodend_path(), "run", path, "-q", "-j", "2", "--results-root",
-                               root], capture_output=True, text=True, env=env, timeout=60)
+                               root], capture_output=True, text=True, env=env, timeout=300)
     except subprocess.TimeoutExpired:
         return None
 
@@ -80,7 +80,7 @@ def run_injected(path, root, k, persist):
 def count_allocations(path, root):
     env = dict(os.environ, LD_PRELOAD=LIB, RODEND_FAIL_ALLOC_COUNT="1")
     r = subprocess.run([rodend_path(), "run", path, "-q", "-j", "2", "--results-root", root],
-                       capture_output=True, text=True, env=env, timeout=60)
+                       capture_output=True, text=True, env=env, timeout=300)
     check(r.returncode == 0, f"counting run: exit {r.returncode}: {r.stderr}")
     return int(r.stderr.strip().splitlines()[-1].split()[1])
 

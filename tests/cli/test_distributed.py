@@ -7,9 +7,9 @@ variables at all: as root, without OMPI_ALLOW_RUN_AS_ROOT, `rodend run` must not
 import os
 import sys
 import tempfile
-import time
 
-from common import assert_same_results, check, finish, read_summary, rodend_path, run, stable, write_study
+from common import (Pause, assert_same_results, check, finish, read_summary, rodend_path, run, stable,
+                    write_study)
 import subprocess
 
 MPIRUN = sys.argv[1] if len(sys.argv) > 1 and sys.argv[1] else None
@@ -141,16 +141,17 @@ with tempfile.TemporaryDirectory() as tmp:
         })
         ab = os.path.join(tmp, "abort")
         cases = os.path.join(ab, "slow", "cases")
+        # each rank held (tests/faults/pause_rename.c) after its first case file, with cases
+        # left to start, while the folder is replaced
+        hold = Pause(tmp, 1)
         p = subprocess.Popen([MPIRUN, "--oversubscribe", "-np", "2", rodend_path(), "run", slow,
-                              "--results-root", ab, "-q"], env=MPI_ENV, text=True,
+                              "--results-root", ab, "-q"], env=hold.env(MPI_ENV), text=True,
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, start_new_session=True)
-        deadline = time.monotonic() + 60
-        while time.monotonic() < deadline and p.poll() is None and not (
-                os.path.isdir(cases) and any(f.endswith(".h5") for f in os.listdir(cases))):
-            time.sleep(0.005)
+        check(hold.wait(2, alive=lambda: p.poll() is None), "abort: the ranks were not held")
         os.rename(cases, cases + ".moved")
         open(cases, "w").close()
-        out, err = p.communicate(timeout=60)
+        hold.release()
+        out, err = p.communicate(timeout=300)
         check(p.returncode != 0 and "cannot write" in err and "aborting the MPI job" in err
               and err.count("rodend: error: rank") >= 1,
               f"unwritable case file: exit {p.returncode}, {err}")

@@ -1,5 +1,5 @@
 """The code blocks of README.md and docs/*.md marked runnable (```sh runnable, ```python
-runnable) run (issue 22: examples that cannot rot). Each file's blocks run in order in one
+runnable) run (examples that cannot rot). Each file's blocks run in order in one
 temporary folder laid out like a clone (studies/, plots/, examples/, python/ linked from the
 repository, build/rodend the binary under test), so results land there and not in the
 repository; Python under /usr/bin/python3 with the rodend package importable.
@@ -41,8 +41,13 @@ def main():
                 where = f"{os.path.relpath(doc, repo)} block {i + 1} ({lang})"
                 cmd = ["/usr/bin/python3", "-c", code] if lang == "python" else \
                     ["bash", "-euo", "pipefail", "-c", code]
-                r = subprocess.run(cmd, cwd=work, env=env, capture_output=True, text=True,
-                                   timeout=600)
+                # a shell block runs as a user types it: no PYTHONPATH (a command that needs the
+                # package must find it itself, as rodend analyze and plots/ do); a Python block
+                # stands for the clone's .venv/bin/python, which imports rodend
+                shell_env = {k: v for k, v in env.items()
+                             if k not in ("PYTHONPATH", "RODEND_BUILD_DIR")}
+                r = subprocess.run(cmd, cwd=work, env=env if lang == "python" else shell_env,
+                                   capture_output=True, text=True, timeout=600)
                 check(r.returncode == 0, f"{where} failed ({r.returncode}):\n{code}\n--- stdout\n"
                                          f"{r.stdout[-2000:]}\n--- stderr\n{r.stderr[-3000:]}")
                 print(f"{where}: exit {r.returncode}")

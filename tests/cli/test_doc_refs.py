@@ -1,4 +1,4 @@
-"""Every file path, link and command of README.md and docs/*.md is checked (issue 18 item 7).
+"""Every file path, link and command of README.md and docs/*.md is checked.
 
     test_doc_refs.py REPO BUILD_DIR
 
@@ -30,9 +30,10 @@ What is checked, and how a piece of documentation opts out:
   `text`, `console-example`, `python`, `cmake`: examples of user input or output, and
   non-runnable code: not checked (their paths neither). A block without an info string is an
   error: say what it is.
-- The pointers of `rodend --help` and of every subcommand's `--help` (issue 35 item 8): paths
+- The pointers of `rodend --help` and of every subcommand's `--help`: paths
   as above, `README.md#anchor` / `docs/x.md#anchor` and `README "Section"` / `docs/x.md
   "Section"` must name a heading of that document.
+- No "issue N" in README.md, docs/, app/, python/rodend/ or the help texts (check_issue_mentions).
 Before checking the documents, the checker is run on a document with one fault of each kind and
 on a help text with a dangling pointer of each kind, and must report every one, so this test
 can fail.
@@ -437,8 +438,49 @@ def self_test(checker, repo):
           f"all {len(help_faults)} dangling help pointers reported")
 
 
+ISSUE = re.compile(r"\bissues? (?:\d+|#\d+)|\bthe issue's\b", re.I)
+
+
+def issue_mentions(repo, help_text):
+    """Docs, help texts and the Python package's text speak of the software, not of the
+    project's issues: "issue 31", "issues 18", "the issue's" in README.md, docs/*.md, app/,
+    python/rodend/ and rodend's help texts, each reported with its file and line."""
+    files = [os.path.join(repo, "README.md")] + sorted(glob.glob(os.path.join(repo, "docs", "*.md")))
+    files += sorted(glob.glob(os.path.join(repo, "app", "*.[ch]pp")))
+    files += sorted(glob.glob(os.path.join(repo, "python", "rodend", "**", "*.py"), recursive=True))
+    found = []
+    for path in files:
+        with open(path, encoding="utf-8") as f:
+            for n, line in enumerate(f, 1):
+                if ISSUE.search(line):
+                    found.append(f"{os.path.relpath(path, repo)}:{n}: {line.strip()[:120]}")
+    found += [f"rodend --help texts: {m.group(0)}" for m in ISSUE.finditer(help_text)]
+    return found
+
+
+def help_texts():
+    """rodend --help and every subcommand's --help, concatenated."""
+    import subprocess
+    out = subprocess.run([rodend_path(), "--help"], capture_output=True, text=True).stdout
+    subs = re.findall(r"^\s{2}([a-z][a-z-]+)\s", re.split(r"(?i)subcommands:", out)[-1], re.M)
+    check(len(subs) >= 10, f"rodend --help lists {subs}: is the parser still finding them?")
+    for sub in subs:
+        out += subprocess.run([rodend_path(), sub, "--help"], capture_output=True, text=True,
+                              timeout=120).stdout
+    return out
+
+
+def check_issue_mentions(repo):
+    check(issue_mentions(repo, "see issue 12") != [] and
+          issue_mentions(repo, "the issue's goal") != [], "the issue check finds nothing")
+    found = issue_mentions(repo, help_texts())
+    check(not found, "issue numbers in user-facing text (say what the software does instead):\n"
+          + "\n".join(found))
+
+
 def main():
     repo, build = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+    check_issue_mentions(repo)
     checker = Checker(repo, build)
     try:
         self_test(checker, repo)

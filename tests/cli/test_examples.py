@@ -1,4 +1,4 @@
-"""examples/ run (issue 22; the notebook: issue 35 item 10): each script under /usr/bin/python3,
+"""examples/ run: each script under /usr/bin/python3,
 output into a temporary folder, must exit 0 (each asserts its own physics) and write its
 figure; each notebook (examples/*.ipynb: a study run, its summary as a grid-shaped Dataset, a
 history plotted with .plot(), an interrupted and resumed run) is executed cell by cell and must

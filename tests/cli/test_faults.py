@@ -10,9 +10,9 @@ import signal
 import socket
 import subprocess
 import tempfile
-import time
 
-from common import assert_same_results, check, finish, read_summary, rodend_path, run, write_study
+from common import (Pause, assert_same_results, check, finish, read_summary, read_until, rodend_path,
+                    run, write_study)
 
 
 def slow_study(path, name, n=6):
@@ -28,15 +28,6 @@ def slow_study(path, name, n=6):
 
 def temporaries(d):
     return [p for p in glob.glob(os.path.join(d, "**", ".*.tmp.*"), recursive=True)]
-
-
-def wait_for_files(pattern, count, timeout=60.0):
-    t0 = time.monotonic()
-    while time.monotonic() - t0 < timeout:
-        if len(glob.glob(pattern)) >= count:
-            return True
-        time.sleep(0.02)
-    return False
 
 
 with tempfile.TemporaryDirectory() as tmp:
@@ -76,7 +67,7 @@ with tempfile.TemporaryDirectory() as tmp:
                        ("/dev/zero", "not a regular file"), (big, "larger than 16 MiB"),
                        (os.path.join(tmp, "absent.json"), "no such file")):
         try:
-            r = run(["run", path, "-q", "--results-root", os.path.join(tmp, "none")], timeout=20)
+            r = run(["run", path, "-q", "--results-root", os.path.join(tmp, "none")], timeout=120)
         except subprocess.TimeoutExpired:
             check(False, f"{path}: hangs")
             continue
@@ -90,18 +81,23 @@ with tempfile.TemporaryDirectory() as tmp:
     r = run(["run", study, "--results-root", ref, "-q", "--threads", "2"])
     check(r.returncode == 0, f"reference run: {r.stderr}")
 
-    # --- two runs of one study: the second refuses naming the holder; --wait queues behind
+    # --- two runs of one study: the second refuses naming the holder; --wait queues behind.
+    # The first is held after its first case file (tests/faults/pause_rename.c) until the second
+    # has been refused, so the two overlap however the machine is loaded.
     root = os.path.join(tmp, "twice")
+    hold = Pause(tmp, 1)
     a = subprocess.Popen([rodend_path(), "run", study, "--results-root", root, "-q", "-j", "1"],
-                         stderr=subprocess.PIPE, text=True)
-    check(wait_for_files(os.path.join(root, "faults", ".rodend.lock"), 1), "no lock file")
-    r = run(["run", study, "--results-root", root, "-q"])
-    a.wait()
+                         stderr=subprocess.PIPE, text=True, env=hold.env())
+    check(hold.wait(alive=lambda: a.poll() is None), "the first run was not held after a case")
+    r = run(["run", study, "--results-root", root, "-q"], timeout=300)
+    hold.release()
+    a.wait(timeout=300)
     check(a.returncode == 0, f"first run: {a.returncode}")
     check(r.returncode == 2 and "another run of this study" in r.stderr and
           f"pid {a.pid}" in r.stderr, f"second run: exit {r.returncode}, {r.stderr!r}")
     assert_same_results(os.path.join(ref, "faults"), os.path.join(root, "faults"), "two runs")
-    # --wait, against a holder this test controls (the lock is an flock on .rodend.lock)
+    # --wait, against a holder this test controls (the lock is an flock on .rodend.lock): the
+    # run says it waits, and is still waiting, when the test lets the lock go
     import fcntl
     with open(os.path.join(root, "faults", ".rodend.lock"), "r+") as holder:
         fcntl.flock(holder, fcntl.LOCK_EX)
@@ -110,25 +106,35 @@ with tempfile.TemporaryDirectory() as tmp:
         holder.flush()
         w = subprocess.Popen([rodend_path(), "run", study, "--results-root", root, "--wait"],
                              stderr=subprocess.PIPE, text=True)
-        time.sleep(1.0)
-        check(w.poll() is None, "--wait did not wait for the lock")
+        before = "".join(read_until(w.stderr, "waiting for the run"))
+        check("waiting for the run" in before and w.poll() is None,
+              f"--wait did not wait for the lock: {w.poll()} {before!r}")
         fcntl.flock(holder, fcntl.LOCK_UN)
-    _, err = w.communicate(timeout=60)
+    _, err = w.communicate(timeout=300)
+    err = before + err
     check(w.returncode == 0 and "waiting for the run" in err and f"pid {os.getpid()} on test" in err
           and "6 of 6 cases already complete" in err, f"--wait: {w.returncode} {err!r}")
 
-    # --- SIGINT / SIGTERM: stop taking cases, finish those in flight, exit 128+signal
+    # --- SIGINT / SIGTERM: stop taking cases, finish those in flight, exit 128+signal. The run
+    # is held with one case file renamed into place and its other cases in flight; the signal
+    # is sent in that state, and the held cases go on once the run says it is stopping.
     for sig, code in ((signal.SIGINT, 130), (signal.SIGTERM, 143)):
         root = os.path.join(tmp, f"sig{code}")
+        hold = Pause(tmp, 1)
         p = subprocess.Popen([rodend_path(), "run", study, "--results-root", root, "-q", "-j", "2"],
-                             stderr=subprocess.PIPE, text=True)
-        check(wait_for_files(os.path.join(root, "faults", "cases", "*.h5"), 1),
-              f"{sig.name}: no case finished")
+                             stderr=subprocess.PIPE, text=True, env=hold.env())
+        check(hold.wait(alive=lambda: p.poll() is None), f"{sig.name}: the run was not held")
         p.send_signal(sig)
-        _, err = p.communicate(timeout=60)
+        before = "".join(read_until(p.stderr, "rodend: stop"))
+        hold.release()
+        _, err = p.communicate(timeout=300)
+        err = before + err
         check(p.returncode == code, f"{sig.name}: exit {p.returncode}, expected {code} ({err})")
         check(f"stopped by {sig.name}" in err and "Resume with: rodend run" in err,
               f"{sig.name}: message {err!r}")
+        done = len(glob.glob(os.path.join(root, "faults", "cases", "*.h5")))
+        check(f" {done} of 6 case(s) complete" in err and 1 < done < 6,
+              f"{sig.name}: {done} case files; message {err!r}")
         check(temporaries(root) == [], f"{sig.name}: temporary files left {temporaries(root)}")
         r = run(["run", study, "--results-root", root, "-j", "2"])
         check(r.returncode == 0, f"{sig.name}: resume {r.stderr}")

@@ -9,16 +9,19 @@
   summary whose rows named files that no longer existed);
 - a case file held open by h5py in "r+" mode is reported as locked (exit 2 from run, 1 from
   merge), not moved to .corrupt and rerun; once closed, the resume finds every case complete.
+
+The first run of each pair is held by the rename hook (tests/faults/pause_rename.c) after its
+first case files, until the test has done what it does beside it: the two overlap however loaded
+the machine is.
 """
 import glob
 import os
 import subprocess
 import tempfile
-import time
 
 import h5py
 
-from common import check, finish, read_summary, rodend_path, run, write_study
+from common import Pause, check, finish, read_summary, rodend_path, run, write_study
 
 
 def slow_study(path, name, n=6):
@@ -30,18 +33,9 @@ def slow_study(path, name, n=6):
         "grid": [{"key": "parameters.contact.clearance", "linspace": [1e-4, 6e-4, n]}]})
 
 
-def start(args):
+def start(args, env=None):
     return subprocess.Popen([rodend_path()] + args, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
-
-
-def wait_for(pattern, count, timeout=60.0):
-    t0 = time.monotonic()
-    while time.monotonic() - t0 < timeout:
-        if len(glob.glob(pattern)) >= count:
-            return True
-        time.sleep(0.01)
-    return False
+                            stderr=subprocess.PIPE, text=True, env=env)
 
 
 def exclusion(tmp):
@@ -53,9 +47,10 @@ def exclusion(tmp):
                                 ([], ["--shard", "1/2"], ".rodend.lock"),
                                 (["--shard", "2/2"], ["--shard", "1/2"], None),
                                 (["--shard", "1/2"], ["--shard", "1/3"], "another split")):
-        p = start(["run", study, "-q", "-j", "1", "--results-root", root] + first)
-        check(wait_for(cases, 1), f"{first}: no case file appeared")
-        r = run(["run", study, "-q", "-j", "1", "--results-root", root] + second, timeout=120)
+        hold = Pause(tmp, 1)
+        p = start(["run", study, "-q", "-j", "1", "--results-root", root] + first, hold.env())
+        check(hold.wait(alive=lambda: p.poll() is None), f"{first}: the run was not held")
+        r = run(["run", study, "-q", "-j", "1", "--results-root", root] + second, timeout=300)
         if says is None:  # two shards of one split: side by side
             check(r.returncode == 0, f"shard {second} beside {first}: exit {r.returncode} "
                                      f"{r.stderr[-400:]}")
@@ -64,10 +59,11 @@ def exclusion(tmp):
                   f"{second or 'full run'} while {first or 'full run'} runs: exit "
                   f"{r.returncode} {r.stderr[-400:]}")
         if first == ["--shard", "1/2"] and not second:
-            m = run(["merge", study, "--results-root", root], timeout=60)
+            m = run(["merge", study, "--results-root", root], timeout=300)
             check(m.returncode == 2 and "holds" in m.stderr,
                   f"merge while a shard runs: exit {m.returncode} {m.stderr[-300:]}")
-        check(p.wait(timeout=120) in (0, 1), f"{first}: the first run failed: {p.stderr.read()}")
+        hold.release()
+        check(p.wait(timeout=300) in (0, 1), f"{first}: the first run failed: {p.stderr.read()}")
         for f in glob.glob(cases):
             os.remove(f)
 
@@ -76,16 +72,18 @@ def deleted_files(tmp):
     study = slow_study(os.path.join(tmp, "del.json"), "del", n=6)
     root = os.path.join(tmp, "del-root")
     folder = os.path.join(root, "del")
-    p = start(["run", study, "-q", "-j", "1", "--results-root", root])
-    check(wait_for(os.path.join(folder, "cases", "*.h5"), 2), "deleted: no case files")
+    hold = Pause(tmp, 2)
+    p = start(["run", study, "-q", "-j", "1", "--results-root", root], hold.env())
+    check(hold.wait(alive=lambda: p.poll() is None), "deleted: the run was not held")
     gone = sorted(glob.glob(os.path.join(folder, "cases", "*.h5")))[0]
     os.remove(gone)
-    _, err = p.communicate(timeout=120)
+    hold.release()
+    _, err = p.communicate(timeout=300)
     check(p.returncode == 2 and "disappeared" in err and gone in err and "Resume with" in err,
           f"a deleted case file: exit {p.returncode} {err[-600:]}")
     check(not os.path.exists(os.path.join(folder, "summary.csv")),
           "a summary was written for a deleted case file")
-    r = run(["run", study, "-q", "-j", "1", "--results-root", root], timeout=120)
+    r = run(["run", study, "-q", "-j", "1", "--results-root", root], timeout=300)
     check(r.returncode == 0 and os.path.exists(gone), f"resume: exit {r.returncode} {r.stderr}")
     rows = read_summary(folder) if r.returncode == 0 else []
     check(len(rows) == 6 and all(os.path.exists(os.path.join(folder, "cases", x["case_id"] + ".h5"))
@@ -98,19 +96,19 @@ def locked_file(tmp):
         "grid": [{"key": "parameters.contact.clearance", "values": [2e-4, 4e-4]}]})
     root = os.path.join(tmp, "lock-root")
     folder = os.path.join(root, "lock")
-    r = run(["run", study, "-q", "--results-root", root], timeout=60)
+    r = run(["run", study, "-q", "--results-root", root], timeout=300)
     check(r.returncode == 0, f"locked: first run {r.stderr}")
     path = sorted(glob.glob(os.path.join(folder, "cases", "*.h5")))[0]
     with h5py.File(path, "r+"):
-        r = run(["run", study, "-q", "--results-root", root], timeout=60)
+        r = run(["run", study, "-q", "--results-root", root], timeout=300)
         check(r.returncode == 2 and "locked" in r.stderr and path in r.stderr,
               f"run beside h5py r+: exit {r.returncode} {r.stderr[-400:]}")
-        m = run(["merge", study, "--results-root", root], timeout=60)
+        m = run(["merge", study, "--results-root", root], timeout=300)
         check(m.returncode == 1 and "locked" in m.stderr,
               f"merge beside h5py r+: exit {m.returncode} {m.stderr[-400:]}")
     check(not glob.glob(os.path.join(folder, "cases", "*.corrupt*")),
           "a locked case file was moved aside as corrupt")
-    r = run(["run", study, "--results-root", root], timeout=60)
+    r = run(["run", study, "--results-root", root], timeout=300)
     check(r.returncode == 0 and "2 of 2 cases already complete" in r.stderr,
           f"after h5py closed it: exit {r.returncode} {r.stderr[-400:]}")
 

@@ -90,8 +90,6 @@ def main():
              "time.end"),
             (lambda: rodend.run_case("gravity-drop", {"contact.clearance": float("nan")}),
              "Out of range float values are not JSON compliant"),
-            (lambda: rodend.run_study(os.path.join(tmp, "missing.json")),
-             "cannot open the study file"),
             (lambda: rodend.run_study(study, threads=0), "threads"),
         ]:
             try:
@@ -99,6 +97,14 @@ def main():
                 check(False, f"accepted: expected an error with {expected!r}")
             except (rodend.InputError, ValueError) as e:
                 check(expected in str(e), f"expected {expected!r} in {e}")
+        # a study file that is not there: FileNotFoundError naming it, as open() would raise
+        for call in (rodend.run_study, rodend.load_study):
+            missing = os.path.join(tmp, "missing.json")
+            try:
+                call(missing)
+                check(False, f"{call.__name__} accepted a missing study file")
+            except FileNotFoundError as e:
+                check(e.filename == missing, f"{call.__name__}: {e} does not name {missing}")
 
         # a study over a zip group and a plain axis
         grid = write_study(os.path.join(tmp, "grid.json"), {

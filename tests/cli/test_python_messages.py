@@ -1,12 +1,19 @@
 #!/usr/bin/env python3
-"""Messages and progress where a Python user looks (issue 35 item 3): rodend.run_study's
+"""Messages and progress where a Python user looks: rodend.run_study's
 messages go to the logger "rodend" and its progress to Python's sys.stderr (a tqdm bar where
 tqdm is installed, else the progress line) or to a callback; nothing reaches file descriptor 2,
 where a notebook's kernel would swallow it. Before, the runner wrote everything on descriptor 2:
 `contextlib.redirect_stderr` captured nothing and `logging` saw nothing.
 
-Each check runs in a child Python whose descriptor 2 is a file the test reads afterwards."""
+Each check runs in a child Python whose descriptor 2 is a file the test reads afterwards.
+
+The displays themselves (display_checks): the tqdm bar's rate is the run's (a bar made when the
+first case ends used to show one case over the microseconds since it was made: "69905 case/s"),
+and a message (the stop after Ctrl-C) starts on a line of its own, not glued to the updating
+progress line or the bar."""
+import io
 import json
+import logging
 import os
 import subprocess
 import sys
@@ -65,7 +72,51 @@ def child(what, root):
     return json.loads(r.stdout.strip().splitlines()[-1])
 
 
+class Terminal(io.StringIO):
+    def isatty(self):
+        return True
+
+
+def shown(make, progresses, message):
+    """What a display shows on a terminal for these Progress tuples, then a runner message
+    (through the logger "rodend", whose handler writes to the same terminal)."""
+    from rodend.progress import Progress, Reporter
+    term, old = Terminal(), sys.stderr
+    handler = logging.StreamHandler(term)
+    handler.setFormatter(logging.Formatter("rodend: %(message)s"))
+    log = logging.getLogger("rodend")
+    log.addHandler(handler)
+    sys.stderr = term
+    try:
+        rep = Reporter(True)
+        rep.shown = make()
+        for p in progresses:
+            rep.progress(*Progress(*p))
+        rep.message(message)
+        rep.close()
+    finally:
+        sys.stderr = old
+        log.removeHandler(handler)
+    return term.getvalue()
+
+
+def display_checks():
+    sys.path.insert(0, os.environ.get("PYTHONPATH", "").split(os.pathsep)[0])
+    from rodend.progress import Bar, TextLine
+    from tqdm import tqdm
+    stop = "stopped by SIGINT: 2 of 10 case(s) complete"
+    for name, make in (("text line", TextLine), ("tqdm bar", lambda: Bar(tqdm))):
+        out = shown(make, [(1, 10, 0, 0.5, 4.5), (2, 10, 0, 5.0, 20.0)], stop)
+        before = out.split("rodend: " + stop)[0]
+        check(before.endswith("\n") and ("rodend: " + stop) in out,
+              f"{name}: the stop message is not on a line of its own: {out!r}")
+    # two cases in 5 s of the run: 2.50 s per case (tqdm inverts a rate below 1 per second)
+    check("2.50s/case" in out and "case/s," not in out.split("\r")[-1],
+          f"the tqdm bar's rate is not the run's (2 cases in 5 s): {out!r}")
+
+
 def main():
+    display_checks()
     with tempfile.TemporaryDirectory() as root:
         out = child("callback", os.path.join(root, "a"))
         done = [p[0] for p in out["progress"]]

@@ -1,18 +1,21 @@
 """rodend installs into a fresh virtual environment with the documented command and the
-examples run there (issue 35 item 1; docs/python.md "Installing"). Before, there was no
-pyproject.toml: only /usr/bin/python3 could import rodend, through a .pth file setup.sh wrote
-into the system's site-packages.
+examples run there (docs/python.md "Installing").
 
     test_python_package.py REPO BUILD_DIR
 
 The venv is `python3 -m venv --system-site-packages` (numpy, h5py, pandas, xarray and
 matplotlib from Debian), the install `pip install --no-build-isolation REPO` with --no-index
-(nothing is downloaded: every dependency must already be there). RODEND_PIP_BUILD_DIR names this
-build directory, configured for /usr/bin/python3, the venv's base interpreter: setup.py builds
-the extension target there (up to date: no second compilation of the project) and installs it;
-its build of a fresh CMake directory is the same code after a configure step. Then, with no
-PYTHONPATH and no RODEND_BUILD_DIR, the venv's python imports rodend from its own
-site-packages, its version is the project's, and every example (scripts and notebook) runs.
+(nothing is downloaded: every dependency must already be there). With no RODEND_PIP_BUILD_DIR,
+setup.py finds the clone's build (RODEND_BUILD_DIR names this test's), configured for
+/usr/bin/python3, whose extensions the venv's python loads: it reuses it (builds the target
+_rodend, up to date: no compilation) and says so; its build of a fresh CMake directory is the
+same code after a configure step. Then, with no PYTHONPATH and no RODEND_BUILD_DIR, the venv's
+python imports rodend from its own site-packages, its version is the project's, and every
+example (scripts and notebook) runs.
+
+A venv without Debian's packages (no wheel, numpy, ...) is refused before anything is built,
+with what is missing and how to get it (it used to fail with setuptools' "invalid command
+'bdist_wheel'").
 """
 import json
 import os
@@ -33,11 +36,22 @@ def main():
                            capture_output=True, text=True, env=env, timeout=300)
         check(r.returncode == 0, f"python3 -m venv failed: {r.stderr}")
         python = os.path.join(venv, "bin", "python")
-        r = subprocess.run([python, "-m", "pip", "install", "--no-index", "--no-cache-dir",
+        r = subprocess.run([python, "-m", "pip", "install", "-v", "--no-index", "--no-cache-dir",
                             "--no-build-isolation", repo], capture_output=True, text=True,
-                           env=dict(env, RODEND_PIP_BUILD_DIR=build), cwd=tmp, timeout=1800)
+                           env=dict(env, RODEND_BUILD_DIR=build), cwd=tmp, timeout=1800)
         check(r.returncode == 0, f"pip install failed ({r.returncode}):\n{r.stdout[-3000:]}\n"
               f"{r.stderr[-3000:]}")
+        check(f"rodend: reusing the CMake build {build}" in r.stdout + r.stderr,
+              f"pip install did not reuse {build}:\n{(r.stdout + r.stderr)[-3000:]}")
+        plain = os.path.join(tmp, "plain")
+        subprocess.run(["/usr/bin/python3", "-m", "venv", plain], check=True, env=env, timeout=300)
+        r = subprocess.run([os.path.join(plain, "bin", "python"), "-m", "pip", "install",
+                            "--no-index", "--no-cache-dir", "--no-build-isolation", repo],
+                           capture_output=True, text=True, env=env, cwd=tmp, timeout=600)
+        out = r.stdout + r.stderr
+        check(r.returncode != 0 and "missing build requirements: wheel" in out and
+              "python3-wheel" in out and "pip install setuptools wheel pybind11 numpy" in out and
+              "bdist_wheel" not in out, f"a venv without wheel: exit {r.returncode}:\n{out[-3000:]}")
         r = subprocess.run([python, "-c", "import importlib.metadata as m, json, rodend; "
                             "print(json.dumps([rodend.__file__, rodend._ext.__file__, "
                             "rodend.__version__, m.version('rodend')]))"],

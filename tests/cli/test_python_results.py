@@ -12,7 +12,8 @@ product study, a zip group with a sampled design, and a one-case run, all of gra
 - honest answers (item 6): an unknown signal, metric, scene or case names the nearest valid
   names; run_study takes a dict (same case ids as the file, no file left behind); numpy
   scalars and arrays in parameters and set=; threads="2" and other wrong types are refused
-  with TypeError naming the argument.
+  with TypeError naming the argument; threads beyond 1..4096, 2**31 included, with InputError
+  naming threads.
 """
 import glob
 import os
@@ -158,6 +159,12 @@ def honest(tmp, study, folder):
     check(case.parameters["contact.clearance"]["value"] == float(np.float32(2e-4)), "float32")
     raises(lambda: case.metrics["max_penetraton"], KeyError, "nearest: max_penetration")
     raises(lambda: case.signals["eccentricty"], KeyError, "nearest: eccentricity")
+    # the Datasets too (xarray's own KeyError named only the key)
+    res = rodend.open_results(folder)
+    raises(lambda: res.histories["eccentricty"], KeyError, "nearest: eccentricity")
+    raises(lambda: res.summary_dataset["max_penetraton"], KeyError, "nearest: max_penetration")
+    raises(lambda: case.to_xarray()["eccentricty"], KeyError, "nearest: eccentricity")
+    check(float(res.histories["eccentricity"].max()) > 0, "a known variable of the Dataset")
     raises(lambda: rodend.parameters("gravity-drp"), ValueError, "nearest: gravity-drop")
     raises(lambda: rodend.open_results(folder).case("0000"), KeyError, "case id")
     # run_study takes the study as a dict: the same cases as the file, nothing left behind
@@ -177,6 +184,9 @@ def honest(tmp, study, folder):
                                                              "rerun_failed"),
                      ({"set": "time.end=1"}, "set")):
         raises(lambda: rodend.run_study(study, **kw), TypeError, word)
+    # beyond a C int: named like 0 or 5000 are (main printed pybind's signature dump)
+    for n in (2 ** 31, 2 ** 63, -2 ** 31 - 1, np.int64(2 ** 40)):
+        raises(lambda: rodend.run_study(study, threads=n), rodend.InputError, "1 to 4096")
     raises(lambda: rodend.run_case("gravity-drop", time=[0.1, 1e-3]), TypeError, "time")
 
 

@@ -8,7 +8,8 @@ interpreter with a time limit, so that a deadlock or a crash is a failure, not a
 - a `set=` value nested 100,000 levels deep raises InputError (dict and "key=value" forms),
   and so does run_case's `parameters=`: never a crash from a recursive conversion;
 - after two overlapping run_study calls in two threads, SIGINT raises KeyboardInterrupt in
-  Python (the interpreter's handler is back), whichever call ends first.
+  Python (the interpreter's handler is back), whichever call ends first (the order is made by
+  the calls' progress callbacks, not by their lengths).
 """
 import os
 import signal
@@ -81,20 +82,32 @@ DEEP = """
 """
 
 SIGINT_AFTER = """
-    import os, signal, threading, time, rodend
-    def study(name, end):
-        rodend.run_study("slow.json", threads=1, results_root="res-" + name,
-                         set={"time.end": end})
-    # A starts 0.1 s before B; it ends last in one order (0.6 s vs 0.2 s of wall time), first
-    # in the other (before the fix: A restored Python's handler, then B what it had replaced,
-    # rodend's, which swallowed the next SIGINT)
-    for ends in ((4.0, 1.5), (1.5, 4.0)):
-        a = threading.Thread(target=study, args=("a%s" % ends[0], ends[0]))
-        b = threading.Thread(target=study, args=("b%s" % ends[1], ends[1]))
-        a.start(); time.sleep(0.1); b.start(); a.join(); b.join()
+    import signal, threading, rodend
+    # Two run_study calls overlap: B starts once A's first case is complete (A's run holds its
+    # signal scope then), and each order of their ends is made by the progress callbacks, which
+    # hold one run until the other has ended: A ends last, then A ends first (before the fix:
+    # A restored Python's handler, then B what it had replaced, rodend's, which swallowed the
+    # next SIGINT).
+    def study(name, progress):
+        rodend.run_study("slow.json", threads=1, results_root="res-" + name, progress=progress)
+    for a_last in (True, False):
+        a_in, b_in, a_done, b_done = (threading.Event() for _ in range(4))
+        def on_a(p, a_last=a_last, a_in=a_in, b_in=b_in, b_done=b_done):
+            a_in.set()
+            (b_done if a_last else b_in).wait(300)
+        def on_b(p, a_last=a_last, b_in=b_in, a_done=a_done):
+            b_in.set()
+            if not a_last:
+                a_done.wait(300)
+        a = threading.Thread(target=study, args=("a%d" % a_last, on_a))
+        b = threading.Thread(target=study, args=("b%d" % a_last, on_b))
+        a.start(); a_in.wait(300); b.start()
+        if a_last:
+            b.join(); b_done.set(); a.join()
+        else:
+            a.join(); a_done.set(); b.join()
         try:
-            os.kill(os.getpid(), signal.SIGINT)
-            time.sleep(1.0)
+            signal.raise_signal(signal.SIGINT)  # handled in this thread before it returns
             print("SIGINT ignored")
         except KeyboardInterrupt:
             print("KeyboardInterrupt")
@@ -110,7 +123,8 @@ def main():
             "grid": [{"key": "parameters.contact.clearance", "values": [2e-4, 4e-4]}]})
         write_study(os.path.join(tmp, "slow.json"), {
             "name": "slow", "scene": "rod-end-kinematic",
-            "time": {"end": 4.0, "sample_interval": 1e-3}})
+            "time": {"end": 0.5, "sample_interval": 1e-3},
+            "grid": [{"key": "parameters.contact.clearance", "values": [2e-4, 4e-4]}]})
 
         for k in range(3):
             rc, out = child(FIRST_CALLS, 30, tmp)

@@ -1,7 +1,7 @@
 /* Allocation-failure injection for the fault suite (issue 37 item 8;
  * tests/cli/test_alloc_failures.py), in the spirit of SQLite's malloc tests: preloaded (LD_PRELOAD)
- * into a rodend process, it makes the K-th call of malloc, calloc, realloc, aligned_alloc or
- * posix_memalign (counted over every thread) return NULL (errno ENOMEM), and with
+ * into a rodend process, it makes the K-th allocation (any entry point of rodend's allocator,
+ * app/malloc_fallback.cpp, counted over every thread) fail (NULL, errno ENOMEM), and with
  * RODEND_FAIL_ALLOC_PERSIST=1 every call after it too. Without RODEND_FAIL_ALLOC it only counts,
  * and prints the count to stderr at exit when RODEND_FAIL_ALLOC_COUNT=1 (how many allocations a run
  * makes, to choose the K's).
@@ -18,8 +18,7 @@
  * failure there ends any program in std::terminate whatever it does (a limit of the library, like
  * HDF5's above). When the K-th allocation is made inside one of them, the next one fails instead.
  *
- * The real allocators are glibc's own entry points (__libc_malloc, ...), so no dlsym (which
- * allocates) is needed. Test code only: never linked into rodend. */
+ * Test code only: never linked into rodend. */
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <errno.h>
@@ -30,11 +29,6 @@
 #include <string.h>
 #include <unistd.h>
 #include <unwind.h>
-
-extern void* __libc_malloc(size_t);
-extern void* __libc_calloc(size_t, size_t);
-extern void* __libc_realloc(void*, size_t);
-extern void* __libc_memalign(size_t, size_t);
 
 static long fail_at = -2; /* -2: not read yet; -1: never */
 /* the executable segments of the objects whose allocations are counted */
@@ -166,30 +160,9 @@ static int fail_now(const void* caller) {
   return 0;
 }
 
-/* The rodend executable defines malloc itself (app/malloc_fallback.cpp: HDF5's sessions draw on
- * a reserve), and an executable's definitions take precedence over a preloaded library's: so
- * the ones below are not called in rodend; its malloc asks here instead, naming its caller. */
+/* The rodend executable defines every allocator entry point itself (app/malloc_fallback.cpp:
+ * HDF5's sessions draw on a reserve) and asks here, naming its caller. This library defines none
+ * (the executable's would reach them through dlsym(RTLD_NEXT) and count every call twice). */
 int rodend_fault_inject_alloc(const void* caller) {
   return fail_now(caller);
-}
-
-#define CALLER __builtin_return_address(0)
-void* malloc(size_t size) {
-  return fail_now(CALLER) ? NULL : __libc_malloc(size);
-}
-void* calloc(size_t n, size_t size) {
-  return fail_now(CALLER) ? NULL : __libc_calloc(n, size);
-}
-void* realloc(void* p, size_t size) {
-  return fail_now(CALLER) ? NULL : __libc_realloc(p, size);
-}
-void* aligned_alloc(size_t align, size_t size) {
-  return fail_now(CALLER) ? NULL : __libc_memalign(align, size);
-}
-int posix_memalign(void** out, size_t align, size_t size) {
-  if (fail_now(CALLER)) return ENOMEM;
-  void* p = __libc_memalign(align, size);
-  if (!p) return ENOMEM;
-  *out = p;
-  return 0;
 }

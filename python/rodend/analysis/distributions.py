@@ -1,5 +1,13 @@
 """The factors' distributions of design.json as OpenTURNS distributions."""
+import math
+
 import openturns as ot
+
+
+def log_parameters(mean, std):
+    """(mu, sigma): the mean and std of ln X for a lognormal X of this mean and std."""
+    var_log = math.log1p((std / mean) ** 2)
+    return math.log(mean) - var_log / 2, math.sqrt(var_log)
 
 
 def marginal(f):
@@ -11,10 +19,13 @@ def marginal(f):
         if kind == "normal":
             return ot.Normal(float(f["mean"]), float(f["std"]))
         if kind == "truncated-normal":
-            return ot.TruncatedNormal(float(f["mean"]), float(f["std"]), float(f["lower"]),
+            # design.json gives the parent normal's parameters as parent_mean, parent_std and
+            # the moments as mean, std; before it did, mean and std were the parent's
+            return ot.TruncatedNormal(float(f.get("parent_mean", f["mean"])),
+                                      float(f.get("parent_std", f["std"])), float(f["lower"]),
                                       float(f["upper"]))
         if kind == "lognormal":
-            return ot.LogNormalMuSigma(float(f["mean"]), float(f["std"]), 0.0).getDistribution()
+            return ot.LogNormal(*log_parameters(float(f["mean"]), float(f["std"])))
         if kind == "triangular":
             return ot.Triangular(float(f["lower"]), float(f["mode"]), float(f["upper"]))
         if kind == "discrete":

@@ -4,6 +4,8 @@ import os
 
 import numpy as np
 
+from ..atomic import atomic_file
+
 
 def _plt():
     import matplotlib
@@ -13,10 +15,12 @@ def _plt():
 
 
 def _save(fig, folder, name):
-    os.makedirs(os.path.join(folder, "plots"), exist_ok=True)
     path = os.path.join(folder, "plots", f"analysis-{name}.png")
-    fig.savefig(path, dpi=110, bbox_inches="tight")
-    _plt().close(fig)
+    try:
+        with atomic_file(path) as fh:  # never through a link (rodend/atomic.py)
+            fig.savefig(fh, format="png", dpi=110, bbox_inches="tight")
+    finally:
+        _plt().close(fig)
     return path
 
 

@@ -16,6 +16,9 @@ RECORD_COLUMNS = ("case_id", "case_index", "scene", "status", "message", "t_reac
 def read_design(folder):
     """design.json of a results folder, checked: a dict with method, size, points, factors."""
     path = os.path.join(folder, "design.json")
+    if not os.path.isdir(folder):
+        raise FileNotFoundError(f"{folder}: no such folder (a study's results folder: "
+                                "`rodend results-dir STUDY.json` names it)")
     if not os.path.isfile(path):
         raise ValueError(f"{folder}: no design.json: rodend analyze needs the results of a study "
                          "with a sampled design (a `design` block: monte-carlo, latin-hypercube, "

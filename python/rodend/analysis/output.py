@@ -6,6 +6,8 @@ import os
 import h5py
 import numpy as np
 
+from ..atomic import atomic_file
+
 
 def _plain(v):
     if isinstance(v, dict):
@@ -22,14 +24,10 @@ def _plain(v):
 
 
 def write_json(folder, doc):
-    out = os.path.join(folder, "analysis")
-    os.makedirs(out, exist_ok=True)
-    path = os.path.join(out, "analysis.json")
-    tmp = path + ".tmp"
-    with open(tmp, "w", encoding="utf-8") as fh:
-        json.dump(_plain(doc), fh, indent=1, allow_nan=False)
-        fh.write("\n")
-    os.replace(tmp, path)
+    path = os.path.join(folder, "analysis", "analysis.json")
+    text = json.dumps(_plain(doc), indent=1, allow_nan=False) + "\n"
+    with atomic_file(path) as fh:  # never through a link (rodend/atomic.py)
+        fh.write(text.encode("utf-8"))
     return path
 
 
@@ -38,8 +36,7 @@ def write_bands(folder, groups):
     point (g0, g1, ...; attribute coordinates_json), in it one group per signal with time [s],
     levels [1] and quantiles (levels × time[× component]) in the signal's units."""
     path = os.path.join(folder, "analysis", "bands.h5")
-    os.makedirs(os.path.dirname(path), exist_ok=True)
-    with h5py.File(path + ".tmp", "w") as f:
+    with atomic_file(path) as fh, h5py.File(fh, "w") as f:  # never through a link
         for k, (coords, bands) in enumerate(groups):
             g = f.create_group(f"g{k}")
             g.attrs["coordinates_json"] = json.dumps(_plain(coords))
@@ -51,8 +48,15 @@ def write_bands(folder, groups):
                                         ("quantiles", b["quantiles"], b["units"])):
                     s.create_dataset(ds, data=np.asarray(data, dtype=float))
                     s[ds].attrs["units"] = units
-    os.replace(path + ".tmp", path)
     return path
+
+
+def _intervals(doc):
+    """"95% intervals", "99.9% intervals" (never rounded up to 100%), or none with --bootstrap 0
+    (the Sobol and Morris intervals are bootstrap intervals)."""
+    if doc["bootstrap"] == 0:
+        return "no intervals (bootstrap 0)"
+    return f"{100 * doc['confidence']:.10g}% intervals"
 
 
 def _iv(v, iv):
@@ -73,7 +77,8 @@ def table(doc):
             if "sobol" in r and "first_order" in r["sobol"]:
                 s = r["sobol"]
                 lines.append(f"  Sobol (Saltelli, {s['groups']} row groups, "
-                             f"{s['removed_groups']} removed), {doc['confidence']:.0%} intervals")
+                             f"{s['removed_groups']} removed), "
+                             f"{_intervals(doc)}")
                 lines.append(f"  {'factor':<{width}}  {'first order':<27}  total")
                 for i, k in enumerate(keys):
                     lines.append(f"  {k:<{width}}  "
@@ -81,8 +86,8 @@ def table(doc):
                                  f"  {_iv(s['total'][i], (s.get('total_interval') or [None] * len(keys))[i])}")
             if "morris" in r:
                 s = r["morris"]
-                lines.append(f"  Morris (effects per unit-space step), {doc['confidence']:.0%} "
-                             "intervals")
+                lines.append("  Morris (effects per unit-space step), "
+                             f"{_intervals(doc)}")
                 lines.append(f"  {'factor':<{width}}  {'mu':>10}  {'mu*':>10}{'':23}  {'sigma':>10}"
                              "  effects")
                 for i, k in enumerate(keys):
@@ -98,6 +103,8 @@ def table(doc):
                 for i, k in enumerate(keys):
                     lines.append(f"  {k:<{width}}  {c['first_order'][i]:8.4f}  "
                                  f"{' ' * 19}{c['total'][i]:8.4f}")
+            elif "withheld" in c:
+                lines.append(f"  chaos ({c['method']}): indices withheld: {c['validation']}")
             for e in r.get("exceedance", []):
                 lines.append(f"  P({m} > {e['threshold']:g}) = {e['probability']:.4g} "
                              f"[{e['interval'][0]:.4g}, {e['interval'][1]:.4g}] "

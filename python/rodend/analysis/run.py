@@ -1,4 +1,4 @@
-"""rodend.analyze and `rodend analyze`: the analysis of a study with a sampled design (issue 30).
+"""rodend.analyze and `rodend analyze`: the analysis of a study with a sampled design.
 
     python3 -m rodend.analyze results/S [--metric M]... [--threshold M=VALUE]...
                               [--history SIGNAL]... [--bootstrap N] [--confidence C]
@@ -30,14 +30,19 @@ __all__ = ["analyze", "analyze_arrays", "main"]
 
 
 def _read_summary(folder):
-    if os.path.isfile(os.path.join(folder, "summary.h5")):
+    """summary.h5, its checksum checked (rodend.open_results). summary.csv alone is refused: it
+    carries no checksum, so a damaged value would pass unseen."""
+    path = os.path.join(folder, "summary.h5")
+    if os.path.isfile(path):
         from ..results import Results
         s = Results(folder).summary
         return s, s.attrs.get("units", {})
     if os.path.isfile(os.path.join(folder, "summary.csv")):
-        import pandas as pd
-        return pd.read_csv(os.path.join(folder, "summary.csv")), {}
-    raise ValueError(f"{folder}: no summary.h5 or summary.csv: not a rodend results folder")
+        raise ValueError(f"{path}: missing; rodend analyze reads only summary.h5, whose checksum "
+                         "it verifies (summary.csv has none). Write it again from the case files: "
+                         f"rodend merge {folder}")
+    raise ValueError(f"{folder}: no summary.h5: not a rodend results folder (or its run has not "
+                     f"finished: rodend merge {folder} writes the summary from the case files)")
 
 
 def _iid_rows(design):
@@ -217,7 +222,7 @@ def main(argv=None):
     try:
         analyze(a.folder, a.metric, a.threshold, a.history, a.bootstrap, a.confidence, a.chaos,
                 plots=not a.no_plots)
-    except (ValueError, FileNotFoundError) as e:
+    except (ValueError, OSError) as e:  # CorruptFile is a ValueError, a missing file an OSError
         print(f"rodend analyze: {e}", file=sys.stderr)
         return 2
     return 0

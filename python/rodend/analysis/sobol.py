@@ -37,8 +37,9 @@ def indices(x, y, n, keep, bootstrap=200, confidence=0.95, seed=0):
     ot.RandomGenerator.SetSeed(int(seed))
     algo = ot.SaltelliSensitivityAlgorithm(ot.Sample(x[rows]), ot.Sample(ys.reshape(-1, 1)),
                                            len(groups))
-    algo.setBootstrapSize(int(bootstrap))
-    algo.setConfidenceLevel(float(confidence))
+    if bootstrap > 0:  # 0: no intervals (OpenTURNS refuses a bootstrap size of 0)
+        algo.setBootstrapSize(int(bootstrap))
+        algo.setConfidenceLevel(float(confidence))
     out = {"estimator": "Saltelli (OpenTURNS SaltelliSensitivityAlgorithm)",
            "groups": len(groups), "removed_groups": n - len(groups),
            "first_order": list(algo.getFirstOrderIndices()),

@@ -7,8 +7,8 @@
 #include <cstdio>
 #include <string>
 
-#include "sweep/runner.hpp"
-#include "sweep/study.hpp"
+#include <rodend/sweep/runner.hpp>
+#include <rodend/sweep/study.hpp>
 
 int main() {
   using namespace rodend;
