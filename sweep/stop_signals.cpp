@@ -96,6 +96,8 @@ extern "C" void on_stop_signal(int sig) {
       "\nrodend: stopping: no new cases; the cases in flight finish and are written (signal "
       "again to stop at once)\n";
   if (loud) write_text(msg, sizeof msg - 1);
+  // nothing to print at the second (Python's run_study): the default action ends the process
+  if (!g_report.load()) std::signal(sig, SIG_DFL);
 }
 
 void install(int sig, struct sigaction* old, bool restart) {

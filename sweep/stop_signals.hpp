@@ -26,8 +26,9 @@ class StopSignalScope {
   /// What a stop signal does while a scope of the kind is open (both, when both are):
   ///  - batch: a run of cases (run_study, `rodend run`): SIGINT or SIGTERM stops the run from
   ///    taking new cases (stop_signal(); the cases in flight finish and are written) and says
-  ///    so on stderr; a second signal prints the `report` (when given: the count of complete
-  ///    cases and the resume command) and ends the process at once, by that signal;
+  ///    so on stderr; a second signal prints the `report` (the count of complete cases and the
+  ///    resume command) and ends the process at once, by that signal; without a report, the
+  ///    default action is restored at the first (the second ends the process);
   ///  - one_case: the Python module's run_case: SIGINT interrupts the case at its next sample
   ///    (case_interrupt(), sweep/case_observer.hpp), SIGTERM is left alone;
   ///  - rank: a rank of a distributed run (sweep/mpi_runner.cpp), which its watch thread ends at
