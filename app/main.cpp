@@ -34,9 +34,9 @@ void print_dry_run(const Study& s) {
   std::cout << "index\tcase_id\tmethod\tend_s";
   for (const auto& k : s.axis_keys) std::cout << "\t" << k;
   std::cout << "\n";
-  for (const auto& c : s.cases) {
-    std::cout << c.index << "\t" << c.id << "\t" << to_string(c.integrator.method) << "\t"
-              << c.time.end;
+  for (std::size_t i = 0; i < s.cases.size(); ++i) {
+    const CaseList::Row c = s.cases.row(i);
+    std::cout << c.index << "\t" << c.id << "\t" << to_string(c.method) << "\t" << c.end_s;
     for (const auto& k : s.axis_keys) std::cout << "\t" << c.coordinates[k].dump();
     std::cout << "\n";
   }
@@ -321,7 +321,9 @@ int run_command(Cli& c, const mpi::Session& mpi_session) {
   }
   opt.progress = !c.quiet;
   const int rc = run_study(study, opt);
-  std::cerr << "rodend: results in " << study.output_dir.string() << "\n";
+  // only when a summary was written (0: every case ok, 1: some failed); a run stopped by a
+  // signal has said where its cases are and how to resume
+  if (rc == 0 || rc == 1) std::cerr << "rodend: results in " << study.output_dir.string() << "\n";
   return rc;
 }
 

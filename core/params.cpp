@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <string_view>
 
 #include "core/json_text.hpp"
 #include "core/scene.hpp"
@@ -27,17 +28,20 @@ void walk(const Json& node, const std::string& prefix,
   }
 }
 
+/// The leaf at a dotted path, or null. Looked up by views of the path (nothing allocated):
+/// scenes read their parameters by path while a study checks each of its cases.
 template <class J>
 J* find(J& tree, const std::string& path) {
   J* node = &tree;
-  std::size_t start = 0;
+  std::string_view rest(path);
   while (true) {
-    const std::size_t dot = path.find('.', start);
-    const std::string key = path.substr(start, dot == std::string::npos ? dot : dot - start);
-    if (!node->is_object() || is_leaf(*node) || !node->contains(key)) return nullptr;
-    node = &(*node)[key];
-    if (dot == std::string::npos) break;
-    start = dot + 1;
+    const std::size_t dot = rest.find('.');
+    if (!node->is_object() || is_leaf(*node)) return nullptr;
+    const auto it = node->find(rest.substr(0, dot));
+    if (it == node->end()) return nullptr;
+    node = &*it;
+    if (dot == std::string_view::npos) break;
+    rest.remove_prefix(dot + 1);
   }
   return is_leaf(*node) ? node : nullptr;
 }

@@ -36,10 +36,13 @@ long long integer_at(const Json& v, const std::string& where) {
   if (!v.is_number_integer() && !(v.is_number() && v.get<double>() == std::floor(v.get<double>()) &&
                                   std::abs(v.get<double>()) < 9e15))
     throw InputError(where, "expected an integer, got " + v.dump());
-  return v.is_number_unsigned()
-             ? static_cast<long long>(std::min<std::uint64_t>(
-                   v.get<std::uint64_t>(), std::numeric_limits<long long>::max()))
-             : v.get<long long>();
+  // never clamped: two seeds (or sizes) above the range would read as one, and share case ids
+  constexpr auto kMax = static_cast<std::uint64_t>(std::numeric_limits<long long>::max());
+  if (v.is_number_unsigned() && v.get<std::uint64_t>() > kMax)
+    throw InputError(
+        where, "expected an integer from 0 to 9223372036854775807 (2^63 - 1), got " + v.dump());
+  return v.is_number_unsigned() ? static_cast<long long>(v.get<std::uint64_t>())
+                                : v.get<long long>();
 }
 
 template <class Info, class Pick>

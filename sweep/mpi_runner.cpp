@@ -193,6 +193,7 @@ int take_records(std::string_view in, Rank0& r0) {
       rec.scene = c.scene;
       rec.coordinates = c.coordinates;
       r0.plan.spool->put(i, rec);
+      note_case_file(r0.plan, i, c.id);  // written by its rank before it reported
       r0.progress.case_done(rec.status != RunStatus::ok);
     }
   } catch (const std::bad_alloc&) {

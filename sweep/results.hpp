@@ -225,6 +225,12 @@ class CorruptCaseFile : public CorruptFile {
  public:
   using CorruptFile::CorruptFile;
 };
+/// A symbolic link under a case file's name: never read or written through (a resume moves the
+/// link aside, a merge refuses it); what() names it and its target.
+class LinkedCaseFile : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 /// Checks the checksum of a case file (docs/signals.md, "Checksum"): true when it holds, false
 /// for a file written before checksums (no user block: nothing to check). Throws
@@ -248,8 +254,9 @@ void write_text_file_atomically(const std::filesystem::path& path, const std::st
 std::optional<CaseRecord> read_case_record(const std::filesystem::path& path);
 /// The same, but only a missing file gives nullopt: a file (or anything else) under that name
 /// that cannot be read as a rodend case file throws naming it and the reason: CorruptCaseFile
-/// when its bytes are damaged (verify_case_file), std::runtime_error otherwise (not a regular
-/// file, no permission, another schema version, locked by another process).
+/// when its bytes are damaged (verify_case_file), LinkedCaseFile for a symbolic link (not
+/// followed), std::runtime_error otherwise (not a regular file, no permission, another schema
+/// version, locked by another process).
 std::optional<CaseRecord> read_case_record_strict(const std::filesystem::path& path);
 
 /// The case records of a run, the rows of its summary, kept on the disk instead of in memory

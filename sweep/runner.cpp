@@ -150,8 +150,9 @@ CaseRecord run_case(const CaseSpec& spec, History& history) {
 
 namespace {
 
-/// Renames a corrupt case file to <name>.corrupt (or <name>.corrupt.N, the first free name) in
-/// its directory, where no reader takes it for a case file; returns the new path.
+/// Renames a corrupt case file, or a link under a case file's name (the link itself, never its
+/// target), to <name>.corrupt (or <name>.corrupt.N, the first free name) in its directory,
+/// where no reader takes it for a case file; returns the new path.
 fs::path move_aside(const fs::path& path) {
   for (int n = 0;; ++n) {
     fs::path aside = path;
@@ -162,9 +163,8 @@ fs::path move_aside(const fs::path& path) {
     } else if (::rename(path.c_str(), aside.c_str()) == 0) {
       return aside;
     }
-    throw std::runtime_error(path.string() + " is corrupt and cannot be moved aside to " +
-                             aside.string() + ": " + std::strerror(errno) +
-                             "; move it away to rerun its case");
+    throw std::runtime_error(path.string() + " cannot be moved aside to " + aside.string() + ": " +
+                             std::strerror(errno) + "; move it away to rerun its case");
   }
 }
 
@@ -376,6 +376,7 @@ std::optional<CaseRecord> stored_record(const fs::path& path, const CaseSpec& c)
 /// touched: it is reported and nothing runs.
 void collect_done(const Study& study, const RunOptions& opt, RunPlan& plan) {
   plan.spool = std::make_unique<RecordSpool>(plan.summary_dir, study.cases.size());
+  plan.stamps.assign(study.cases.size(), 0);
   std::vector<std::string> unreadable;
   for (std::size_t i = 0; i < study.cases.size(); ++i) {
     const CaseSpec& c = study.cases[i];
@@ -383,12 +384,20 @@ void collect_done(const Study& study, const RunOptions& opt, RunPlan& plan) {
     ++plan.in_scope;
     const fs::path path = plan.cases_dir / (c.id + ".h5");
     std::optional<CaseRecord> rec;
+    // taken before the read: a file changed after it is read again before the summary
+    const std::uint64_t stamp = case_file_stamp(path);
     try {
       rec = stored_record(path, c);
     } catch (const CorruptCaseFile& e) {
       const fs::path aside = move_aside(path);
       run_message(opt.events,
                   std::string(e.what()) + "; moved to " + aside.string() + ", the case runs again");
+      plan.todo.push_back(i);
+      continue;
+    } catch (const LinkedCaseFile& e) {
+      const fs::path aside = move_aside(path);
+      run_message(opt.events, std::string(e.what()) + ": moved to " + aside.string() +
+                                  " (the link, not its target), the case runs again");
       plan.todo.push_back(i);
       continue;
     } catch (const std::exception& e) {
@@ -400,6 +409,7 @@ void collect_done(const Study& study, const RunOptions& opt, RunPlan& plan) {
       rec->index = c.index;
       rec->coordinates = c.coordinates;
       plan.spool->put(i, *rec);
+      plan.stamps[i] = std::max<std::uint64_t>(stamp, 2);
       continue;
     }
     plan.todo.push_back(i);
@@ -451,41 +461,17 @@ CaseRecord run_and_write_case(const Study& study, const RunPlan& plan, std::size
   History history;
   CaseRecord rec = run_case(spec, history);
   write_case_file(plan.cases_dir / (spec.id + ".h5"), spec, rec, history, plan.provenance);
+  note_case_file(plan, i, spec.id);
   return rec;
 }
 
 namespace {
 
-/// The case files of the summary's rows that are gone (deleted by another process during the
-/// run): the summary must describe files that exist. Throws std::runtime_error naming them.
-void check_case_files_present(const RunPlan& plan) {
-  std::vector<CaseRecord> block;
-  std::vector<std::string> gone;
-  const std::size_t rows = plan.spool->size();
-  for (std::size_t begin = 0; begin < rows; begin += 4096) {
-    plan.spool->read(begin, std::min(rows, begin + 4096), block);
-    for (const CaseRecord& r : block) {
-      const fs::path f = plan.cases_dir / (r.id + ".h5");
-      struct stat st {};
-      if (::lstat(f.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) gone.push_back(f.string());
-    }
-  }
-  if (gone.empty()) return;
-  std::string m = std::to_string(gone.size()) + " case file(s) disappeared during the run (" +
-                  "removed or replaced by another process); no summary written, it would list "
-                  "cases without their files:";
-  for (std::size_t k = 0; k < gone.size() && k < 20; ++k) m += "\n  " + gone[k];
-  if (gone.size() > 20) m += "\n  ...";
-  throw std::runtime_error(m + "\nrodend: stopped: " + std::to_string(rows - gone.size()) + " of " +
-                           std::to_string(plan.in_scope) + " case(s) complete in " +
-                           plan.cases_dir.string() + ". Resume with: " + plan.resume +
-                           " (it reruns the missing cases)");
-}
-
 /// What stopped the parallel loop early, set by any thread without allocating (but the first
 /// error's text); the messages are composed after the loop, on the calling thread.
 struct LoopFailure {
   std::atomic<bool> out_of_memory{false}, write_failed{false};
+  StopReport* report = nullptr;  ///< its count of complete cases, kept for a second signal
   std::mutex mutex;
   std::size_t first_case = 0;  ///< its study.cases index (resolving its id allocates)
   std::string first_error;
@@ -525,6 +511,7 @@ void run_cases(const Study& study, const RunPlan& plan, int threads, Progress& p
       try {
         const CaseRecord rec = run_and_write_case(study, plan, i);
         plan.spool->put(i, rec);
+        if (fail.report) fail.report->complete.fetch_add(1);
         progress.case_done(rec.status != RunStatus::ok);
       } catch (const std::bad_alloc&) {
         fail.out_of_memory.store(true);  // nothing allocated here
@@ -557,7 +544,7 @@ int start_team(const RunOptions& opt, const RunPlan& plan) {
 }  // namespace
 
 int write_run_summary(const Study& study, const RunPlan& plan) {
-  check_case_files_present(plan);
+  check_case_files(plan);
   try {
     write_summary(plan.summary_dir, study, *plan.spool, plan.provenance);
   } catch (const std::bad_alloc&) {
@@ -577,11 +564,20 @@ int run_study(const Study& study, const RunOptions& opt) {
   try {
     prepare_results_io();  // the library, on this thread, before any other thread uses it
     const int threads = start_team(opt, plan);
+    StopReport report;  // what a second signal prints
+    report.complete = complete();
+    report.in_scope = plan.in_scope;
+    report.tail =
+        " in " + plan.cases_dir.string() +
+        "; the cases in flight are not written, no summary written. Resume with: " + plan.resume +
+        "\n";
     const StopSignalScope stop_signals(StopSignalScope::Kind::batch,
-                                       /*quiet_notice=*/static_cast<bool>(opt.events.message));
+                                       /*quiet_notice=*/static_cast<bool>(opt.events.message),
+                                       &report);
     Progress progress(opt.progress, plan.in_scope,
                       plan.in_scope - static_cast<long>(plan.todo.size()), opt.events);
     LoopFailure fail;
+    fail.report = &report;
     run_cases(study, plan, threads, progress, fail);
     if (fail.out_of_memory)
       throw OutOfMemory(complete(), plan.in_scope, plan.cases_dir.c_str(), plan.resume.c_str());
@@ -629,7 +625,7 @@ int shard_count_in(const fs::path& dir) {
 /// corrupt or unreadable.
 struct MergeScan {
   std::vector<std::pair<long, std::string>> missing;  // case index, case id
-  std::vector<std::string> unreadable, corrupt;
+  std::vector<std::string> unreadable, corrupt, linked;
 };
 
 MergeScan scan_case_files(const Study& study, const fs::path& cases_dir, RecordSpool& rows) {
@@ -642,6 +638,9 @@ MergeScan scan_case_files(const Study& study, const fs::path& cases_dir, RecordS
       rec = read_case_unless_locked(cases_dir / (c.id + ".h5"));
     } catch (const CorruptCaseFile& e) {
       scan.corrupt.push_back(e.what());
+      continue;
+    } catch (const LinkedCaseFile& e) {
+      scan.linked.push_back(e.what());
       continue;
     } catch (const std::exception& e) {
       scan.unreadable.push_back(e.what());
@@ -658,9 +657,42 @@ MergeScan scan_case_files(const Study& study, const fs::path& cases_dir, RecordS
   return scan;
 }
 
-/// Reports why no summary can be merged; false when there is no such reason.
-bool report_incomplete(const Study& study, const MergeScan& scan, const fs::path& cases_dir,
-                       int shards, std::ostream& report) {
+/// The profiles the study reads whose content differs from that recorded in the results
+/// folder's profiles.json (written by the run): one line each, "" when none (or no record).
+std::string changed_profiles(const Study& study, const fs::path& dir) {
+  const fs::path recorded_file = dir / "profiles.json";
+  std::error_code ec;
+  if (!fs::is_regular_file(fs::symlink_status(recorded_file, ec)) ||
+      fs::file_size(recorded_file, ec) > (16u << 20))
+    return "";
+  Json recorded;
+  try {
+    std::ifstream in(recorded_file, std::ios::binary);
+    recorded = Json::parse(in);
+  } catch (const std::exception&) {
+    return "";  // not the run's: nothing to say from it
+  }
+  std::string out;
+  for (const Json& now : study.profiles)
+    for (const Json& then : recorded.is_array() ? recorded : Json::array())
+      if (then.is_object() && then.value("file", "") == now.value("file", "") &&
+          then.value("column", "") == now.value("column", "") &&
+          then.value("content_fnv1a64", "") != now.value("content_fnv1a64", ""))
+        out += "  " + now.value("file", "") + " (column '" + now.value("column", "") +
+               "'): content fnv1a64 " + then.value("content_fnv1a64", "") +
+               " when the run read it, " + now.value("content_fnv1a64", "") + " now\n";
+  return out;
+}
+
+/// The case files that are links, corrupt, or cannot be read: reported; true when any.
+bool report_unusable(const Study& study, const MergeScan& scan, std::ostream& report) {
+  if (!scan.linked.empty()) {
+    report << "rodend: " << scan.linked.size()
+           << " case file(s) are symbolic links; no summary written. This moves the links aside "
+              "(never their targets) and reruns those cases: "
+           << resume_command(study, RunOptions{}) << "\n";
+    for (const std::string& u : scan.linked) report << "  " << u << "\n";
+  }
   if (!scan.corrupt.empty()) {
     report << "rodend: " << scan.corrupt.size()
            << " case file(s) are corrupt; no summary written. `rodend run` on the study moves "
@@ -673,8 +705,20 @@ bool report_incomplete(const Study& study, const MergeScan& scan, const fs::path
               "rerun those cases (rodend run resumes):\n";
     for (const std::string& u : scan.unreadable) report << "  " << u << "\n";
   }
-  if (!scan.corrupt.empty() || !scan.unreadable.empty()) return true;
+  return !scan.corrupt.empty() || !scan.unreadable.empty() || !scan.linked.empty();
+}
+
+/// Reports why no summary can be merged; false when there is no such reason.
+bool report_incomplete(const Study& study, const MergeScan& scan, const fs::path& cases_dir,
+                       int shards, std::ostream& report) {
+  if (report_unusable(study, scan, report)) return true;
   if (scan.missing.empty()) return false;
+  if (const std::string changed = changed_profiles(study, cases_dir.parent_path());
+      !changed.empty())
+    report << "rodend: profile file(s) changed since the run read them; a profile's content is "
+              "part of its cases' ids, so the cases that read them are new cases, computed by: "
+           << resume_command(study, RunOptions{}) << "\n"
+           << changed;
   report << "rodend: " << scan.missing.size() << " of " << study.cases.size()
          << " cases have no complete file in " << cases_dir.string()
          << "; no summary written. Missing (case index, case id"

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <iosfwd>
@@ -107,7 +108,26 @@ struct RunPlan {
   /// a shard's shared hold on the study's lock: full runs and merges wait for the shards
   std::shared_ptr<ResultsLock> study_lock;
   std::string resume;  ///< resume_command(study, options), for the messages that stop a run
+  /// per case of the study (slot): 0 when it has no row in the spool, else the identity of its
+  /// file when its case id was known to hold (read at resume, or written by this run:
+  /// case_file_stamp; 2 when there was none to take). The check before the summary reads again
+  /// only the files whose identity changed (write_run_summary).
+  mutable std::vector<std::uint64_t> stamps;
 };
+
+/// The identity of the regular file at `path` (device, inode, size, modification and change
+/// times: a file replaced, renamed over or rewritten gets another), 0 when there is none.
+std::uint64_t case_file_stamp(const std::filesystem::path& path);
+
+/// The files of the rows of plan.spool: each is there and holds its case (a file whose
+/// identity changed since it was noted is read again: checksum and case id). Throws
+/// std::runtime_error naming those that are gone or hold another case, with the count of
+/// complete cases and the resume command (sweep/case_file_check.cpp).
+void check_case_files(const RunPlan& plan);
+
+/// Records the identity of the file of case `i` (id `id`), just written (thread-safe for
+/// distinct cases; nothing when the plan does not track case `i`: an MPI rank's own plan).
+void note_case_file(const RunPlan& plan, std::size_t i, const std::string& id);
 
 /// Claims the results directory (ownership marker, lock, stale temporaries removed:
 /// sweep/results_dir.hpp), creates its subdirectories, writes study.json, and reads the case
@@ -121,7 +141,10 @@ RunPlan plan_run(const Study& study, const RunOptions& options);
 /// does not build).
 CaseRecord run_and_write_case(const Study& study, const RunPlan& plan, std::size_t i);
 
-/// Writes the summary of the records in plan.spool (grid order) into plan.summary_dir.
+/// Writes the summary of the records in plan.spool (grid order) into plan.summary_dir, after
+/// checking that every row's case file is there and holds its case (a file whose identity
+/// changed since it was verified is read again): throws std::runtime_error naming those that
+/// are gone or hold another case, with the count and the resume command, and writes nothing.
 /// Returns 0 when every row is ok, 1 otherwise.
 int write_run_summary(const Study& study, const RunPlan& plan);
 

@@ -110,6 +110,26 @@ class CaseList {
   CaseList(std::size_t count, std::shared_ptr<const Resolver> resolve)
       : count_(count), resolve_(std::move(resolve)) {}
 
+  /// What `rodend run --dry-run` prints of a case: its index, id, method, end time and grid
+  /// coordinates.
+  struct Row {
+    long index = 0;
+    std::string id;
+    IntegratorMethod method{};
+    double end_s = 0.0;
+    Json coordinates;
+  };
+  /// Rows of a grid without resolving its cases, when its axes set neither the method nor the
+  /// end time (the work per row is what is printed).
+  using RowResolver = std::function<Row(std::size_t)>;
+  void set_rows(std::shared_ptr<const RowResolver> rows) { rows_ = std::move(rows); }
+  /// The row of case i.
+  Row row(std::size_t i) const {
+    if (rows_) return (*rows_)(i);
+    const CaseSpec c = (*this)[i];
+    return {c.index, c.id, c.integrator.method, c.time.end, c.coordinates};
+  }
+
   std::size_t size() const { return resolve_ ? count_ : held_.size(); }
   bool empty() const { return size() == 0; }
   /// Case i, resolved now (a grid) or copied (held cases).
@@ -122,6 +142,7 @@ class CaseList {
   void clear() {
     held_.clear();
     resolve_.reset();
+    rows_.reset();
     count_ = 0;
   }
   /// Resolved cases this list holds: 0 for a grid, whatever its size (the memory test).
@@ -154,6 +175,7 @@ class CaseList {
   std::vector<CaseSpec> held_;
   std::size_t count_ = 0;
   std::shared_ptr<const Resolver> resolve_;
+  std::shared_ptr<const RowResolver> rows_;
 };
 
 /// Most cases a study may have (README "Studies"): a grid above it is refused at load.

@@ -359,3 +359,44 @@ TEST_CASE("a correlation matrix is checked, and refused by saltelli and morris",
                           {"matrix", {{1, 0.9, 0.9}, {0.9, 1, -0.9}, {0.9, -0.9, 1}}}};
   refused(three, "design.correlation.matrix: not positive definite");
 }
+
+// The ids of a design over parameters come from its id template (the base's canonical text cut
+// where the sampled values go, sweep/study/loader.hpp) and the dry-run's rows from the grid
+// without resolving a case: both must be what resolving each case gives.
+TEST_CASE("a design's ids and rows without resolving equal those of the resolved cases",
+          "[design]") {
+  Json doc = doc_with(two_factor_design("sobol", 16, 3));
+  const bool with_grid = GENERATE(false, true);
+  if (with_grid)  // a grid axis over a parameter before the design's
+    doc["grid"] = Json::parse(R"([{"key": "parameters.ball.mass", "values": [0.2, 1]}])");
+  const Study s = parse_study(doc, "d.json", "/tmp/rodend-results");
+  REQUIRE(s.cases.size() == (with_grid ? 32u : 16u));
+  for (std::size_t i = 0; i < s.cases.size(); ++i) {
+    const CaseSpec c = s.cases[i];
+    CHECK(c.id == case_id(c));  // the stored id (template) against the canonical form's
+    const CaseList::Row r = s.cases.row(i);
+    CHECK(r.index == c.index);
+    CHECK(r.id == c.id);
+    CHECK(r.method == c.integrator.method);
+    CHECK(r.end_s == c.time.end);
+    CHECK(r.coordinates == c.coordinates);
+  }
+  // the design of bench/design.sh, on rod-end-actuator (its integrator preset, four factors)
+  const Study a = parse_study(Json::parse(R"({"name": "b", "scene": "rod-end-actuator",
+      "time": {"end": 2.4, "sample_interval": 1e-3},
+      "design": {"method": "sobol", "size": 32, "seed": 1, "factors": [
+        {"key": "parameters.contact.clearance", "distribution": "triangular", "lower": 1e-4,
+         "mode": 2e-4, "upper": 5e-4},
+        {"key": "parameters.socket.misalignment_z", "distribution": "truncated-normal",
+         "mean": 0, "std": 3e-5, "lower": -9e-5, "upper": 9e-5},
+        {"key": "parameters.hinge.constant_moment", "distribution": "normal", "mean": 0,
+         "std": 100},
+        {"key": "parameters.friction.dynamic_coefficient", "distribution": "uniform",
+         "lower": 0.05, "upper": 0.12}]}})"),
+                              "b.json", "/tmp/rodend-results");
+  for (std::size_t i = 0; i < a.cases.size(); ++i) CHECK(a.cases[i].id == case_id(a.cases[i]));
+  // a setting on an axis: no template; the ids are still the canonical form's
+  doc["grid"] = Json::parse(R"([{"key": "integrator.rel_tol", "values": [1e-6, 1e-7]}])");
+  const Study t = parse_study(doc, "d.json", "/tmp/rodend-results");
+  for (std::size_t i = 0; i < t.cases.size(); ++i) CHECK(t.cases[i].id == case_id(t.cases[i]));
+}

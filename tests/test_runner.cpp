@@ -408,3 +408,54 @@ TEST_CASE("a link planted at the lock file is refused, never written through", "
   CHECK_THROWS_WITH(merge_study(study, report), Catch::Contains(lock.string()));
   CHECK(file_text(precious) == "precious\n");
 }
+
+namespace {
+
+// the files of the three drops' first two cases: when the third case's scene is built, the
+// second case's file is put over the first's, as another process could during a run
+fs::path g_replaced, g_replacement;
+bool g_by_rename = false;
+
+std::unique_ptr<Scene> make_replacing_scene(const ParameterSet& p) {
+  if (p.number("contact.clearance") == 2e-3) {
+    if (g_by_rename) {  // a new file renamed over it
+      const fs::path copy = g_replaced.parent_path() / "copy.tmp";
+      fs::copy_file(g_replacement, copy);
+      fs::rename(copy, g_replaced);
+    } else {  // rewritten in place: the same inode, the same size
+      fs::copy_file(g_replacement, g_replaced, fs::copy_options::overwrite_existing);
+    }
+  }
+  return find_scene("gravity-drop")->make(p);
+}
+
+}  // namespace
+
+TEST_CASE("a case file replaced by another case's during the run is noticed before the summary",
+          "[runner][faults]") {
+  TempDir tmp;
+  const Study study = three_drops(tmp.path(), "dopri5");
+  const fs::path cases = study.output_dir / "cases";
+  g_replaced = cases / (study.cases[0].id + ".h5");
+  g_replacement = cases / (study.cases[1].id + ".h5");
+  g_by_rename = GENERATE(false, true);
+  RunOptions opt;
+  opt.progress = false;
+  opt.threads = 1;  // the cases in grid order: 0 and 1 written when 2 starts
+  {
+    const SceneFactoryOverride replacing("gravity-drop", &make_replacing_scene);
+    CHECK_THROWS_WITH(run_study(study, opt),
+                      Catch::Contains("replaced during the run") &&
+                          Catch::Contains(g_replaced.string()) &&
+                          Catch::Contains("holds case " + study.cases[1].id) &&
+                          Catch::Contains("2 of 3 case(s) complete") &&
+                          Catch::Contains("Resume with: " + resume_command(study, opt)));
+  }
+  CHECK_FALSE(fs::exists(study.output_dir / "summary.h5"));
+  // the resume lists the file that holds another case (never overwritten); once it is moved
+  // away, the case runs again and the summary is written
+  CHECK_THROWS_WITH(run_study(study, opt), Catch::Contains("holds case " + study.cases[1].id));
+  fs::remove(g_replaced);
+  CHECK(run_study(study, opt) == 0);
+  CHECK(run_study(study, opt) == 0);
+}

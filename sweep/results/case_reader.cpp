@@ -90,7 +90,7 @@ CaseRecord read_case_locked(const fs::path& path) {
 
 std::optional<CaseRecord> read_case_record(const fs::path& path) {
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) return std::nullopt;
+  if (!fs::is_regular_file(fs::symlink_status(path, ec))) return std::nullopt;  // nor a link
   try {
     verify_case_file(path);
     Hdf5Lock lock;  // held for the whole open-read-close
@@ -106,8 +106,14 @@ std::optional<CaseRecord> read_case_record_strict(const fs::path& path) {
   const fs::file_status st = fs::symlink_status(path, ec);
   if (st.type() == fs::file_type::not_found) return std::nullopt;
   if (ec) throw std::runtime_error(path.string() + ": " + ec.message());
-  if (!fs::is_regular_file(path, ec))
-    throw std::runtime_error(path.string() + ": not a regular file");
+  if (st.type() == fs::file_type::symlink) {  // never followed: it could lead anywhere
+    const fs::path target = fs::read_symlink(path, ec);
+    throw LinkedCaseFile(path.string() + " is a symbolic link" +
+                         (ec ? std::string() : " (to " + target.string() + ")") +
+                         ", not a case file rodend wrote; rodend never reads or writes through "
+                         "a link");
+  }
+  if (!fs::is_regular_file(st)) throw std::runtime_error(path.string() + ": not a regular file");
   const bool verified = verify_case_file(path);  // outside the lock: reads the whole file
   Hdf5Lock lock;                                 // held for the whole open-read-close
   try {

@@ -56,7 +56,9 @@ void flatten(const Json& node, const std::string& prefix,
              std::vector<std::pair<std::string, Json>>& out) {
   for (auto it = node.begin(); it != node.end(); ++it) {
     const std::string key = prefix.empty() ? it.key() : prefix + "." + it.key();
-    if (it->is_object())
+    // an empty object is a value, not an empty group: refused where a value goes, as --set
+    // refuses it ({"sample_interval": {}} is not "unset")
+    if (it->is_object() && !it->empty())
       flatten(*it, key, out);
     else
       out.emplace_back(key, *it);

@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -51,6 +52,7 @@ const Json& need_object(const Json& v, const std::string& key);
 std::string alternatives(const std::vector<std::string>& names, bool quoted,
                          const char* last = " or ");
 /// Flattens {"contact": {"clearance": 1e-4}} into {"contact.clearance": 1e-4}; dotted keys pass.
+/// An empty object below `node` is kept as a value ({"clearance": {}} -> "clearance": {}).
 void flatten(const Json& node, const std::string& prefix,
              std::vector<std::pair<std::string, Json>>& out);
 
@@ -250,6 +252,28 @@ void read_preset(Draft& d, const Setting& s, const Json& v, const std::string& k
 void check_preset_axis(const Study& study, const Json& doc);
 /// Builds the scene to run its own physical checks; its key paths are under "parameters.".
 std::unique_ptr<Scene> build_checked(const std::string& scene, const ParameterSet& params);
+/// The case ids of a grid whose axes set only parameters and design.sample (no profile, one
+/// scene): the canonical text of its base cut where those values go, so that a case's id is
+/// the hash of the pieces and of its values' text, exactly case_id of the case resolved
+/// (tests/test_study.cpp) without building and printing its canonical form.
+class IdTemplate {
+ public:
+  /// nullopt when the grid does not qualify (its ids then come from case_id). `base`: the
+  /// base draft as a case.
+  static std::optional<IdTemplate> of(const Grid& g, const CaseSpec& base);
+  /// The id of the case at axis positions `pos`.
+  std::uint64_t id(const Grid& g, const std::vector<std::size_t>& pos) const;
+
+ private:
+  struct Slot {
+    std::size_t axis, member;
+    bool integer;  // design.sample (an integer in the id), else a parameter (as a double)
+  };
+  std::vector<Slot> slots_;          // in the order of the text
+  std::vector<std::string> pieces_;  // slots_.size() + 1
+  std::uint64_t prefix_hash_ = 0;    // FNV-1a 64 state after pieces_[0]
+};
+
 /// Every case resolved and checked once (its id kept), distinct points checked to be distinct
 /// cases; the CaseList resolves a case again when it is asked for (study.cases[i]).
 CaseList index_cases(std::shared_ptr<Grid> grid, std::size_t total);

@@ -48,11 +48,41 @@ csv("time_unit_wrong.csv", header="time [ms],position [m]")
 csv("column_missing.csv", header="time [s],command [m]")
 csv("moment_wrong_unit.csv", header="time [s],moment [kN*m]")
 
-with h5py.File(os.path.join(HERE, "good.h5"), "w", track_order=True) as f:
-    f.create_dataset("time", data=np.array(TIME), track_times=False).attrs["units"] = "s"
-    f.create_dataset("position", data=np.array(POSITION), track_times=False).attrs["units"] = "m"
+# good.h5 as committed (rewriting it with another h5py changes its bytes, and the case ids of
+# the tests that read it)
+if not os.path.exists(os.path.join(HERE, "good.h5")):
+    with h5py.File(os.path.join(HERE, "good.h5"), "w", track_order=True) as f:
+        f.create_dataset("time", data=np.array(TIME), track_times=False).attrs["units"] = "s"
+        f.create_dataset("position", data=np.array(POSITION),
+                         track_times=False).attrs["units"] = "m"
 with h5py.File(os.path.join(HERE, "no_units.h5"), "w") as f:
     f.create_dataset("time", data=np.array(TIME), track_times=False).attrs["units"] = "s"
     f.create_dataset("position", data=np.array(POSITION), track_times=False)
 with open(os.path.join(HERE, "corrupt.h5"), "wb") as f:  # the HDF5 signature, then nothing valid
     f.write(b"\x89HDF\r\n\x1a\n" + b"\x00" * 56)
+
+# data kept in another file: an external link, a virtual dataset (both to good.h5's position);
+# the case id hashes the profile file's own bytes, so these are refused
+with h5py.File(os.path.join(HERE, "external_link.h5"), "w") as f:
+    f.create_dataset("time", data=np.array(TIME), track_times=False).attrs["units"] = "s"
+    f["position"] = h5py.ExternalLink("good.h5", "/position")
+layout = h5py.VirtualLayout(shape=(len(TIME),), dtype="f8")
+layout[:] = h5py.VirtualSource("good.h5", "position", shape=(len(TIME),))
+with h5py.File(os.path.join(HERE, "virtual.h5"), "w") as f:
+    f.create_dataset("time", data=np.array(TIME), track_times=False).attrs["units"] = "s"
+    f.create_virtual_dataset("position", layout).attrs["units"] = "m"
+# declared large, stored small: 2^40 values declared, chunked and compressed, nothing written
+with h5py.File(os.path.join(HERE, "declared_huge.h5"), "w") as f:
+    f.create_dataset("time", data=np.array(TIME), track_times=False).attrs["units"] = "s"
+    f.create_dataset("position", shape=(2**40,), dtype="f8", chunks=(4096,),
+                     compression="gzip", track_times=False).attrs["units"] = "m"
+# five values in chunks declared to hold 2^25 + 8 values each (just over 256 MiB), none
+# written (a written one would take 260 kB even compressed)
+with h5py.File(os.path.join(HERE, "chunk_huge.h5"), "w") as f:
+    f.create_dataset("time", data=np.array(TIME), track_times=False).attrs["units"] = "s"
+    f.create_dataset("position", shape=(len(TIME),), dtype="f8", maxshape=(None,),
+                     chunks=(2**25 + 8,), compression="gzip",
+                     track_times=False).attrs["units"] = "m"
+# bytes that are not text (no HDF5 signature: read as CSV), with terminal control sequences
+with open(os.path.join(HERE, "binary.csv"), "wb") as f:
+    f.write(b"\x1b[2J\x1b]0;owned\x07time [s],position [m]\x00\x9b31m\n" + bytes(range(256)))
