@@ -571,9 +571,11 @@ int run_study(const Study& study, const RunOptions& opt) {
         " in " + plan.cases_dir.string() +
         "; the cases in flight are not written, no summary written. Resume with: " + plan.resume +
         "\n";
-    const StopSignalScope stop_signals(StopSignalScope::Kind::batch,
-                                       /*quiet_notice=*/static_cast<bool>(opt.events.message),
-                                       &report);
+    // a report for a second signal only where the notices go to stderr (`rodend run`); Python's
+    // run_study, whose messages go to its logging, keeps the default action for the second
+    const bool quiet = static_cast<bool>(opt.events.message);
+    const StopSignalScope stop_signals(StopSignalScope::Kind::batch, quiet,
+                                       quiet ? nullptr : &report);
     Progress progress(opt.progress, plan.in_scope,
                       plan.in_scope - static_cast<long>(plan.todo.size()), opt.events);
     LoopFailure fail;
