@@ -9,13 +9,14 @@ import numpy as np
 from ..atomic import atomic_file
 
 
-def _plain(v):
+def plain(v):
+    """v with numpy values as Python ones and non-finite floats as None (JSON null)."""
     if isinstance(v, dict):
-        return {str(k): _plain(x) for k, x in v.items()}
+        return {str(k): plain(x) for k, x in v.items()}
     if isinstance(v, (list, tuple)):
-        return [_plain(x) for x in v]
+        return [plain(x) for x in v]
     if isinstance(v, np.ndarray):
-        return _plain(v.tolist())
+        return plain(v.tolist())
     if isinstance(v, (np.integer,)):
         return int(v)
     if isinstance(v, (float, np.floating)):
@@ -25,7 +26,7 @@ def _plain(v):
 
 def write_json(folder, doc):
     path = os.path.join(folder, "analysis", "analysis.json")
-    text = json.dumps(_plain(doc), indent=1, allow_nan=False) + "\n"
+    text = json.dumps(plain(doc), indent=1, allow_nan=False) + "\n"
     with atomic_file(path) as fh:  # never through a link (rodend/atomic.py)
         fh.write(text.encode("utf-8"))
     return path
@@ -39,7 +40,7 @@ def write_bands(folder, groups):
     with atomic_file(path) as fh, h5py.File(fh, "w") as f:  # never through a link
         for k, (coords, bands) in enumerate(groups):
             g = f.create_group(f"g{k}")
-            g.attrs["coordinates_json"] = json.dumps(_plain(coords))
+            g.attrs["coordinates_json"] = json.dumps(plain(coords))
             for name, b in bands.items():
                 s = g.create_group(name)
                 s.attrs["cases"] = b["cases"]

@@ -5,27 +5,12 @@ O_NOFOLLOW (the figures are written by matplotlib inside that private folder);
 the folder is renamed into place at the end (an earlier result of the same name is moved
 aside first and removed after). An error on the way removes the temporary folder."""
 import json
-import math
 import os
 import secrets
 import shutil
 import socket
 
-import numpy as np
-
-
-def plain(v):
-    if isinstance(v, dict):
-        return {str(k): plain(x) for k, x in v.items()}
-    if isinstance(v, (list, tuple)):
-        return [plain(x) for x in v]
-    if isinstance(v, np.ndarray):
-        return plain(v.tolist())
-    if isinstance(v, (np.integer,)):
-        return int(v)
-    if isinstance(v, (float, np.floating)):
-        return None if not math.isfinite(float(v)) else float(v)
-    return v
+from ..analysis.output import plain
 
 
 def _temp_name(target):
