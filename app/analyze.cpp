@@ -27,8 +27,8 @@ int exec_python_module(const std::string& module, const std::vector<std::string>
   for (std::string& a : argv_s) argv.push_back(a.data());
   argv.push_back(nullptr);
   ::execv(python.c_str(), argv.data());
-  std::cerr << "rodend: error: cannot run " << python
-            << " for " << module << ": " << std::strerror(errno)
+  std::cerr << "rodend: error: cannot run " << python << " for " << module << ": "
+            << std::strerror(errno)
             << " (set RODEND_PYTHON to a Python 3 with numpy, h5py, matplotlib and openturns)\n";
   return 2;
 }

@@ -7,9 +7,9 @@
 // case) may take that memory. So a MemoryReserve maps its bytes for the whole HDF5 session, and
 // an allocation of the reserving thread that the system refuses is served from them instead
 // (app/malloc_fallback.cpp, the rodend executable's allocator: every entry point glibc's rules
-// for a replacement name, each glibc's first). The reserve's blocks are ordinary memory to their users; freeing the last one
-// unmaps the reserve. Whoever else runs short gets NULL, which rodend's own code turns into the
-// clean "out of memory" exit (sweep/runner.cpp).
+// for a replacement name, each glibc's first). The reserve's blocks are ordinary memory to their
+// users; freeing the last one unmaps the reserve. Whoever else runs short gets NULL, which rodend's
+// own code turns into the clean "out of memory" exit (sweep/runner.cpp).
 //
 // Without that malloc (the Python module, a sanitizer build) nothing draws on a reserve: it is
 // only mapped and unmapped at once, a check that the memory is free at that moment.

@@ -28,14 +28,12 @@ int main(int argc, char** argv) {
     }
     rodend::History history;  // the recorded signals, in memory
     const rodend::CaseRecord r = rodend::run_case(study.cases[0], history);
-    const auto metric = [&](rodend::MetricId m) {
-      return r.metrics[static_cast<std::size_t>(m)];
-    };
-    std::printf("first case: %s, %lld samples, first impact speed %.6g m/s, "
-                "max contact force %.6g N\n",
-                std::string(rodend::to_string(r.status)).c_str(), history.samples,
-                metric(rodend::MetricId::first_impact_speed),
-                metric(rodend::MetricId::max_contact_force));
+    const auto metric = [&](rodend::MetricId m) { return r.metrics[static_cast<std::size_t>(m)]; };
+    std::printf(
+        "first case: %s, %lld samples, first impact speed %.6g m/s, "
+        "max contact force %.6g N\n",
+        std::string(rodend::to_string(r.status)).c_str(), history.samples,
+        metric(rodend::MetricId::first_impact_speed), metric(rodend::MetricId::max_contact_force));
     return r.status == rodend::RunStatus::ok ? 0 : 1;
   } catch (const rodend::InputError& e) {  // a bad study: the file, the key path, what is expected
     std::fprintf(stderr, "%s\n", e.what());
