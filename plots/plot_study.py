@@ -66,7 +66,7 @@ import matplotlib  # noqa: E402
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from rodend.study import NotAStudy, open_study  # noqa: E402
+from rodend import NotAStudy, open_study  # noqa: E402
 
 import figure_kit  # noqa: E402
 # each family registers its figures on import

@@ -48,7 +48,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 # the package rodend beside plots/ (its reader needs no compiled module), else an installed one
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "python"))
-from rodend.study import Study  # noqa: E402
+from rodend import Study, summary_rows  # noqa: E402
 
 METRICS = ["first_contact_time", "first_impact_speed", "first_impact_peak_force",
            "max_contact_force", "wear_integral", "max_eccentricity", "final_surface_angle",
@@ -73,9 +73,7 @@ def study(study_dir):
 
 
 def rows(study_dir):
-    s = study(study_dir).summary
-    n = len(s["case_id"])
-    return [{k: s[k][i] for k in s} for i in range(n)]
+    return summary_rows(study_dir)
 
 
 def history(study_dir, case_id, name):

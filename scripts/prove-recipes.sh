@@ -78,11 +78,12 @@ cat > "$work/scene.json" <<'JSON'
 JSON
 ./build/rodend run "$work/law.json" --results-root "$work/out" -q
 ./build/rodend run "$work/scene.json" --results-root "$work/out" -q
-/usr/bin/python3 - "$work/out" <<'PY'
-import csv, sys
+PYTHONPATH="$tree/python" /usr/bin/python3 - "$work/out" <<'PY'
+import sys
+from rodend import summary_rows
 out = sys.argv[1]
-law = {r["parameters.contact.law"]: r for r in csv.DictReader(open(f"{out}/law/summary.csv"))}
-scene = list(csv.DictReader(open(f"{out}/scene/summary.csv")))
+law = {r["parameters.contact.law"]: r for r in summary_rows(f"{out}/law")}
+scene = summary_rows(f"{out}/scene")
 e = {k: float(r["first_impact_restitution"]) for k, r in law.items()}
 print("achieved restitution, impact-pair, c_r 0.5:", ", ".join(f"{k} {v:.4f}" for k, v in e.items()))
 print("scene throwaway-drop:", scene[0]["status"], "impacts", scene[0]["impact_count"])

@@ -216,7 +216,7 @@ with tempfile.TemporaryDirectory() as tmp:
     withheld = os.path.join(tmp, "withheld")
     code = ("import runpy, sys, rodend\n"
             "def absent():\n    raise ImportError('compiled module withheld by test_plots')\n"
-            "rodend._load_extension = absent\n"
+            "import rodend.extension\nrodend.extension.load = absent\n"
             f"sys.argv = [{SCRIPT!r}, {kin!r}, '--out', {withheld!r}]\n"
             f"runpy.run_path({SCRIPT!r}, run_name='__main__')\n")
     env = dict(os.environ, PYTHONPATH=os.path.join(PLOTS, os.pardir, "python"))
