@@ -66,7 +66,7 @@ _STUDIES = {}
 
 
 def study(study_dir):
-    """The results folder read once (the package's reader: rodend/study.py)."""
+    """The results folder read once (the package's reader: python/rodend/study.py)."""
     if study_dir not in _STUDIES:
         _STUDIES[study_dir] = Study(study_dir)
     return _STUDIES[study_dir]
