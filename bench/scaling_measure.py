@@ -101,7 +101,7 @@ def per_study(study, tmp, repeats):
     wall, cpu = statistics.median(walls), statistics.median(cpus)
     m = re.search(LOCK_RE, err)
     files = glob.glob(os.path.join(root, "*", "cases", "*.h5"))
-    rows = summary_rows(glob.glob(os.path.join(root, "*"))[0])
+    rows = summary_rows(os.path.dirname(glob.glob(os.path.join(root, "*", "summary.h5"))[0]))
     fw, fc, _ = timed([RODEND, "run", study, "--dry-run"], ENV)
     return {
         "cases": len(rows), "wall_1t_s": wall, "cpu_1t_s": cpu,

@@ -115,7 +115,7 @@ def one_thread_run(a, tmp):
     if r.returncode not in (0, 1):
         sys.exit(f"the one-thread run exited {r.returncode}: {r.stderr}")
     cpu = (after.children_user - before.children_user) + (after.children_system - before.children_system)
-    return glob.glob(os.path.join(root, "*"))[0], wall, cpu
+    return os.path.dirname(glob.glob(os.path.join(root, "*", "summary.h5"))[0]), wall, cpu
 
 
 def dry_run_cpu(a):
