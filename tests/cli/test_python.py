@@ -125,8 +125,8 @@ def main():
             check(np.array_equal(res.summary[col].to_numpy(), csv[col].to_numpy()), col)
         check(res.summary.attrs["units"]["first_contact_time"] == "s", "summary units")
         h = res.histories
-        check(h["eccentricity"].dims == ("parameters.contact.clearance", "integrator.rel_tol",
-                                         "time"), f"dims {h['eccentricity'].dims}")
+        check(h["eccentricity"].dims == ("clearance", "rel_tol", "time"),
+              f"dims {h['eccentricity'].dims}")
         check(h["ball_position"].dims[-1] == "component3", "component dim")
         check(h["eccentricity"].attrs["units"] == "m", "history units")
         check(list(h["restitution"].values) == [0.9, 0.5], "zip coordinate")
