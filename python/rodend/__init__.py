@@ -23,8 +23,12 @@ write=path)`; `run_study` writes its results folder as `rodend run` does).
 The compiled part (rodend._rodend) is built by `bash scripts/main.sh` (or setup.sh) into
 <repo>/build/python/; this package finds it there, or in $RODEND_BUILD_DIR/python (a build
 directory of another name), or next to itself. It is loaded when first needed (running, the
-catalogues, InputError, __version__): reading results (open_results, rodend.study, the figures
+catalogues, InputError, __version__): reading results (open_results, open_study, the figures
 of plots/) works without it.
+
+This module only re-exports: running is rodend/running.py, loading the compiled part
+rodend/extension.py, and every reader of a results folder (open_results: pandas and xarray;
+open_study: numpy; summary_rows) reads through rodend/casefiles.py.
 """
 from .naming import UnknownName
 from .running import (Case, load_study, parameters, run_case, run_study, scenes, schema,
@@ -35,8 +39,8 @@ __all__ = ["InputError", "run_case", "run_study", "load_study", "open_results", 
            "signal_catalogue", "analyze", "Progress", "open_study", "Study", "NotAStudy",
            "summary_rows", "verify_checksum"]
 
-# the names of the modules imported on first use: reading results needs numpy and h5py (pandas
-# and xarray for Results), the analysis openturns and matplotlib; importing rodend needs none
+# the names of the modules imported on first use: reading results needs h5py (pandas and xarray
+# for Results), the analysis openturns and matplotlib; importing rodend needs numpy only
 _LAZY = {"open_results": "results", "Results": "results", "open_study": "study",
          "Study": "study", "NotAStudy": "casefiles", "CorruptFile": "casefiles",
          "verify_checksum": "casefiles", "summary_rows": "casefiles", "Progress": "progress",
@@ -52,3 +56,7 @@ def __getattr__(name):
         import importlib
         return getattr(importlib.import_module("." + _LAZY[name], __name__), name)
     raise AttributeError(name)
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))
