@@ -31,7 +31,7 @@ for study in "$tmp"/reg-*.json "$tmp/impact-pair.json" "$tmp/headline-rod-end-ki
     if [[ "$study" == *headline* ]]; then
       rhs=$(callgrind_annotate --inclusive=yes "$out" 2>/dev/null |
         awk '/RodEndKinematicScene::derivatives/ && !done {gsub(",", "", $1); print $1; done = 1}')
-      calls=$(/usr/bin/python3 -c "import csv,sys; print(next(csv.DictReader(open(sys.argv[1])))['rhs_calls'])" "$tmp/r$n/rod-end-kinematic/summary.csv" 2>/dev/null || echo 0)
+      calls=$(PYTHONPATH="$PWD/python" /usr/bin/python3 -c "import sys, rodend; print(rodend.summary_rows(sys.argv[1])[0]['rhs_calls'])" "$tmp/r$n/rod-end-kinematic" 2>/dev/null || echo 0)
       extra=$(awk -v r="$rhs" -v c="$calls" 'BEGIN {if (c > 0) printf " (rhs: %.0f instr/call over %d calls)", r / c, c}')
     fi
     rm -rf "$tmp/r$n"

@@ -25,7 +25,6 @@ Checked configurations (bench-32, REPEATS interleaved rounds, fresh folder, `syn
   /usr/bin/python3 bench/scaling_model.py /tmp/scaling.json
 """
 import argparse
-import csv
 import glob
 import json
 import os
@@ -36,6 +35,10 @@ import subprocess
 import sys
 import tempfile
 import time
+
+# the package rodend beside bench/ (its reader needs no compiled module), else an installed one
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "python"))
+from rodend import summary_rows  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -98,8 +101,7 @@ def per_study(study, tmp, repeats):
     wall, cpu = statistics.median(walls), statistics.median(cpus)
     m = re.search(LOCK_RE, err)
     files = glob.glob(os.path.join(root, "*", "cases", "*.h5"))
-    with open(glob.glob(os.path.join(root, "*", "summary.csv"))[0]) as f:
-        rows = list(csv.DictReader(f))
+    rows = summary_rows(os.path.dirname(glob.glob(os.path.join(root, "*", "summary.h5"))[0]))
     fw, fc, _ = timed([RODEND, "run", study, "--dry-run"], ENV)
     return {
         "cases": len(rows), "wall_1t_s": wall, "cpu_1t_s": cpu,

@@ -21,7 +21,7 @@ with k cores busy, and the costs of a study's cases. Writes one JSON document (s
    costs add up to the whole run's C - F. Per case: `cost_s`, its rhs_calls and the study's
    factor columns (`parameters.*`, from the dry run's table of cases).
    With --from-summary instead: one one-thread run of the whole study (`rodend run STUDY -j 1`), or the
-   summary.csv of one you already have (--summary, with that run's --total-wall and --total-cpu).
+   summary of one you already have (--summary FOLDER, with that run's --total-wall and --total-cpu).
    Per case in grid order (case_index): `wall_time_s` from the summary, its rhs_calls, and the
    study's factor columns (`parameters.*`). `wall_time_s` covers the integration only; writing
    the case file comes after it. On a shared node a case's wall time includes its waits for a
@@ -39,7 +39,6 @@ with k cores busy, and the costs of a study's cases. Writes one JSON document (s
   /usr/bin/python3 bench/scaling_model.py --node node.json --threads 1 2
 """
 import argparse
-import csv
 import glob
 import json
 import os
@@ -49,6 +48,10 @@ import subprocess
 import sys
 import tempfile
 import time
+
+# the package rodend beside bench/ (its reader needs no compiled module), else an installed one
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "python"))
+from rodend import summary_rows  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -100,7 +103,7 @@ def slowdown(a, tmp):
 
 
 def one_thread_run(a, tmp):
-    """The whole study on one thread: (summary.csv path, process wall, process CPU)."""
+    """The whole study on one thread: (results folder, process wall, process CPU)."""
     root = os.path.join(tmp, "costs")
     shutil.rmtree(root, ignore_errors=True)
     before = os.times()
@@ -112,7 +115,7 @@ def one_thread_run(a, tmp):
     if r.returncode not in (0, 1):
         sys.exit(f"the one-thread run exited {r.returncode}: {r.stderr}")
     cpu = (after.children_user - before.children_user) + (after.children_system - before.children_system)
-    return glob.glob(os.path.join(root, "*", "summary.csv"))[0], wall, cpu
+    return os.path.dirname(glob.glob(os.path.join(root, "*", "summary.h5"))[0]), wall, cpu
 
 
 def dry_run_cpu(a):
@@ -176,22 +179,25 @@ def costs_alone(a, tmp, whole_cpu):
 
 
 def read_rhs_calls(root):
-    """rhs_calls of the one case file under root (h5py; None without it)."""
+    """rhs_calls of the one case file under root (read by the package's reader, which checks
+    it first; None without h5py)."""
     try:
-        import h5py
+        from rodend.casefiles import CaseFiles
     except ImportError:
         return None
     files = glob.glob(os.path.join(root, "*", "cases", "*.h5"))
     if len(files) != 1:
         return None
-    with h5py.File(files[0], "r") as f:
+    folder = os.path.dirname(os.path.dirname(files[0]))
+    with CaseFiles(folder, [os.path.basename(files[0])[:-3]]).open(0) as f:
         v = f.attrs.get("rhs_calls")
     return None if v is None else int(v)
 
 
 def costs(a, summary, wall, cpu):
-    with open(summary) as f:
-        rows = sorted(csv.DictReader(f), key=lambda r: int(r["case_index"]))
+    if os.path.isfile(summary):  # summary.h5 or summary.csv named: its folder
+        summary = os.path.dirname(os.path.abspath(summary))
+    rows = sorted(summary_rows(summary), key=lambda r: int(r["case_index"]))
     share = cpu / wall
     serial = dry_run_cpu(a)
     integration = sum(float(r["wall_time_s"]) for r in rows) * share
@@ -218,9 +224,10 @@ def main():
     ap.add_argument("--no-costs", action="store_true", help="the slowdown only")
     ap.add_argument("--workers", type=int, default=1, help="cases run alone at a time")
     ap.add_argument("--from-summary", action="store_true",
-                    help="the costs from one one-thread run's summary.csv (quiet nodes only; "
+                    help="the costs from one one-thread run's summary (quiet nodes only; "
                     "--summary: one you already have, with --total-wall and --total-cpu)")
-    ap.add_argument("--summary", help="summary.csv of a one-thread run you already have")
+    ap.add_argument("--summary", help="the results folder (or its summary.h5) of a one-thread "
+                    "run you already have")
     ap.add_argument("--total-wall", type=float, help="that run's process wall time [s]")
     ap.add_argument("--total-cpu", type=float, help="that run's process CPU time [s]")
     ap.add_argument("--out")

@@ -18,12 +18,15 @@ ends (surface_angle_error_extended / _retracted, relative to the reference's). "
 largest of them. Prints a Markdown table per scene.
 """
 import argparse
-import csv
 import json
 import os
 import subprocess
 import sys
 import tempfile
+
+# the package rodend beside bench/ (its reader needs no compiled module), else an installed one
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "python"))
+from rodend import summary_rows  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 METRICS = ["max_contact_force", "max_eccentricity", "wear_integral", "first_impact_peak_force",
@@ -58,8 +61,7 @@ def run(rodend, scene, method, tol, callgrind, tmp, max_step="1e-3"):
                 sim = int(line.split()[0].replace(",", ""))
     else:
         subprocess.run(cmd, capture_output=True)
-    with open(os.path.join(d, "x", "summary.csv")) as f:
-        row = next(csv.DictReader(f))
+    row = summary_rows(os.path.join(d, "x"))[0]
     subprocess.run(["rm", "-rf", d])
     row["instr"], row["sim_instr"] = instr, sim
     return row

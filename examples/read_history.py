@@ -36,12 +36,12 @@ with xr.open_dataset(res.case_file(row.case_id), engine="h5netcdf", group="signa
 # 2. the whole study at once: dimensions = the grid axis and time
 h = res.histories
 print(h["eccentricity"].dims, dict(h.sizes))
-e3 = h["eccentricity"].sel({"parameters.contact.clearance": 3e-4})
+e3 = h["eccentricity"].sel(clearance=3e-4)   # dimensions named by the key's last part
 assert np.allclose(e3.values, e.values)
 
 fig, ax = plt.subplots(figsize=(5, 3.5))
-for c in h["parameters.contact.clearance"].values:
-    trace = h["eccentricity"].sel({"parameters.contact.clearance": c})
+for c in h["clearance"].values:
+    trace = h["eccentricity"].sel(clearance=c)
     ax.plot(h["time"] * 1e3, trace * 1e3, label=f"c = {c * 1e3:g} mm")
 ax.set_xlabel("time [ms]")
 ax.set_ylabel("eccentricity [mm]")

@@ -24,7 +24,7 @@ import numpy as np
 
 # the package rodend beside plots/ (its reader needs no compiled module), else an installed one
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "python"))
-from rodend.study import open_study  # noqa: E402
+from rodend import open_study  # noqa: E402
 
 # the default command profile of the rod-end scenes (core/scenes/parts/stroke.part.json)
 EXTENSION_END = 1.0  # [s] end of the extension stroke

@@ -10,29 +10,22 @@
                   the ringing after each crossing marked (what a peak-to-peak reading would
                   take for the free-play)
 
-plot_study.py calls register(itself) where these figures take their place in its list; the
-helpers (Skip, sigs, legends, titles) are plot_study's.
+The figures register themselves on import (plot_study.py draws them in its order); the
+helpers (Skip, sigs, legends, titles) are plots/figure_kit.py's, H here.
 """
 import math
 
+import matplotlib.pyplot as plt
 import numpy as np
 import linear_actuator
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-H = None            # plot_study, set by register
+import figure_kit as H
+from rodend.naming import coordinate_label
+
 FIT_WINDOW = (0.2, 0.9)     # the branches' fit window, a fraction of the largest moment
 ZOOM = 0.3          # the left panel of the free-play loop: |M| up to this fraction of the largest
-
-
-def register(helpers):
-    """Adds this module's figures to plot_study's list (helpers: the plot_study module)."""
-    global H
-    H = helpers
-    helpers.figure("bode", "Bode diagram of the frequency response, one curve per "
-                   "clearance")(fig_bode)
-    helpers.figure("free_play_loop", "free-play loop: surface angle against hinge moment, "
-                   "one per clearance")(fig_free_play_loop)
 
 
 # --- the Bode diagram -------------------------------------------------------------------------
@@ -72,7 +65,7 @@ def response(summ, members, what):
 
 
 def group_label(key, case):
-    return ", ".join(H.coordinate_label(k, case.coordinates[k], case.coordinate_unit(k))
+    return ", ".join(coordinate_label(k, case.coordinates[k], case.coordinate_unit(k))
                      for k, _ in key) or "all cases"
 
 
@@ -126,6 +119,7 @@ def draw_curve(axes, col, f, g, ph, **style):
     axes[1, col].semilogx(f, ph, **style)
 
 
+@H.figure("bode", "Bode diagram of the frequency response, one curve per clearance")
 def fig_bode(study, cases, style):
     summ = study.summary
     if "surface_gain" not in summ or not np.isfinite(np.asarray(summ["surface_gain"], float)).any():
@@ -134,8 +128,8 @@ def fig_bode(study, cases, style):
     if len(set(freqs[np.isfinite(freqs)])) < 2:
         raise H.Skip("one drive frequency: no frequency axis for a Bode diagram")
     groups = bode_groups(cases)
-    fig, axes = H.plt.subplots(2, 2, sharex=True, figsize=(11, 7), layout="constrained")
-    cmap = H.plt.get_cmap("tab10")
+    fig, axes = plt.subplots(2, 2, sharex=True, figsize=(11, 7), layout="constrained")
+    cmap = plt.get_cmap("tab10")
     clearances = sorted({H.clearance_of(m[0]) or 0.0 for m in groups.values()})
     rests = []                                  # the coordinates less the clearance: dashes
     for key in groups:
@@ -276,6 +270,8 @@ def free_play_label(case, g):
     return text + f"), peak to peak {math.degrees(g['peak_to_peak']):.3f} deg"
 
 
+@H.figure("free_play_loop", "free-play loop: surface angle against hinge moment, one per "
+          "clearance")
 def fig_free_play_loop(study, cases, style):
     summ = study.summary
     if "free_play" not in summ or not np.isfinite(np.asarray(summ["free_play"], float)).any():
@@ -284,7 +280,7 @@ def fig_free_play_loop(study, cases, style):
              if np.isfinite(float(summ["free_play"][c.row]))]
     if not cases:
         raise H.Skip("no case with a free-play loop recorded (signals hinge_moment, surface_angle)")
-    fig, axes = H.plt.subplots(1, 2, figsize=(12, 5.6), layout="constrained")
+    fig, axes = plt.subplots(1, 2, figsize=(12, 5.6), layout="constrained")
     handles, labels, drawn = [], [], []
     for c in cases:
         g = loop_construction(c, summ)

@@ -40,7 +40,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from rodend.naming import format_value  # noqa: E402
-from rodend.study import NotAStudy, Study, open_study  # noqa: E402
+from rodend import NotAStudy, Study, open_study  # noqa: E402
 
 LAW = "parameters.contact.law"
 CR = "parameters.contact.restitution"

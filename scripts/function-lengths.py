@@ -1,19 +1,25 @@
 #!/usr/bin/env python3
-"""Lists the functions of C++ sources with their length in lines (signature to closing brace),
-longest first, and fails (exit 1) when one is longer than the limit.
+"""Lists the functions of C++ and Python sources with their length in lines (signature to
+closing brace or last line), longest first, and fails (exit 1) when one is longer than the limit.
 
   scripts/function-lengths.py [--limit 60] [--all] [--file-limit N] PATH...   (files or dirs)
 
-With --file-limit, a file (.cpp, .hpp or .def) of more than N lines fails it too: a file does
-one job, and one that grows past N has taken on a second (issue 32: none in sweep/ over 800).
+With --file-limit, a file (.cpp, .hpp, .def or .py) of more than N lines fails it too: a file
+does one job, and one that grows past N has taken on a second.
 
-A function is a brace block at namespace or class level whose head (the text since the last
-';', '{' or '}') ends in ')' plus qualifiers, or is a constructor's initialiser list; control
-statements, classes, namespaces, enums and initialisers are not. Lambdas and local classes
-count towards the function that contains them. Comments, strings and character literals are
-blanked first, so braces in them do not count.
+C++: a function is a brace block at namespace or class level (a method defined in a class body
+counts as a function of its own) whose head (the text since the last ';', '{' or '}') ends in
+')' plus qualifiers, or is a constructor's initialiser list; control statements, classes,
+namespaces, enums and initialisers are not. Lambdas and local classes count towards the
+function that contains them. Comments, strings and character literals are blanked first, so
+braces in them do not count.
+
+Python: every `def` at module or class level (methods too), from its `def` line to its last
+line, read with the ast module; a function nested in another counts towards the one that
+contains it, as a lambda does in C++.
 """
 import argparse
+import ast
 import pathlib
 import re
 import sys
@@ -21,7 +27,7 @@ import sys
 LEAD = re.compile(r"(\s|(public|private|protected)\s*:(?!:))*")
 CONTROL = re.compile(r"^\s*(if|for|while|switch|catch|do|else|try|return)\b")
 TYPE_HEAD = re.compile(r"\b(class|struct|union|enum|namespace)\b[^()]*$")
-QUALIFIERS = r"(\s|const|override|final|noexcept(\([^()]*\))?|mutable|->\s*[\w:<>,\s*&]+)*"
+QUALIFIERS = r"(\s|&|const|override|final|noexcept(\([^()]*\))?|mutable|->\s*[\w:<>,\s*&]+)*"
 FUNC_TAIL = re.compile(r"\)" + QUALIFIERS + r"$")
 INIT_LIST = re.compile(r"\)\s*:\s*[\w:]+\s*[({]")  # Ctor(...) : member(...), ... {
 INIT_ELEM = re.compile(r"\)\s*:\s*[\w:]+\s*[({].*[,:]\s*[\w:]+$|\)\s*:\s*[\w:]+$")  # ... , m_{
@@ -82,6 +88,26 @@ def functions(path: pathlib.Path):
                 head_start = i + 1
 
 
+def python_functions(path: pathlib.Path):
+    """(qualified name, first line, lines) of each def at module or class level."""
+    tree = ast.parse(path.read_text(), filename=str(path))
+
+    def walk(node, prefix):
+        for child in ast.iter_child_nodes(node):
+            if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                yield prefix + child.name, child.lineno, child.end_lineno - child.lineno + 1
+            elif isinstance(child, ast.ClassDef):
+                yield from walk(child, prefix + child.name + ".")
+            elif not isinstance(child, ast.Lambda):
+                yield from walk(child, prefix)  # defs under if/try at module level
+
+    yield from walk(tree, "")
+
+
+def measure(path: pathlib.Path):
+    return python_functions(path) if path.suffix == ".py" else functions(path)
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("paths", nargs="+")
@@ -89,14 +115,15 @@ def main() -> int:
     ap.add_argument("--all", action="store_true", help="list every function, not only the long")
     ap.add_argument("--file-limit", type=int, help="also fail on a file longer than this")
     a = ap.parse_args()
-    files, sources = [], []  # C++ files (functions); those and the .def catalogues (file length)
+    files, sources = [], []  # C++ and Python files (functions); those and the .def catalogues
     for p in map(pathlib.Path, a.paths):
         found = [p]
         if p.is_dir():
-            found = sorted(q for q in p.rglob("*") if q.suffix in (".cpp", ".hpp", ".def"))
+            found = sorted(q for q in p.rglob("*") if q.suffix in (".cpp", ".hpp", ".def", ".py")
+                           and "__pycache__" not in q.parts)
         sources += found
         files += [q for q in found if q.suffix != ".def"]
-    rows = [(n, f, name, line) for f in files for name, line, n in functions(f)]
+    rows = [(n, f, name, line) for f in files for name, line, n in measure(f)]
     rows.sort(key=lambda r: -r[0])
     long = [r for r in rows if r[0] > a.limit]
     for n, f, name, line in rows if a.all else long:

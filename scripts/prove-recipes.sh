@@ -9,10 +9,13 @@
 # checks with git that nothing else changed, builds rodend there, and runs one case of each:
 # the law in gravity-drop and impact-pair, the scene with the new law. Fails unless both runs
 # are ok and the law's achieved restitution lies between those of Hertz (1) and Hunt-Crossley.
-# Takes a few minutes (a build of rodend); not part of CTest. Usage: bash scripts/prove-recipes.sh
+# Takes a few minutes (a build of rodend); CTest runs it as prove.recipes (label `prove`).
+# Exit 77 (skipped) outside a git checkout. Usage: bash scripts/prove-recipes.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
 repo=$(pwd)
+git rev-parse --verify -q HEAD > /dev/null 2>&1 ||
+  { echo "prove-recipes: not a git checkout with a commit (it works in a worktree of HEAD): skipped"; exit 77; }
 work=$(mktemp -d)
 tree="$work/tree"
 cleanup() {
@@ -75,11 +78,12 @@ cat > "$work/scene.json" <<'JSON'
 JSON
 ./build/rodend run "$work/law.json" --results-root "$work/out" -q
 ./build/rodend run "$work/scene.json" --results-root "$work/out" -q
-/usr/bin/python3 - "$work/out" <<'PY'
-import csv, sys
+PYTHONPATH="$tree/python" /usr/bin/python3 - "$work/out" <<'PY'
+import sys
+from rodend import summary_rows
 out = sys.argv[1]
-law = {r["parameters.contact.law"]: r for r in csv.DictReader(open(f"{out}/law/summary.csv"))}
-scene = list(csv.DictReader(open(f"{out}/scene/summary.csv")))
+law = {r["parameters.contact.law"]: r for r in summary_rows(f"{out}/law")}
+scene = summary_rows(f"{out}/scene")
 e = {k: float(r["first_impact_restitution"]) for k, r in law.items()}
 print("achieved restitution, impact-pair, c_r 0.5:", ", ".join(f"{k} {v:.4f}" for k, v in e.items()))
 print("scene throwaway-drop:", scene[0]["status"], "impacts", scene[0]["impact_count"])

@@ -9,11 +9,14 @@
 #   the case file's root attribute (h5py), summary.csv and summary.h5 (written from the record
 #   spool: the spool's round trip), the same after `rodend merge` (the summary rebuilt from the
 #   case files: the case file read back), and the dictionary of rodend.run_case (Python).
-# Takes a few minutes (a build); not part of CTest, run by hand as scripts/prove-recipes.sh is.
+# Takes a few minutes (a build); CTest runs it as prove.record (label `prove`). Exit 77
+# (skipped) outside a git checkout.
 # Usage: bash scripts/prove-record.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
 repo=$(pwd)
+git rev-parse --verify -q HEAD > /dev/null 2>&1 ||
+  { echo "prove-record: not a git checkout with a commit (it works in a worktree of HEAD): skipped"; exit 77; }
 work=$(mktemp -d)
 tree="$work/tree"
 cleanup() {

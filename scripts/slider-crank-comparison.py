@@ -17,10 +17,14 @@ A study whose results are missing is skipped with a note (the baseline is requir
 The measurement and the published Adams simulation are the values of the flap-actuation study
 that quotes the rig (its Table 4; issue 36), crank at 500 rpm.
 """
-import csv
 import math
+import os
 import sys
 from pathlib import Path
+
+# the package rodend beside scripts/ (its reader needs no compiled module), else an installed one
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "python"))
+from rodend import summary_rows  # noqa: E402
 
 MEASURED = {1e-4: 268.0, 3e-4: 297.7, 5e-4: 345.4}  # [m/s^2] oscillation peak on the rig
 ADAMS = {1e-4: 283.1, 3e-4: 318.2, 5e-4: 371.8}  # [m/s^2] the study's Adams model
@@ -37,8 +41,7 @@ METRICS = [
 
 
 def rows(results, study):
-    with open(Path(results) / study / "summary.csv", newline="") as f:
-        return list(csv.DictReader(f))
+    return summary_rows(Path(results) / study)
 
 
 def err(x, ref):
@@ -174,7 +177,7 @@ def model_forms(results):
             if r["parameters.joints.rod_slider.model"] == "clearance"}
     print_form_row("baseline (planar-slider-crank-clearance)", base)
     for study, keys, what in MODEL_FORMS:
-        if not (Path(results) / study / "summary.csv").exists():
+        if not (Path(results) / study / "summary.h5").exists():
             print(f"| {what}: no results of {study} | " + "– | " * (len(MEASURED) + 3))
             continue
         groups = {}
@@ -202,12 +205,12 @@ if __name__ == "__main__":
     where = sys.argv[1] if len(sys.argv) > 1 else "results"
     baseline(where)
     print()
-    if (Path(where) / "planar-slider-crank-band" / "summary.csv").exists():
+    if (Path(where) / "planar-slider-crank-band" / "summary.h5").exists():
         band(where)
     else:
         print("(no results of planar-slider-crank-band)")
     print()
-    if (Path(where) / "planar-slider-crank-start-angle" / "summary.csv").exists():
+    if (Path(where) / "planar-slider-crank-start-angle" / "summary.h5").exists():
         start_angle(where)
     else:
         print("(no results of planar-slider-crank-start-angle)")

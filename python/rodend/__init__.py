@@ -23,347 +23,40 @@ write=path)`; `run_study` writes its results folder as `rodend run` does).
 The compiled part (rodend._rodend) is built by `bash scripts/main.sh` (or setup.sh) into
 <repo>/build/python/; this package finds it there, or in $RODEND_BUILD_DIR/python (a build
 directory of another name), or next to itself. It is loaded when first needed (running, the
-catalogues, InputError, __version__): reading results (open_results, rodend.study, the figures
+catalogues, InputError, __version__): reading results (open_results, open_study, the figures
 of plots/) works without it.
-"""
-import errno
-import glob
-import importlib.util
-import json
-import numbers
-import os
-import signal
-import sys
-import tempfile
-import threading
 
-from . import naming
+This module only re-exports: running is rodend/running.py, loading the compiled part
+rodend/extension.py, and every reader of a results folder (open_results: pandas and xarray;
+open_study: numpy; summary_rows) reads through rodend/casefiles.py.
+"""
 from .naming import UnknownName
+from .running import (Case, load_study, parameters, run_case, run_study, scenes, schema,
+                      signal_catalogue)
 
 __all__ = ["InputError", "run_case", "run_study", "load_study", "open_results", "Case",
            "Results", "CorruptFile", "UnknownName", "schema", "scenes", "parameters",
-           "signal_catalogue", "analyze", "Progress", "open_study", "NotAStudy"]
+           "signal_catalogue", "analyze", "Progress", "open_study", "Study", "NotAStudy",
+           "summary_rows", "verify_checksum"]
 
-# what the compiled module gives, as attributes of this package once it is loaded
-_FROM_EXTENSION = {"_ext": None, "InputError": "InputError", "__version__": "__version__",
-                   "SCHEMA_VERSION": "schema_version"}
-_LOADING = threading.Lock()
-
-
-def _extension():
-    """The compiled module, loaded on first use (ImportError naming where it was looked for
-    when it is not built); its names become attributes of the package."""
-    with _LOADING:  # once, whichever thread asks first
-        if "_ext" not in globals():
-            ext = _load_extension()
-            globals().update({k: getattr(ext, v) if v else ext
-                              for k, v in _FROM_EXTENSION.items()})
-    return globals()["_ext"]
-
-
-def _load_extension():
-    here = os.path.dirname(os.path.abspath(__file__))
-    repo = os.path.dirname(os.path.dirname(here))
-    places = []
-    if os.environ.get("RODEND_BUILD_DIR"):
-        b = os.environ["RODEND_BUILD_DIR"]
-        places.append(os.path.join(b if os.path.isabs(b) else os.path.join(repo, b), "python"))
-    places += [here, os.path.join(repo, "build", "python")]
-    for place in places:
-        for path in sorted(glob.glob(os.path.join(place, "_rodend*.so"))):
-            spec = importlib.util.spec_from_file_location("rodend._rodend", path)
-            module = importlib.util.module_from_spec(spec)
-            try:
-                spec.loader.exec_module(module)
-            except ImportError:
-                continue  # built for another Python
-            sys.modules["rodend._rodend"] = module
-            return module
-    raise ImportError(
-        "rodend: the compiled module _rodend was not found in " + ", ".join(places) +
-        ": build it with `bash scripts/setup.sh` (needs pybind11-dev), or set RODEND_BUILD_DIR "
-        "to the build directory (reading results needs no compiled module: "
-        "rodend.open_results, rodend.study)")
-
-
-def schema():
-    """The JSON Schema (draft 2020-12) of study files, as a dict (`rodend schema`)."""
-    return json.loads(_extension().schema())
-
-
-def scenes():
-    """The scene names (`rodend scenes`)."""
-    return list(_extension().scenes())
-
-
-def parameters(scene):
-    """A scene's default parameters: {dotted path: {value, unit, source, note}}. An unknown
-    scene raises UnknownName naming the nearest scenes."""
-    _check_scene(scene)
-    return _extension().parameters(scene)
-
-
-def _check_scene(scene):
-    if not isinstance(scene, str):
-        raise TypeError(f"scene: expected a scene name (str), got {type(scene).__name__}")
-    naming.check_names("scene", [scene], scenes(), "(see rodend.scenes())")
-
-
-def signal_catalogue():
-    """[(name, unit, width, description)] of every signal (`rodend signals`)."""
-    return list(_extension().signal_catalogue())
-
-
-class Case:
-    """What run_case returns: the record, histories and metrics of one case.
-
-    signals: {name: numpy array (samples,) or (samples, width)}; units, long_names: {name: str}
-    metrics: {name: float} (NaN when not applicable); metric_units: {name: str}
-    status, message, t_reached_s, steps_accepted, rhs_calls, ... : the summary's columns
-    parameters: every resolved parameter {path: {value, unit, source, ...}}
-    arrays: {"group/name": {values, units, long_name, dims}} (wear maps, wear evolution)
-    """
-
-    def __init__(self, d):
-        self.__dict__.update(d)
-        # an unknown name raises UnknownName (a KeyError) naming the nearest ones
-        for key, kind in (("signals", "signal"), ("units", "signal"), ("long_names", "signal"),
-                          ("metrics", "metric"), ("metric_units", "metric")):
-            if isinstance(d.get(key), dict):
-                setattr(self, key, naming.Names(d[key], kind))
-
-    def to_xarray(self):
-        """The histories as an xarray.Dataset over time (vector components labelled: x, y, z
-        or the catalogue's names), CF attributes (short long_name, the sentence in
-        description)."""
-        t = self.signals.get("time")
-        data, coords = {}, {}
-        for name, v in self.signals.items():
-            if name == "time":
-                continue
-            dims = ("time",)
-            if v.ndim == 2:
-                cdim, labels = naming.components(name, v.shape[1])
-                dims += (cdim,)
-                coords[cdim] = (cdim, labels)
-            data[name] = (dims, v, naming.attrs(name, self.units[name], self.long_names[name]))
-        if t is not None:
-            coords["time"] = ("time", t, naming.attrs("time", "s", self.long_names["time"]))
-        return naming.dataset(data, coords=coords,
-                          attrs={"Conventions": naming.CONVENTIONS, "case_id": self.case_id,
-                                 "status": self.status})
-
-    def __repr__(self):
-        return (f"<rodend.Case {self.case_id} {self.status}, {len(self.signals)} signals, "
-                f"t_reached {self.t_reached_s} s>")
-
-
-def run_case(scene, parameters=None, *, time=None, integrator=None, signals=None, health=None,
-             metrics=None, write=None):
-    """Runs one case in memory and returns a Case (histories as numpy arrays, metrics as a
-    dict). Nothing touches the disk unless `write` names a case file to write (.h5, the same
-    file `rodend run` writes).
-
-    scene: a scene name (rodend.scenes()); parameters: overrides of its defaults, by dotted key
-    path or nested dicts (numbers may be numpy scalars, lists numpy arrays); time: {"end": s,
-    "sample_interval": s} (default: end 0.1 s sampled every 1e-4 s); integrator, signals,
-    health, metrics: as the study keys of the same names. Raises InputError (a ValueError) with
-    the command line's message for a bad input, UnknownName for an unknown scene or signal,
-    TypeError for an argument of the wrong type.
-    """
-    _check_scene(scene)
-    doc = {"name": "run_case", "scene": scene,
-           "time": time if time is not None else {"end": 0.1, "sample_interval": 1e-4}}
-    for key, value in (("parameters", parameters), ("time", time), ("integrator", integrator),
-                       ("health", health), ("metrics", metrics)):
-        _check_type(key, value, dict, "a dict")
-        if value is not None:
-            doc[key] = value
-    if signals is not None:
-        doc["signals"] = _signal_names(signals)
-    if write is not None:
-        _check_type("write", write, (str, os.PathLike), "a path")
-    return Case(_extension().run_case(_json(doc), "run_case()", "" if write is None else os.fspath(write)))
-
-
-def load_study(study, *, results_root="results", set=None):
-    """A study as `rodend run --dry-run` resolves it: name, scene, output_dir, axis_keys,
-    source (the document with the overrides), cases [{case_id, case_index, coordinates}].
-    `study` is a study file's path or the study itself as a dict."""
-    root = _path_arg("results_root", results_root)
-    with _StudyFile(study, root) as path:
-        return _extension().load_study(path, root, _overrides(set))
-
-
-def run_study(study, *, threads=1, results_root="results", set=None, rerun_failed=False,
-              progress=False):
-    """Runs a study as `rodend run` does (resume included) and returns (exit code, results
-    folder): 0 when every case is ok, 1 when one failed. `study` is a study file's path or the
-    study itself as a dict (written to a temporary file in the results root for the run, then
-    removed; the results folder's study.json keeps it). `set` is {key.path: value} or a list
-    of "key.path=value" strings, as `--set`; values may be numpy scalars and arrays. Messages go
-    to the logger "rodend"; `progress`: False, True (a tqdm bar where tqdm is installed, else
-    the progress line, on sys.stderr) or a callable taking a rodend.Progress after each case
-    (rodend/progress.py). Raises FileNotFoundError for a study file that
-    is not there, InputError for a bad study, TypeError naming the argument of a
-    wrong type, KeyboardInterrupt on Ctrl-C once the cases in flight are written."""
-    if isinstance(threads, bool) or not isinstance(threads, numbers.Integral):
-        raise TypeError(f"threads: expected an integer >= 1, got {type(threads).__name__} "
-                        f"{threads!r}")
-    if not 1 <= threads <= 4096:  # the extension's C int would refuse 2**31 with its signature
-        raise _extension().InputError(f"threads: expected an integer from 1 to 4096 (as "
-                                      f"--threads), got {int(threads)}")
-    if not isinstance(rerun_failed, bool) and type(rerun_failed).__name__ != "bool_":
-        raise TypeError(f"rerun_failed: expected True or False, got "
-                        f"{type(rerun_failed).__name__} {rerun_failed!r}")
-    from .progress import Reporter
-    reporter = Reporter(bool(progress) if type(progress).__name__ == "bool_" else progress)
-    root = _path_arg("results_root", results_root)
-    overrides = _overrides(set)
-    try:
-        with _StudyFile(study, root) as path:
-            if isinstance(study, dict):  # the resume hint names the study.json the run keeps
-                reporter.rename = (path, _kept_study_json(study, root))
-            rc, folder = _extension().run_study(path, int(threads), root, overrides, bool(rerun_failed),
-                                        True, reporter.message, reporter.progress)
-    finally:
-        reporter.close()
-    if rc == 128 + signal.SIGINT:  # Ctrl-C: the cases in flight were finished and written
-        raise KeyboardInterrupt(f"run_study interrupted; the complete cases are in {folder}: "
-                                "run it again to resume")
-    return rc, folder
-
-
-def _kept_study_json(study, root):
-    """Where the run of a study given as a dict keeps it: RESULTS_FOLDER/study.json."""
-    out = study.get("output")
-    folder = out if isinstance(out, str) else \
-        out.get("directory") if isinstance(out, dict) else None
-    if not isinstance(folder, str) or not folder:
-        folder = os.path.join(root, study.get("name", "study"))
-    return os.path.join(folder, "study.json")
-
-
-def _json_default(v):
-    """numpy scalars and arrays as the numbers and lists they hold (json.dumps' default)."""
-    if hasattr(v, "tolist") and type(v).__module__ == "numpy":
-        return v.tolist()
-    if isinstance(v, os.PathLike):
-        return os.fspath(v)
-    raise TypeError(f"Object of type {type(v).__name__} is not JSON serializable")
-
-
-def _json(value, key=""):
-    """JSON text of a Python value; a value nested too deep for the json module (which
-    recurses) raises InputError naming the key, as the loader does for deep study files."""
-    try:
-        return json.dumps(value, allow_nan=False, default=_json_default)
-    except RecursionError:
-        raise _extension().InputError(f"{key or 'the document'}: nested too deep (the loader takes at most 64 "
-                         "levels); expected a value a study can hold") from None
-
-
-def _check_type(name, value, types, what):
-    if value is not None and not isinstance(value, types):
-        raise TypeError(f"{name}: expected {what}, got {type(value).__name__} {value!r}")
-
-
-def _path_arg(name, value):
-    _check_type(name, value, (str, os.PathLike), "a path (str or os.PathLike)")
-    return os.fspath(value)
-
-
-def _signal_names(signals):
-    if isinstance(signals, str):
-        return signals  # "all", checked by the loader
-    names = list(signals.tolist() if hasattr(signals, "tolist") else signals)
-    for n in names:
-        _check_type("signals", n, str, "signal names (str)")
-    naming.check_names("signal", names, [c[0] for c in signal_catalogue()],
-                       "(see rodend.signal_catalogue())")
-    return names
-
-
-class _StudyFile:
-    """The path of a study given as a path, or of a temporary file holding a study given as a
-    dict (in a fresh folder of the results root; removed on exit)."""
-
-    def __init__(self, study, root):
-        self.study, self.root, self.tmp, self.path = study, root, None, None
-
-    def __enter__(self):
-        if isinstance(self.study, dict):
-            if isinstance(self.study.get("scene"), str):
-                _check_scene(self.study["scene"])
-            name = self.study.get("name", "study")
-            _check_type("name", name, str, "a string")
-            os.makedirs(self.root, exist_ok=True)
-            self.tmp = tempfile.mkdtemp(prefix=".rodend-study-", dir=self.root)
-            path = os.path.join(self.tmp, (name if name and "/" not in name else "study") + ".json")
-            with open(path, "w", encoding="utf-8") as fh:
-                fh.write(_json(self.study))
-            self.path = path
-            return path
-        path = _path_arg("study", self.study)
-        if not os.path.lexists(path):  # as open() would say, not a bad study
-            raise FileNotFoundError(errno.ENOENT, "no such study file", path)
-        return path
-
-    def __exit__(self, kind, error, tb):
-        if self.tmp:
-            import shutil
-            shutil.rmtree(self.tmp, ignore_errors=True)
-            ext = sys.modules.get("rodend._rodend")
-            if ext is not None and isinstance(error, ext.InputError):
-                # the temporary file is gone: name the dict instead
-                raise ext.InputError(str(error).replace(self.path, "<study dict>")) from None
-
-
-def _overrides(s):
-    if s is None:
-        return []
-    if isinstance(s, dict):
-        for k in s:
-            _check_type("set", k, str, "{key.path: value} with str keys")
-        return [f"{k}={_json(v, 'set=' + k)}" for k, v in s.items()]
-    if isinstance(s, str):
-        raise TypeError("set: expected {key.path: value} or a list of \"key.path=value\" "
-                        "strings, got one str (wrap it in a list)")
-    out = list(s)
-    for x in out:
-        _check_type("set", x, str, 'a list of "key.path=value" strings')
-    return out
-
-
-def open_results(folder, signals=None):
-    """The results of a study folder (results/<study>, as `rodend run` wrote it), opened
-    without reading any history: a Results with .summary (pandas.DataFrame),
-    .summary_dataset (xarray.Dataset over the grid axes), .histories (xarray.Dataset over the
-    grid axes and time, lazy: a case file is read when its values are accessed; `signals`
-    limits which, an unknown or unrecorded name raises UnknownName naming the nearest) and
-    .case(which) (one case's histories). Every file is checked before HDF5 reads it: a damaged
-    summary.h5 or case file, or a case file under another case's name, raises
-    rodend.CorruptFile (a ValueError) naming it; a missing case file, FileNotFoundError."""
-    from . import results
-    return results.Results(_path_arg("folder", folder), signals=signals)
+# the names of the modules imported on first use: reading results needs h5py (pandas and xarray
+# for Results), the analysis openturns and matplotlib; importing rodend needs numpy only
+_LAZY = {"open_results": "results", "Results": "results", "open_study": "study",
+         "Study": "study", "NotAStudy": "casefiles", "CorruptFile": "casefiles",
+         "verify_checksum": "casefiles", "summary_rows": "casefiles", "Progress": "progress",
+         "analyze": "analysis.run"}
 
 
 def __getattr__(name):
-    if name in _FROM_EXTENSION:
-        _extension()
+    from . import extension
+    if name in extension._FROM_EXTENSION:
+        extension.get()
         return globals()[name]
-    if name in ("open_study", "NotAStudy"):
-        from . import study
-        return getattr(study, name)
-    if name in ("Results", "CorruptFile"):
-        from . import results
-        return getattr(results, name)
-    if name == "Progress":
-        from .progress import Progress
-        return Progress
-    if name == "analyze":
-        # the analysis of a designed study (rodend/analysis/run.py), imported on first
-        # use: it needs openturns and matplotlib, which nothing else of the module does
-        from .analysis.run import analyze
-        return analyze
+    if name in _LAZY:
+        import importlib
+        return getattr(importlib.import_module("." + _LAZY[name], __name__), name)
     raise AttributeError(name)
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

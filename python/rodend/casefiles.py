@@ -115,6 +115,17 @@ def read_summary(path):
     return columns, units, long_names, attrs
 
 
+def summary_rows(folder):
+    """The rows of folder/summary.h5 (its checksum checked first), one {column: value} per
+    case in summary order (numbers as numpy scalars, strings as str): for scripts that walk
+    the cases one by one. NotAStudy when there is no summary.h5."""
+    path = os.path.join(folder, "summary.h5")
+    if not os.path.isfile(path):
+        raise NotAStudy(f"{folder}: not a rodend results folder (no summary.h5)")
+    columns = read_summary(path)[0]
+    return [{k: v[i] for k, v in columns.items()} for i in range(len(columns["case_id"]))]
+
+
 def study_document(folder, attrs):
     """The study document as run: `folder`/study.json, else the summary's root attribute
     study_json (`attrs` from read_summary); {} when neither is readable."""

@@ -72,7 +72,8 @@ def lazy_histories(res):
         if extra in s:
             coords[extra] = (dims, s[extra].to_numpy().reshape(shape),
                              {"long_name": extra.replace("_", " ")})
-    return naming.dataset(variables, coords=coords, attrs=res._dataset_attrs())
+    return res._with_aliases(naming.dataset(variables, coords=coords,
+                                            attrs=res._dataset_attrs()), axes)
 
 
 def case_dataset(res, row, names=None):
@@ -97,7 +98,7 @@ def case_dataset(res, row, names=None):
     for _, keys, _ in res.dimensions():
         for key in keys:
             if key in s:
-                coords[key] = ((), s[key].iloc[row], res._attrs(key))
+                coords.update(res._coordinate(key, (), s[key].iloc[row]))
     attrs = res._dataset_attrs()
     attrs.update({k: s[k].iloc[row] for k in ("case_id", "status", "scene") if k in s})
     return naming.dataset(data, coords=coords, attrs=attrs)

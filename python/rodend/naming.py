@@ -45,6 +45,32 @@ def short_name(key):
     return " ".join(parts).replace("_", " ")
 
 
+def coordinate_names(keys, taken=()):
+    """{key: name} of a study's grid and design keys as xarray names, without dots so that
+    `.sel(clearance=...)` works: each key by its last part (a leading `parameters.` left
+    out), with the parts before it joined by `_` where two keys would share a name or a name is
+    in `taken` (`contact_clearance`); the whole key with `_` for `.` where even that collides."""
+    parts = {}
+    for k in keys:
+        p = k.split(".")
+        parts[k] = p[1:] if p[0] == "parameters" and len(p) > 1 else p
+    depth = dict.fromkeys(parts, 1)
+    while True:
+        names = {k: "_".join(p[-depth[k]:]) for k, p in parts.items()}
+        seen = {}
+        for k, n in names.items():
+            seen.setdefault(n, []).append(k)
+        clash = [k for k, n in names.items() if len(seen[n]) > 1 or n in taken]
+        longer = [k for k in clash if depth[k] < len(parts[k])]
+        if not longer:
+            break
+        for k in longer:
+            depth[k] += 1
+    for k in clash:  # even the whole key collides
+        names[k] = k.replace(".", "_")
+    return names
+
+
 def attrs(key, units, sentence):
     """CF attributes of one variable: units, a short long_name and the sentence as
     description (left out when it says nothing more than the short name)."""

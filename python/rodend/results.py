@@ -15,7 +15,11 @@ from . import naming
 from .casefiles import (CaseFiles, CorruptFile, _long_name, _text, _units, read_summary,
                         study_document, verify_checksum)
 
-__all__ = ["Results", "CorruptFile", "verify_checksum"]
+__all__ = ["open_results", "Results", "CorruptFile", "verify_checksum"]
+
+# names the Datasets use besides the grid's: a grid key's coordinate name avoids them
+_RESERVED = {"time", "sample", "status", "case_id", "case_index", "component3", "euler_321",
+             "joint", "chamber"}
 
 
 def _axis_size(entry):
@@ -58,6 +62,7 @@ class Results:
         ids = self.summary["case_id"] if "case_id" in self.summary else []
         self._files = CaseFiles(self.folder, ids)
         self._recorded_signals = None
+        self._names = None
         self._histories = None
         self._signals = None if signals is None else self._check_signals(signals)
 
@@ -80,7 +85,26 @@ class Results:
         """[(dimension name, [coordinate keys], size)] the cases are laid out over: the grid
         axes in order (a zip group is one dimension named by its first key, its other keys are
         coordinates along it), then `design.sample` for a sampled design (the factors' keys are
-        coordinates along it); one dimension `case_index` when the cases are no such product."""
+        coordinates along it); one dimension `case_index` when the cases are no such product.
+        A dimension's name is its first key's coordinate name (coordinate_names: `clearance`
+        for `parameters.contact.clearance`)."""
+        names = self.coordinate_names()
+        return [(names.get(keys[0], keys[0]), keys, size) for _, keys, size in self._axes()]
+
+    def coordinate_names(self):
+        """{grid or design key: its name in the Datasets}: the key's last part, without dots,
+        longer where two would be the same (rodend.naming.coordinate_names). The Datasets keep
+        each key as the coordinate's attribute `key`, and the dotted key itself as an alias
+        coordinate (indexed, so `.sel({"parameters.contact.clearance": v})` still works) for
+        this release only."""
+        if self._names is None:
+            keys = [k for _, ks, _ in self._axes() for k in ks]
+            taken = set(self.summary.columns) - set(keys) | _RESERVED
+            self._names = naming.coordinate_names(keys, taken)
+        return self._names
+
+    def _axes(self):
+        """dimensions() by the keys' full names."""
         axes = self.grid_axes()
         n = len(self.summary)
         n_grid = int(np.prod([a[2] for a in axes], dtype=np.int64))
@@ -107,15 +131,36 @@ class Results:
 
     def _axis_coords(self, axes):
         """The coordinates along each dimension: the rows where every other axis is at its
-        first value."""
+        first value; each key by its coordinate name, and by its dotted key as an alias."""
         shape = tuple(size for _, _, size in axes)
         coords = {}
         for pos, (name, keys, size) in enumerate(axes):
             rows = np.arange(size) * int(np.prod(shape[pos + 1:], dtype=np.int64))
             for key in keys:
                 if key in self.summary:
-                    coords[key] = (name, self.summary[key].to_numpy()[rows], self._attrs(key))
+                    coords.update(self._coordinate(key, name, self.summary[key].to_numpy()[rows]))
         return coords
+
+    def _coordinate(self, key, dims, values):
+        """{name: (dims, values, attrs)} of one grid or design key: its coordinate name (the
+        attribute `key` the full key path) and, where that differs, the dotted key as an alias
+        for this release."""
+        name = self.coordinate_names().get(key, key)
+        attrs = dict(self._attrs(key), key=key)
+        out = {name: (dims, values, attrs)}
+        if name != key:
+            out[key] = (dims, values, dict(attrs, deprecated=(
+                f"the dotted name of coordinate {name!r}, kept for this release only: use "
+                f".sel({name}=...)")))
+        return out
+
+    def _with_aliases(self, ds, axes):
+        """ds with an index on each dimension's dotted alias, so that .sel by the old name
+        selects as before."""
+        for name, keys, _ in axes:
+            if keys[0] != name and keys[0] in ds.coords:
+                ds = ds.set_xindex(keys[0])
+        return ds
 
     @property
     def summary_dataset(self):
@@ -124,9 +169,11 @@ class Results:
         axes = self.dimensions()
         shape, dims = tuple(a[2] for a in axes), tuple(a[0] for a in axes)
         coords = self._axis_coords(axes)
+        keys = {k for _, ks, _ in axes for k in ks}
         data = {col: (dims, self.summary[col].to_numpy().reshape(shape), self._attrs(col))
-                for col in self.summary.columns if col not in coords}
-        return naming.dataset(data, coords=coords, attrs=self._dataset_attrs())
+                for col in self.summary.columns if col not in coords and col not in keys}
+        return self._with_aliases(naming.dataset(data, coords=coords,
+                                                 attrs=self._dataset_attrs()), axes)
 
     # ---------------------------------------------------------------------------------------
     def _reference_rows(self):
@@ -200,7 +247,9 @@ class Results:
                 raise IndexError(f"case index {which}: {self.folder} has case indices "
                                  f"{s['case_index'].min()} to {s['case_index'].max()}")
             return int(hits[0])
-        if isinstance(which, dict):
+        if isinstance(which, dict):  # by full key or by coordinate name (clearance)
+            by_name = {n: k for k, n in self.coordinate_names().items()}
+            which = {by_name.get(k, k): v for k, v in which.items()}
             naming.check_names("grid key", which, s.columns, f"(columns of {self.folder})")
             match = np.ones(len(s), bool)
             for k, v in which.items():
@@ -212,3 +261,18 @@ class Results:
             return int(hits[0])
         raise TypeError(f"which: expected a case id (str), a case index (int) or "
                         f"{{grid key: value}}, got {type(which).__name__}")
+
+
+def open_results(folder, signals=None):
+    """The results of a study folder (results/<study>, as `rodend run` wrote it), opened
+    without reading any history: a Results with .summary (pandas.DataFrame),
+    .summary_dataset (xarray.Dataset over the grid axes), .histories (xarray.Dataset over the
+    grid axes and time, lazy: a case file is read when its values are accessed; `signals`
+    limits which, an unknown or unrecorded name raises UnknownName naming the nearest) and
+    .case(which) (one case's histories). Every file is checked before HDF5 reads it: a damaged
+    summary.h5 or case file, or a case file under another case's name, raises
+    rodend.CorruptFile (a ValueError) naming it; a missing case file, FileNotFoundError."""
+    if not isinstance(folder, (str, os.PathLike)):
+        raise TypeError(f"folder: expected a path (str or os.PathLike), got "
+                        f"{type(folder).__name__} {folder!r}")
+    return Results(os.fspath(folder), signals=signals)

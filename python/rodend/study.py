@@ -1,9 +1,9 @@
 """A study's results folder as numpy arrays and case objects: the reader of the figures in plots/
 (numpy and h5py only: no pandas, no xarray, no compiled module). The same files as
 rodend.open_results, read by the same code (rodend/casefiles.py: checksums, the summary table,
-the study document, schema 1's `unit` attribute).
+the study document, schema 1's `unit` attribute). Imported through the package:
 
-    from rodend.study import open_study
+    from rodend import open_study
     study = open_study("results/default")          # raises NotAStudy for anything else
     study.summary["max_contact_force"]              # numpy array, one value per case (summary order)
     for case in study.cases():                      # grid order

@@ -2,17 +2,20 @@
 
     test_comment_paths.py REPO
 
-The comments of the tracked sources (C++ `//`, Python, shell and CMake `#`) under core/, sweep/,
-app/, python/, plots/, bench/, scripts/, tests/, cmake/, fuzz/ and .ci/ are scanned for file
+The comments of the tracked sources (C++ `//`, Python, shell and CMake `#`, and Python's
+docstrings) under core/, sweep/, app/, python/, plots/, bench/, scripts/, tests/, cmake/, fuzz/
+and .ci/ are scanned for file
 names with a source or document ending (`sweep/results/case_file.cpp`, `case_file.cpp`,
 `docs/model.md`). A name with a folder must exist relative to the repository, to the commenting
 file's folder or to one of its ancestors; a bare name must be the name of a tracked file, or of
 a file of a library named in EXTERNAL. Placeholders are skipped: an ALL-CAPS word (`NAME`),
-`<...>`, `*`, `{...}`, a one-letter stem (`docs/x.md`), and the throwaway files the prove
-scripts create. docs/ and README.md are checked by cli.doc_refs.
+`<...>`, `*`, `{...}`, a one-letter stem (`docs/x.md`), the throwaway files the prove
+scripts create, and a bare name the file itself has as a string literal (`"presets.md"`: a file
+it writes). docs/ and README.md are checked by cli.doc_refs.
 Before the tree, the checker is run on a synthetic file with one dangling name of each kind and
 must report both, so this test can fail.
 """
+import ast
 import os
 import re
 import subprocess
@@ -52,13 +55,36 @@ def dangling(repo, path, names):
             lines = f.read().splitlines()
     except (UnicodeDecodeError, FileNotFoundError):
         return []
+    texts = [(n, comment_of(line, ext)) for n, line in enumerate(lines, 1)]
+    if ext == ".py":
+        texts += docstring_lines(lines)
+    source = "\n".join(lines)
     out = []
-    for n, line in enumerate(lines, 1):
-        for m in PATH.finditer(comment_of(line, ext)):
+    for n, text in texts:
+        for m in PATH.finditer(text):
             name = m.group(1)
-            if PLACEHOLDER.search(name) or resolves(repo, path, name, names):
+            if PLACEHOLDER.search(name) or resolves(repo, path, name, names) or \
+                    ("/" not in name and (f'"{name}"' in source or f"'{name}'" in source)):
                 continue
-            out.append(f"{path}:{n}: {name}")
+            if f"{path}:{n}: {name}" not in out:
+                out.append(f"{path}:{n}: {name}")
+    return out
+
+
+def docstring_lines(lines):
+    """[(line number, text)] of every docstring of a Python file (module, class, function)."""
+    try:
+        tree = ast.parse("\n".join(lines))
+    except SyntaxError:
+        return []
+    out = []
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)) \
+                and node.body and isinstance(node.body[0], ast.Expr) \
+                and isinstance(node.body[0].value, ast.Constant) \
+                and isinstance(node.body[0].value.value, str):
+            d = node.body[0]
+            out += [(n, lines[n - 1]) for n in range(d.lineno, d.end_lineno + 1)]
     return out
 
 
@@ -87,6 +113,12 @@ def self_check():
         got = dangling(d, "core/a.cpp", {"a.cpp"})
         check(got == ["core/a.cpp:1: core/gone.cpp", "core/a.cpp:1: missing.hpp"],
               f"the checker reports both dangling names of the synthetic file, got {got}")
+        with open(os.path.join(d, "core", "b.py"), "w") as f:
+            f.write('"""Reads core/gone.py and writes out.md."""\nOUT = "out.md"\n'
+                    'def f():\n    """As core/b.py and core/lost.py."""\n')
+        got = dangling(d, "core/b.py", {"b.py"})
+        check(got == ["core/b.py:1: core/gone.py", "core/b.py:4: core/lost.py"],
+              f"the checker reports the dangling names of the docstrings, got {got}")
 
 
 def main():

@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
-"""Every function in core/, sweep/, app/, python/ and bench/ fits on one screen (<= 60 lines,
-issues 18 and 32), and no file in sweep/ is longer than 800 lines (issue 32: a file does one
-job): scripts/function-lengths.py over them passes. First the script itself is
-checked on synthetic sources: a 61-line function
-(inline member, free function, constructor with an initialiser list) is reported, a 60-line one
-and braces in comments, strings, classes, namespaces and control statements are not; with
---file-limit 800, a file of 801 lines (.cpp, .hpp or .def) fails, one of 800 passes.
+"""Every function and method, C++ and Python, in core/, sweep/, app/, python/, bench/, plots/
+and scripts/ fits on one screen (<= 60 lines), and no file there is longer than 800 lines (a
+file does one job): scripts/function-lengths.py over them passes, with no exceptions. First the
+script itself is checked on synthetic sources: a 61-line function (C++: inline member,
+ref-qualified member, free function, constructor with an initialiser list; Python: function,
+method, a function whose nested def makes it long) is reported, a 60-line one and braces in
+comments, strings, classes, namespaces and control statements are not; with --file-limit 800,
+a file of 801 lines (.cpp, .hpp, .def or .py) fails, one of 800 passes.
 
   test_function_lengths.py REPO
 """
@@ -33,6 +34,22 @@ cases = {
     "free": ("namespace a {\nint f(int y) {\n", "}\n"),
     "member": ("struct S {\n  int g() const {\n", "};\n"),
     "ctor": ("class C {\n public:\n  C() : v_(1), w_{2} {\n", "  int v_, w_;\n};\n"),
+    "ref_qualified": ("struct R {\n  [[nodiscard]] int h() const& {\n", "};\n"),
+}
+
+
+def py_body(n_lines, indent):
+    """The n_lines lines of a Python def after its `def` line."""
+    pad = " " * indent
+    return "".join(f"{pad}x = {i}  # {{ not a brace\n" for i in range(n_lines - 1)) + \
+        f"{pad}return x\n"
+
+
+py_cases = {
+    "py_function": lambda n: "import os\n\n\ndef f(y):\n" + py_body(n - 1, 4),
+    "py_method": lambda n: "class K:\n    x = 1\n\n    def g(self):\n" + py_body(n - 1, 8),
+    "py_nested": lambda n: "def outer():\n    def inner():\n" + py_body(n - 3, 8) +
+    "    return inner\n",
 }
 failed = 0
 with tempfile.TemporaryDirectory() as d:
@@ -45,6 +62,15 @@ with tempfile.TemporaryDirectory() as d:
                 print(f"FAIL: {name} function of {n} lines: exit {r.returncode}, expected "
                       f"{expect}\n{r.stdout}{r.stderr}")
                 failed += 1
+    for name, make in py_cases.items():
+        for n, expect in ((60, 0), (61, 1)):
+            src = pathlib.Path(d) / f"{name}_{n}.py"
+            src.write_text(make(n))
+            r = run(src)
+            if r.returncode != expect:
+                print(f"FAIL: {name} of {n} lines: exit {r.returncode}, expected "
+                      f"{expect}\n{r.stdout}{r.stderr}")
+                failed += 1
     src = pathlib.Path(d) / "not_functions.cpp"
     src.write_text("namespace n {\nstruct T {\n" + "  int a;\n" * 70 + "};\n"
                    "const char* s = \"{\";\n"
@@ -53,38 +79,30 @@ with tempfile.TemporaryDirectory() as d:
     if r.returncode != 0:
         print(f"FAIL: a long struct or a string brace counted as a function\n{r.stdout}")
         failed += 1
-    for suffix in (".cpp", ".hpp", ".def"):
+    for suffix in (".cpp", ".hpp", ".def", ".py"):
         for n, expect in ((800, 0), (801, 1)):
             folder = pathlib.Path(d) / f"files_{n}{suffix.replace('.', '_')}"
             folder.mkdir()
-            (folder / f"long{suffix}").write_text("// a line\n" * n)
+            line = "# a line\n" if suffix == ".py" else "// a line\n"
+            (folder / f"long{suffix}").write_text(line * n)
             r = run("--file-limit", "800", folder)
             if r.returncode != expect:
                 print(f"FAIL: a {suffix} file of {n} lines under --file-limit 800: exit "
                       f"{r.returncode}, expected {expect}\n{r.stdout}{r.stderr}")
                 failed += 1
 
-FOLDERS = ("core", "sweep", "app", "python", "bench")
-r = run(*(repo / f for f in FOLDERS))
+FOLDERS = ("core", "sweep", "app", "python", "bench", "plots", "scripts")
+FILE_LIMIT = 800
+r = run("--file-limit", str(FILE_LIMIT), *(repo / f for f in FOLDERS))
 too_long = []
 for line in r.stdout.splitlines():
-    parts = line.split()  # "  <lines>  <file>:<line>  <function>"
-    if len(parts) != 3 or not parts[0].isdigit():
-        continue
-    too_long.append(line)
-if too_long or (r.returncode != 0 and not r.stdout.strip()):
-    print("FAIL: functions longer than 60 lines in " + ", ".join(FOLDERS) +
-          " (split them into named stages):")
+    parts = line.split()  # "  <lines>  <file>:<line>  <function>" or "  <lines>  <file>  (file)"
+    if len(parts) == 3 and parts[0].isdigit():
+        too_long.append(line)
+if too_long or r.returncode != 0:
+    print(f"FAIL: functions longer than 60 lines or files longer than {FILE_LIMIT} lines in " +
+          ", ".join(FOLDERS) + " (split them into named stages, files by job):")
     print("\n".join(too_long) or r.stdout + r.stderr)
-    failed += 1
-else:
-    print(r.stderr.strip())
-
-FILE_LIMIT = 800
-r = run("--file-limit", str(FILE_LIMIT), repo / "sweep")
-if r.returncode != 0:
-    print(f"FAIL: files in sweep/ longer than {FILE_LIMIT} lines (split them by job):")
-    print(r.stdout + r.stderr)
     failed += 1
 else:
     print(r.stderr.strip())

@@ -189,7 +189,9 @@ with tempfile.TemporaryDirectory() as tmp:
     sys.path.insert(0, PLOTS)
     import matplotlib
     matplotlib.use("Agg")
-    import plot_study  # puts the package rodend beside plots/ on the path
+    import plot_study  # noqa: F401  (puts the package rodend beside plots/ on the path)
+    import contact_figures
+    import figure_kit
     from rodend.naming import coordinate_label
     from rodend.study import open_study
     check(coordinate_label("parameters.contact.clearance", 1e-4, "m") ==
@@ -200,8 +202,8 @@ with tempfile.TemporaryDirectory() as tmp:
     check(r.returncode == 0, f"--no-title: exit {r.returncode}\n{r.stderr}")
     study = open_study(kin)
     for titled in (True, False):
-        plot_study.SHOW_TITLES = titled
-        fig = plot_study.fig_eccentricity_force(study, study.cases(), plot_study.Style(study))
+        figure_kit.SHOW_TITLES = titled
+        fig = contact_figures.fig_eccentricity_force(study, study.cases(), figure_kit.Style(study))
         has = fig._suptitle is not None and fig._suptitle.get_text() != ""
         check(has == titled, f"eccentricity_force: title {'missing' if titled else 'drawn'}")
         legend = [t.get_text() for leg in fig.legends for t in leg.get_texts()]
@@ -214,7 +216,7 @@ with tempfile.TemporaryDirectory() as tmp:
     withheld = os.path.join(tmp, "withheld")
     code = ("import runpy, sys, rodend\n"
             "def absent():\n    raise ImportError('compiled module withheld by test_plots')\n"
-            "rodend._load_extension = absent\n"
+            "import rodend.extension\nrodend.extension.load = absent\n"
             f"sys.argv = [{SCRIPT!r}, {kin!r}, '--out', {withheld!r}]\n"
             f"runpy.run_path({SCRIPT!r}, run_name='__main__')\n")
     env = dict(os.environ, PYTHONPATH=os.path.join(PLOTS, os.pardir, "python"))

@@ -39,7 +39,7 @@ import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import linear_actuator as la  # noqa: E402
-import plot_study  # noqa: E402,F401  (registers input_figures' helpers)
+import plot_study  # noqa: E402,F401  (puts the package rodend on the path, registers the figures)
 import input_figures  # noqa: E402
 from rodend.study import open_study  # noqa: E402
 

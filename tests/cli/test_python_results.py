@@ -9,6 +9,10 @@ product study, a zip group with a sampled design, and a one-case run, all of gra
   their keys as coordinates; a case's grid values are scalar coordinates of its signals;
   components labelled x, y, z (the chambers rear, front); Conventions CF-1.8; short
   long_names with the files' sentence in description;
+- dimension names without dots: `clearance`, `restitution`, `design_sample` (`sample` is the
+  Datasets' own), `rel_tol`, so `.sel(clearance=...)` works; the full key path in the attribute
+  `key`; the dotted names still select (an indexed alias marked deprecated); two keys of the
+  same last part are told apart by the part before it;
 - honest answers (item 6): an unknown signal, metric, scene or case names the nearest valid
   names; run_study takes a dict (same case ids as the file, no file left behind); numpy
   scalars and arrays in parameters and set=; threads="2" and other wrong types are refused
@@ -65,41 +69,41 @@ def lazy(tmp, folder):
     res = rodend.open_results(folder)
     h = res.histories  # reads no case file: the damaged one is not seen yet
     check(h["eccentricity"].shape == (3, 3, 11), f"shape {h['eccentricity'].shape}")
-    one = h["eccentricity"].sel({"parameters.contact.clearance": C[2],
-                                 "parameters.contact.restitution": R[1]}).values
+    one = h["eccentricity"].sel(clearance=C[2], restitution=R[1]).values
     row = s[(s["parameters.contact.clearance"] == C[2]) &
             (s["parameters.contact.restitution"] == R[1])].iloc[0]
     with h5py.File(res.case_file(row.case_id), "r") as f:
         check(np.array_equal(one, f["signals/eccentricity"][()]), "lazy value != case file")
     check(np.array_equal(res.case(row.case_id)["eccentricity"].values, one), "case() value")
-    raises(lambda: h["eccentricity"].isel({"parameters.contact.clearance": 2}).load(),
+    raises(lambda: h["eccentricity"].isel(clearance=2).load(),
            rodend.CorruptFile, s.case_id[8])
 
 
 def coordinates(folder):
     res = rodend.open_results(folder)
     ds = res.summary_dataset
-    check(ds["max_penetration"].dims == ("parameters.contact.clearance",
-                                         "parameters.contact.restitution"),
+    check(ds["max_penetration"].dims == ("clearance", "restitution"),
           f"summary dims {ds['max_penetration'].dims}")
-    check(list(ds["parameters.contact.restitution"].values) == R, "grid coordinate")
+    check(list(ds["restitution"].values) == R, "grid coordinate")
     s = res.summary
     for _, row in s.iterrows():
-        at = {"parameters.contact.clearance": row["parameters.contact.clearance"],
-              "parameters.contact.restitution": row["parameters.contact.restitution"]}
+        at = {"clearance": row["parameters.contact.clearance"],
+              "restitution": row["parameters.contact.restitution"]}
         check(ds["case_id"].sel(at).item() == row.case_id, "summary Dataset row")
-        check(ds["max_penetration"].sel(at).item() == row.max_penetration, "summary value")
+        check(ds["max_penetration"].sel(**at).item() == row.max_penetration, "summary value")
     c = res.case(int(s.case_index[5]))
-    check(c["eccentricity"].coords["parameters.contact.clearance"].item() == C[1] and
-          c["eccentricity"].coords["parameters.contact.restitution"].item() == R[2],
+    check(c["eccentricity"].coords["clearance"].item() == C[1] and
+          c["eccentricity"].coords["restitution"].item() == R[2],
           "a case's grid values as scalar coordinates")
+    check(res.case({"clearance": C[1], "restitution": R[2]}).attrs["case_id"] ==
+          c.attrs["case_id"], "case() by coordinate names")
     h = res.histories
     for d in (ds, h, c, rodend.run_case("gravity-drop", time={"end": 1e-3,
                                                              "sample_interval": 1e-3}).to_xarray()):
         check(d.attrs.get("Conventions") == "CF-1.8", f"Conventions {d.attrs}")
         check(list(d["ball_position"].coords["component3"].values) == ["x", "y", "z"]
               if "ball_position" in d else True, "components labelled")
-    a = ds["parameters.contact.clearance"].attrs
+    a = ds["clearance"].attrs
     check(a["long_name"] == "contact clearance" and a["units"] == "m" and
           len(a["description"]) > len(a["long_name"]), f"coordinate attrs {a}")
     with h5py.File(res.case_file(s.case_id[0]), "r") as f:
@@ -108,6 +112,29 @@ def coordinates(folder):
     check(e["long_name"] == "eccentricity" and e["description"] == sentence, f"attrs {e}")
     from rodend import naming
     check(naming.components("chamber_pressures", 2) == ("chamber", ["rear", "front"]), "chamber")
+
+
+def dimension_names(folder):
+    """Dimensions named without dots, the key path an attribute, the dotted name an alias."""
+    res = rodend.open_results(folder)
+    check([d[0] for d in res.dimensions()] == ["clearance", "restitution"],
+          f"dimensions {res.dimensions()}")
+    for d in (res.summary_dataset, res.histories["eccentricity"]):
+        check(d["clearance"].attrs["key"] == "parameters.contact.clearance", "attribute key")
+        old = d.sel({"parameters.contact.clearance": C[2]})  # the alias still selects
+        new = d.sel(clearance=C[2])
+        check(old.sizes == new.sizes and float(old["clearance"]) == C[2], "alias selects")
+        check("deprecated" in d["parameters.contact.clearance"].attrs and
+              "clearance" in d["parameters.contact.clearance"].attrs["deprecated"],
+              "the alias says it is deprecated")
+    from rodend import naming
+    names = naming.coordinate_names(["parameters.geometry.clearance",
+                                     "parameters.contact.clearance", "time.end",
+                                     "design.sample", "integrator.rel_tol"], taken={"sample"})
+    check(names == {"parameters.geometry.clearance": "geometry_clearance",
+                    "parameters.contact.clearance": "contact_clearance", "time.end": "end",
+                    "design.sample": "design_sample", "integrator.rel_tol": "rel_tol"},
+          f"coordinate_names {names}")
 
 
 def stopped_early(tmp):
@@ -120,7 +147,7 @@ def stopped_early(tmp):
     h = res.histories
     with h5py.File(res.case_file(s.case_id[1]), "r") as f:
         part = f["signals/eccentricity"][()]
-    e = h["eccentricity"].sel({"integrator.max_steps": 8}).values
+    e = h["eccentricity"].sel(max_steps=8).values
     check(0 < len(part) < 11 and np.array_equal(e[:len(part)], part) and
           np.isnan(e[len(part):]).all(), f"stopped case {e} vs {part}")
     check(np.array_equal(h["time"].values, np.arange(11) * 1e-3), "time coordinate")
@@ -137,15 +164,15 @@ def zip_and_design(tmp):
     check(rc == 0, f"zip/design study exit {rc}")
     res = rodend.open_results(folder)
     ds = res.summary_dataset
-    check(ds["status"].dims == ("parameters.contact.clearance", "design.sample"),
+    check(ds["status"].dims == ("clearance", "design_sample"),
           f"zip/design dims {ds['status'].dims}")
-    check(list(ds["parameters.contact.restitution"].values) == [0.9, 0.5], "zip coordinate")
-    tol = ds["integrator.rel_tol"]
+    check(list(ds["restitution"].values) == [0.9, 0.5], "zip coordinate")
+    tol = ds["rel_tol"]
     s = res.summary
-    check(tol.dims == ("design.sample",) and
+    check(tol.dims == ("design_sample",) and tol.attrs["key"] == "integrator.rel_tol" and
           np.array_equal(tol.values, s["integrator.rel_tol"].to_numpy()[:3]), "factor coordinate")
     h = res.histories
-    check(h["eccentricity"].dims == ("parameters.contact.clearance", "design.sample", "time"),
+    check(h["eccentricity"].dims == ("clearance", "design_sample", "time"),
           f"histories dims {h['eccentricity'].dims}")
 
 
@@ -207,6 +234,7 @@ def main():
         copy = os.path.join(tmp, "damaged")
         shutil.copytree(folder, copy)
         item("coordinates (item 5)", coordinates, folder)
+        item("dimension names without dots", dimension_names, folder)
         item("zip and design (item 5)", zip_and_design, tmp)
         item("honest answers (item 6)", honest, tmp, study, folder)
         item("lazy (item 4)", lazy, tmp, copy)

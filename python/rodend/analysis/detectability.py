@@ -167,10 +167,10 @@ def figure(rows, path):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("results", help="the study's results directory (summary.csv)")
+    parser.add_argument("results", help="the study's results directory (summary.h5)")
     args = parser.parse_args(argv)
-    import pandas as pd
-    table = pd.read_csv(os.path.join(args.results, "summary.csv"))
+    from ..results import open_results
+    table = open_results(args.results).summary
     table = table[table["status"] == "ok"]
     rows = analyse(table)
     figure(rows, os.path.join(args.results, "plots", "detectability.png"))

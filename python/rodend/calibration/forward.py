@@ -10,10 +10,9 @@ import shutil
 import subprocess
 import tempfile
 
-import h5py
 import numpy as np
 
-from ..casefiles import verify_checksum
+from ..casefiles import CaseFiles, _units
 
 
 class ForwardError(RuntimeError):
@@ -81,9 +80,7 @@ def case_rows(folder):
 def read_signals(folder, case_id, compare, times):
     """The compared signals of one case at `times` (linear interpolation of its histories,
     which are sampled at the study's sample interval): an array (len(compare), len(times))."""
-    path = os.path.join(folder, "cases", f"{case_id}.h5")
-    verify_checksum(path)
-    with h5py.File(path, "r") as f:
+    with CaseFiles(folder, [case_id]).open(0) as f:  # checked first: checksum, case id
         t = f["signals/time"][()]
         out = []
         for c in compare:
@@ -93,9 +90,8 @@ def read_signals(folder, case_id, compare, times):
 
 
 def signal_units(folder, case_id, compare):
-    path = os.path.join(folder, "cases", f"{case_id}.h5")
-    with h5py.File(path, "r") as f:
-        return [str(f["signals/" + c["signal"]].attrs.get("units", "")) for c in compare]
+    with CaseFiles(folder, [case_id]).open(0) as f:
+        return [_units(f["signals/" + c["signal"]]) for c in compare]
 
 
 def designed_outputs(cfg, root, name, method, size, seed, times):
