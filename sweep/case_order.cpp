@@ -17,6 +17,14 @@ double predicted_cost(const ParameterSet& p) {
 }
 
 void order_largest_first(const Study& study, std::vector<std::size_t>& todo) {
+  // only a hinge moment that varies between the cases can change the order, and what varies is
+  // a coordinate of every case: without one, no case is resolved again (a large grid resolves
+  // each case on demand)
+  if (todo.empty()) return;
+  const Json coordinates = study.cases[todo.front()].coordinates;
+  if (!coordinates.contains("parameters.hinge.constant_moment") &&
+      !coordinates.contains("parameters.hinge.kind"))
+    return;
   std::vector<std::pair<double, std::size_t>> keyed;
   keyed.reserve(todo.size());
   bool any = false;
