@@ -23,6 +23,7 @@
 
 #include "core/scene.hpp"
 #include "sweep/case_observer.hpp"
+#include "sweep/case_order.hpp"
 #include "sweep/stop_signals.hpp"
 #include "sweep/wear_evolution.hpp"
 
@@ -440,6 +441,7 @@ RunPlan plan_run(const Study& study, const RunOptions& opt) {
   plan.provenance = provenance(study);
   repair_summary(plan, opt);
   collect_done(study, opt, plan);
+  order_largest_first(study, plan.todo);  // only the order: ids, files and rows stay the grid's
   // written as every results file is (sweep/results/atomic_file.hpp): a fresh file under an
   // unpredictable temporary name, never through a link, then renamed
   write_text_file_atomically(plan.dir / "study.json", "study file", study.source.dump(2) + "\n",

@@ -102,7 +102,7 @@ struct RunPlan {
   Json provenance;
   /// the records of the complete cases, on the disk (issue 16 item 6): the summary's rows
   std::unique_ptr<RecordSpool> spool;
-  std::vector<std::size_t> todo;      ///< case indices to run, in grid order
+  std::vector<std::size_t> todo;      ///< case indices to run, largest first (case_order.hpp)
   long in_scope = 0;                  ///< cases of this shard (all cases without shards)
   std::shared_ptr<ResultsLock> lock;  ///< held for the run (sweep/results_dir.hpp)
   /// a shard's shared hold on the study's lock: full runs and merges wait for the shards

@@ -16,6 +16,7 @@
 
 #include "core/scene.hpp"
 #include "fixture.hpp"
+#include "sweep/case_order.hpp"
 #include "sweep/runner.hpp"
 
 namespace fs = std::filesystem;
@@ -458,4 +459,23 @@ TEST_CASE("a case file replaced by another case's during the run is noticed befo
   fs::remove(g_replaced);
   CHECK(run_study(study, opt) == 0);
   CHECK(run_study(study, opt) == 0);
+}
+
+TEST_CASE("a run takes the cases of the largest sustained hinge moment first", "[runner]") {
+  // sweep/case_order.hpp: the order only (longest first, stable), never the cases or their ids
+  TempDir tmp;
+  const Study s = parse_study_text(
+      R"({"name": "order", "scene": "rod-end-kinematic",
+          "parameters": {"hinge.kind": "constant"},
+          "time": {"end": 0.01, "sample_interval": 1e-3},
+          "grid": [{"key": "parameters.hinge.constant_moment",
+                    "values": [0.0, 100.0, -300.0, 50.0, -100.0]}]})",
+      tmp.path() / "order.json", tmp.path() / "results");
+  const RunPlan plan = plan_run(s, RunOptions{});
+  CHECK(plan.todo == std::vector<std::size_t>{2, 1, 4, 3, 0});  // equal |M|: grid order
+  // without a prediction (no hinge moment in the scene), grid order
+  const Study drops = three_drops(tmp.path(), "dopri5");
+  std::vector<std::size_t> todo{0, 1, 2};
+  order_largest_first(drops, todo);
+  CHECK(todo == std::vector<std::size_t>{0, 1, 2});
 }

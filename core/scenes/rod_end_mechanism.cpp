@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/contact_eval.hpp"
+#include "core/scenes/contact_length_scale.hpp"
 #include "core/scenes/parts.hpp"
 
 namespace rodend {
@@ -143,8 +144,9 @@ void RodEndMechanism::initial_state(double* x) const {
 }
 
 void RodEndMechanism::state_scale(double* s) const {
-  // lengths on the clearance, speeds on 0.1 m/s (the actuator's rate), angles on 1 mrad
-  const double L = contact_.clearance, V = 0.1;
+  // lengths on a fixed 10 um, whatever the clearance (contact_length_scale.hpp), speeds on
+  // 0.1 m/s (the actuator's rate), angles on 1 mrad
+  const double L = contact_length_scale(), V = 0.1;
   for (int b : {kBall, kSocket}) body_state_scale(s + b, L, V, V / contact_.ball_radius);
   s[kTheta] = 1e-3;
   s[kThetaDot] = V / geometry_.crank();
