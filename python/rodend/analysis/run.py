@@ -12,6 +12,8 @@ its own) and each chosen metric:
                         Sobol indices (chaos); the metric's distribution (mean, std, quantiles
                         5/50/95 %, with intervals) and P(metric > threshold) with the
                         Clopper–Pearson interval (stats)
+  the independent sample of any design (the rows its catalogue line names, analysis/catalogue.py;
+  a file design's rows too): the same without the chaos when its factors have no distributions
 and quantile bands of chosen histories. Failed cases (status not ok) and non-finite values are
 left out and counted. Writes FOLDER/analysis/analysis.json, FOLDER/analysis/bands.h5 (histories
 asked) and FOLDER/plots/analysis-*.png; prints per metric its spread and its factors ranked by
