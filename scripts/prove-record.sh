@@ -13,8 +13,8 @@
 #   reads the record's fields from sweep/case_record.def, through
 #   python/rodend/analysis/catalogue.py, which scripts/gen-docs.sh regenerates: the only file it
 #   changes).
-# Cost: one Release build of rodend and the Python module (about 4 minutes of 2 cores with a warm
-# ccache, 20 without) and 11 cases. CTest: prove.record (label prove).
+# Cost: one Release build of rodend and the Python module (the 97 compile units of rodend and the
+# module's) and 11 short cases. CTest: prove.record (label prove).
 # Usage: bash scripts/prove-record.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
