@@ -131,6 +131,9 @@ int list_choices(bool markdown, bool as_json) {
   print_choices<DampingCap>("Damping caps", "contact.damping_cap", markdown, json);
   print_choices<WearModelKind>("Wear models", "wear.model", markdown, json);
   print_choices<HistoryPrecision>("History precisions", "output.history_precision", markdown, json);
+  print_choices<DesignMethod>("Design methods", "design.method", markdown, json);
+  print_choices<DistributionKind>("Distributions", "design.factors[i].distribution", markdown,
+                                  json);
   if (as_json) std::cout << out.dump(2) << "\n";
   return 0;
 }

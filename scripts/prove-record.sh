@@ -8,9 +8,14 @@
 # checks that the field arrives everywhere the record goes:
 #   the case file's root attribute (h5py), summary.csv and summary.h5 (written from the record
 #   spool: the spool's round trip), the same after `rodend merge` (the summary rebuilt from the
-#   case files: the case file read back), and the dictionary of rodend.run_case (Python).
-# Takes a few minutes (a build); CTest runs it as prove.record (label `prove`). Exit 77
-# (skipped) outside a git checkout.
+#   case files: the case file read back), and the dictionary of rodend.run_case (Python); and
+#   that `rodend analyze` of a designed study does not take the field for a metric (the analysis
+#   reads the record's fields from sweep/case_record.def, through
+#   python/rodend/analysis/catalogue.py, which scripts/gen-docs.sh regenerates: the only file it
+#   changes).
+# Cost: one Release build of rodend and the Python module (the 97 compile units of rodend and the
+# module's) and 11 short cases. CTest: prove.record (label prove). Exit 77 (skipped) outside a
+# git checkout.
 # Usage: bash scripts/prove-record.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -85,5 +90,31 @@ import rodend
 case = rodend.run_case("gravity-drop", time={"end": 0.01, "sample_interval": 1e-3})
 assert case.throwaway_s == 0.0, case.throwaway_s
 print("rodend.run_case(...).throwaway_s =", case.throwaway_s)
+PY
+
+# 4. the generated Python catalogue follows, and the analysis does not read the field as a metric
+RODEND=./build/rodend bash scripts/gen-docs.sh > /dev/null
+generated=$(git diff --name-only -- . ':!sweep/case_record.def' ':!sweep/case_observer.cpp' | sort)
+echo "files scripts/gen-docs.sh regenerated: $generated"
+for f in $generated; do
+  case "$f" in
+    docs/results.md | python/rodend/analysis/catalogue.py) ;;
+    *) echo "prove-record: gen-docs.sh changed $f, which is not a generated file" >&2; exit 1 ;;
+  esac
+done
+cat > "$work/mc.json" << 'JSON'
+{"name": "mc", "scene": "gravity-drop", "time": {"end": 0.01, "sample_interval": 1e-3},
+ "design": {"method": "monte-carlo", "size": 8, "seed": 1, "factors": [
+   {"key": "parameters.contact.restitution", "distribution": "uniform", "lower": 0.3, "upper": 0.9}]}}
+JSON
+./build/rodend run "$work/mc.json" --results-root "$work/out" -q
+./build/rodend analyze "$work/out/mc" --no-plots --bootstrap 0 > /dev/null
+/usr/bin/python3 - "$work" << 'PY'
+import json, sys
+analysis = json.load(open(f"{sys.argv[1]}/out/mc/analysis/analysis.json"))
+metrics = list(analysis["groups"][0]["metrics"])
+assert "throwaway_s" not in metrics, f"the record field throwaway_s was analysed as a metric: {metrics}"
+assert metrics, "no metric analysed"
+print(f"rodend analyze: {len(metrics)} metrics analysed, throwaway_s not among them")
 print("prove-record: ok")
 PY

@@ -18,61 +18,27 @@
 namespace rodend {
 const std::vector<DesignMethodInfo>& design_method_catalogue() {
   static const std::vector<DesignMethodInfo> k{
-      {DesignMethod::monte_carlo, "monte-carlo", true, "independent random points"},
-      {DesignMethod::latin_hypercube, "latin-hypercube", true,
-       "one point in each of N equal-probability strata of every factor"},
-      {DesignMethod::sobol, "sobol", true,
-       "Sobol' low-discrepancy points, randomly shifted by the seed"},
-      {DesignMethod::saltelli, "saltelli", false,
-       "pick-freeze blocks A, B and A with column i from B: Sobol' indices, N (d + 2) points"},
-      {DesignMethod::morris, "morris", false,
-       "Morris trajectories on a p-level grid: elementary effects, N (d + 1) points"},
+#define RODEND_CHOICE(id, name, doc, draw, distributions, sample, per_factor, extra, iid) \
+  {DesignMethod::id, name, draw, distributions, sample, per_factor, extra, iid, doc},
+#include "sweep/design_methods.def"
+#undef RODEND_CHOICE
   };
   return k;
 }
 
 const std::vector<DistributionInfo>& distribution_catalogue() {
   static const std::vector<DistributionInfo> k{
-      {DistributionKind::uniform, "uniform", {"lower", "upper"}, true, "uniform on [lower, upper]"},
-      {DistributionKind::normal, "normal", {"mean", "std"}, false, "normal (Gaussian)"},
-      {DistributionKind::truncated_normal,
-       "truncated-normal",
-       {"mean", "std", "lower", "upper"},
-       true,
-       "normal of mean and std restricted to [lower, upper]"},
-      {DistributionKind::lognormal,
-       "lognormal",
-       {"mean", "std"},
-       false,
-       "lognormal with this mean and std of the variable itself (> 0)"},
-      {DistributionKind::triangular,
-       "triangular",
-       {"lower", "mode", "upper"},
-       true,
-       "triangular on [lower, upper] peaking at mode"},
-      {DistributionKind::discrete,
-       "discrete",
-       {"values", "weights"},
-       true,
-       "the listed values with their weights (equal weights if none are given)"},
+#define RODEND_CHOICE(id, name, doc, keys, bounded) \
+  {DistributionKind::id, name, std::vector<std::string_view> keys, bounded, doc},
+#include "sweep/distributions.def"
+#undef RODEND_CHOICE
   };
   return k;
 }
 
-std::string_view to_string(DesignMethod m) {
-  for (const auto& i : design_method_catalogue())
-    if (i.method == m) return i.name;
-  return "?";
-}
-std::string_view to_string(DistributionKind k) {
-  for (const auto& i : distribution_catalogue())
-    if (i.kind == k) return i.name;
-  return "?";
-}
-
 const std::vector<std::string_view>& design_keys() {
-  static const std::vector<std::string_view> k{"method", "size",        "seed",   "levels",
-                                               "base",   "correlation", "factors"};
+  static const std::vector<std::string_view> k{"method", "size",        "seed",    "levels",
+                                               "base",   "correlation", "factors", "file"};
   return k;
 }
 
@@ -86,6 +52,12 @@ const DistributionInfo& distribution_info(DistributionKind k) {
   for (const auto& i : distribution_catalogue())
     if (i.kind == k) return i;
   return distribution_catalogue().front();
+}
+
+const DesignMethodInfo& design_method_info(DesignMethod m) {
+  for (const auto& i : design_method_catalogue())
+    if (i.method == m) return i;
+  return design_method_catalogue().front();
 }
 
 namespace {
@@ -295,14 +267,33 @@ std::vector<double> shifted_sobol(std::size_t n, std::size_t dims, std::uint64_t
 
 }  // namespace
 
+void draw_monte_carlo(Design& d) {
+  std::mt19937_64 rng(d.seed);
+  d.unit.resize(d.size * d.dims());
+  for (double& x : d.unit) x = unit_double(rng);
+}
+void draw_latin_hypercube(Design& d) {
+  d.unit = latin_hypercube(d.size, d.dims(), d.seed);
+}
+void draw_sobol(Design& d) {
+  d.unit = shifted_sobol(d.size, d.dims(), d.seed);
+}
+void draw_saltelli(Design& d) {
+  d.unit = saltelli_unit_points(d.base, d.size, d.dims(), d.seed);
+}
+void draw_morris(Design& d) {
+  d.unit = morris_unit_points(d.size, d.dims(), d.levels, d.seed);
+}
+
 std::vector<double> unit_points(DesignMethod method, std::size_t n, std::size_t dims,
                                 std::uint64_t seed) {
-  if (method == DesignMethod::latin_hypercube) return latin_hypercube(n, dims, seed);
-  if (method == DesignMethod::sobol) return shifted_sobol(n, dims, seed);
-  std::mt19937_64 rng(seed);
-  std::vector<double> u(n * dims);
-  for (double& x : u) x = unit_double(rng);
-  return u;
+  Design d;  // a design of `dims` factors of no matter which distribution, drawn by `method`
+  d.method = method;
+  d.size = n;
+  d.seed = seed;
+  d.factors.resize(dims);
+  design_method_info(method).draw(d);
+  return d.unit;
 }
 
 /// Saltelli's blocks from a base of N x 2d points: A (first d columns), B (last d), then for
@@ -379,15 +370,18 @@ void apply_normal_copula(std::vector<double>& unit, const std::vector<double>& l
 }
 
 Json Design::to_json(const std::vector<std::string>& units) const {
-  Json j = {{"method", std::string(to_string(method))},
-            {"size", size},
-            {"seed", seed},
-            {"points", points()}};
+  const bool drawn = design_method_info(method).distributions;
+  Json j = {{"method", std::string(to_string(method))}, {"size", size}, {"points", points()}};
+  if (drawn) j["seed"] = seed;
+  if (!drawn)
+    j.update({{"file", file},
+              {"resolved_path", resolved.string()},
+              {"content_fnv1a64", content_fnv1a64}});
   if (method == DesignMethod::saltelli) j["base"] = std::string(to_string(base));
   Json fs = Json::array();
   for (std::size_t i = 0; i < factors.size(); ++i) {
     Json f = {{"key", factors[i].key}, {"units", i < units.size() ? units[i] : ""}};
-    f.update(factors[i].distribution.to_json());
+    if (drawn) f.update(factors[i].distribution.to_json());
     fs.push_back(std::move(f));
   }
   j["factors"] = std::move(fs);
@@ -419,9 +413,13 @@ Json Design::to_json(const std::vector<std::string>& units) const {
 
 std::string Design::statistics() const {
   std::ostringstream o;
+  const bool drawn = design_method_info(method).distributions;
   o << "design " << to_string(method);
   if (method == DesignMethod::saltelli) o << " (base " << to_string(base) << ")";
-  o << ": size " << size << ", seed " << seed << ", " << points() << " points per grid point\n";
+  if (!drawn) o << " " << file;
+  o << ": size " << size;
+  if (drawn) o << ", seed " << seed;
+  o << ", " << points() << " points per grid point\n";
   o << "factor\tdistribution\tmean\tstd\tpoints_mean\tpoints_std\tpoints_min\tpoints_max\n";
   const std::size_t n = points(), d = dims();
   for (std::size_t j = 0; j < d; ++j) {
@@ -437,10 +435,13 @@ std::string Design::statistics() const {
     for (std::size_t p = 0; p < n; ++p) ss += (values[p * d + j] - m) * (values[p * d + j] - m);
     const double s = n > 1 ? std::sqrt(ss / static_cast<double>(n - 1)) : 0.0;
     const Distribution& dist = factors[j].distribution;
-    o << factors[j].key << "\t" << to_string(dist.kind) << "\t"
-      << shortest_decimal(dist.moment_mean()) << "\t" << shortest_decimal(dist.moment_std()) << "\t"
-      << shortest_decimal(m) << "\t" << shortest_decimal(s) << "\t" << shortest_decimal(lo) << "\t"
-      << shortest_decimal(hi) << "\n";
+    if (drawn)
+      o << factors[j].key << "\t" << to_string(dist.kind) << "\t"
+        << shortest_decimal(dist.moment_mean()) << "\t" << shortest_decimal(dist.moment_std());
+    else
+      o << factors[j].key << "\t-\t-\t-";
+    o << "\t" << shortest_decimal(m) << "\t" << shortest_decimal(s) << "\t" << shortest_decimal(lo)
+      << "\t" << shortest_decimal(hi) << "\n";
   }
   return o.str();
 }

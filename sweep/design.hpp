@@ -4,37 +4,54 @@
 // study (the last, fastest): its keys are "design.sample" (the point's index) and the factors'
 // key paths, so every grid point runs every design point.
 //
-// Methods: Monte Carlo, Latin hypercube and Sobol' points (sampling a population); Saltelli's
-// pick-freeze blocks (first-order and total Sobol' indices); Morris trajectories (screening by
-// elementary effects). The points are drawn in the unit hypercube (std::mt19937_64, whose
+// Methods (sweep/design_methods.def): Monte Carlo, Latin hypercube and Sobol' points (sampling a
+// population); Saltelli's pick-freeze blocks (first-order and total Sobol' indices); Morris
+// trajectories (screening by elementary effects); the points of a CSV file. Distributions:
+// sweep/distributions.def. The drawn points are drawn in the unit hypercube (std::mt19937_64, whose
 // output the C++ standard fixes, and Boost.Random's Sobol' generator) and mapped through each
 // factor's quantile function (Boost.Math), so a study and its seed give the same points on any
 // machine.
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "core/choice.hpp"
 #include "core/params.hpp"
 
 namespace rodend {
 
-/// The catalogue of design methods (names: the study language's "design.method").
-enum class DesignMethod { monte_carlo, latin_hypercube, sobol, saltelli, morris };
-/// The catalogue of distributions (names: "design.factors[i].distribution").
-enum class DistributionKind { uniform, normal, truncated_normal, lognormal, triangular, discrete };
+/// The catalogue of design methods (sweep/design_methods.def; names: "design.method").
+#define RODEND_CHOICE_ENUM DesignMethod
+#define RODEND_CHOICE_FILE "sweep/design_methods.def"
+#include "core/choice.hpp"
+/// The catalogue of distributions (sweep/distributions.def; names:
+/// "design.factors[i].distribution").
+#define RODEND_CHOICE_ENUM DistributionKind
+#define RODEND_CHOICE_FILE "sweep/distributions.def"
+#include "core/choice.hpp"
+struct Design;
+/// A method's draw (sweep/design_methods.def): fills the design's unit points from its size, seed
+/// and method keys, or (a method without distributions) its factors and values.
+using DrawPoints = void (*)(Design&);
 
 /// How design.correlation gives the factors' dependence (a normal copula either way).
 enum class CorrelationKind { spearman, pearson };
 
+/// One line of sweep/design_methods.def (its columns are explained there).
 struct DesignMethodInfo {
   DesignMethod method;
   std::string_view name;
+  DrawPoints draw;
+  bool distributions;  ///< its factors are design.factors with distributions (file: false)
   /// draws a sample of N points: also a saltelli design's base for A and B, and the methods
   /// that accept correlated factors (design.correlation)
   bool sample;
+  std::size_t per_factor, extra;  ///< points per grid point: size (per_factor d + extra)
+  std::size_t iid_blocks;         ///< the first iid_blocks x size points: an independent sample
   std::string_view description;
 };
 struct DistributionInfo {
@@ -49,12 +66,16 @@ const std::vector<DistributionInfo>& distribution_catalogue();
 /// The keys of the "design" block (its scalar settings, then "factors"): the reader's, the
 /// schema's and --set's one list.
 const std::vector<std::string_view>& design_keys();
-std::string_view to_string(DesignMethod m);
-std::string_view to_string(DistributionKind k);
 /// "spearman" (rank correlations of the factors) or "pearson" (the correlations of their normal
 /// scores, the normal copula's own matrix).
 const std::vector<std::pair<CorrelationKind, std::string_view>>& correlation_kinds();
 const DistributionInfo& distribution_info(DistributionKind k);
+const DesignMethodInfo& design_method_info(DesignMethod m);
+
+// The draw functions the catalogue names (sweep/design.cpp), one per drawn method.
+#define RODEND_CHOICE(id, name, doc, draw, ...) void draw(Design&);
+#include "sweep/design_methods.def"
+#undef RODEND_CHOICE
 
 /// One factor's distribution; its parameters are in the unit of the key it samples.
 struct Distribution {
@@ -76,10 +97,17 @@ struct Distribution {
 };
 
 struct DesignFactor {
-  std::string key;    ///< the key path it samples ("parameters.contact.clearance")
-  std::string where;  ///< its place in the study ("design.factors[0]")
-  Distribution distribution;
+  std::string key;            ///< the key path it samples ("parameters.contact.clearance")
+  std::string where;          ///< its place in the study ("design.factors[0]", "design.file")
+  Distribution distribution;  ///< (a method with distributions)
+  /// where its key is given, and what goes before a message on it: "design.factors[0].key" and
+  /// ""; or "design.file" and "points.csv, line 1, column 2: "
+  std::string key_where, context;
 };
+/// A factor's key path checked: a numeric key, not already in `before`. Throws InputError at
+/// `key_where`, its problem starting with `context`.
+void check_factor_key(const std::string& key, const std::string& key_where,
+                      const std::string& context, const std::vector<DesignFactor>& before);
 
 /// A resolved design: the points (unit hypercube and values) for one grid point.
 struct Design {
@@ -88,6 +116,12 @@ struct Design {
   std::size_t size = 0;                           ///< N: points, base size or trajectories
   std::uint64_t seed = 0;
   int levels = 4;  ///< morris: p
+  /// file: design.file as given, the file it names (relative paths from the study file's
+  /// folder) and the FNV-1a 64 hash of its bytes (recorded in design.json; the case ids carry
+  /// each row's values, as every design's)
+  std::string file;
+  std::filesystem::path resolved;
+  std::string content_fnv1a64;
   std::vector<DesignFactor> factors;
   /// design.correlation: its kind and matrix as given, and the normal copula's correlation
   /// matrix R (d x d, row-major; from Spearman's rho_S: R = 2 sin(pi rho_S / 6)); empty for
@@ -113,9 +147,11 @@ struct Design {
 inline constexpr std::size_t kMaxDesignFactors = 1000;
 inline constexpr int kMaxMorrisLevels = 1000;
 
-/// Parses and draws the "design" block; `max_points` is the case limit left for it. Throws
-/// InputError naming the key path under "design".
-Design parse_design(const Json& block, std::size_t max_points);
+/// Parses and draws the "design" block; `max_points` is the case limit left for it; `folder`:
+/// where a relative design.file is read from (the study file's folder). Throws InputError naming
+/// the key path under "design".
+Design parse_design(const Json& block, std::size_t max_points,
+                    const std::filesystem::path& folder = {});
 
 /// Points of `n` x `dims` in the unit hypercube, row-major: Monte Carlo, Latin hypercube or
 /// randomly shifted Sobol' points.

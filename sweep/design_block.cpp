@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <filesystem>
 #include <limits>
 #include <numbers>
 
@@ -162,6 +163,21 @@ Distribution read_distribution(const Json& f, const std::string& where) {
   return d;
 }
 
+}  // namespace
+
+void check_factor_key(const std::string& key, const std::string& key_where,
+                      const std::string& context, const std::vector<DesignFactor>& before) {
+  if (key == "scene" || key.rfind("design", 0) == 0 || key == "integrator.preset" ||
+      key.find('.') == std::string::npos)
+    throw InputError(key_where, context + "'" + key +
+                                    "' cannot be sampled; expected a numeric "
+                                    "key path such as parameters.contact.clearance");
+  for (const DesignFactor& f : before)
+    if (f.key == key) throw InputError(key_where, context + "'" + key + "' is sampled twice");
+}
+
+namespace {
+
 std::vector<DesignFactor> read_factors(const Json& block) {
   if (!block.contains("factors") || !block["factors"].is_array() || block["factors"].empty())
     throw InputError("design.factors",
@@ -182,23 +198,16 @@ std::vector<DesignFactor> read_factors(const Json& block) {
                        "expected the key path it samples, such as "
                        "parameters.contact.clearance");
     const std::string key = fs[i]["key"].get<std::string>();
-    if (key == "scene" || key.rfind("design", 0) == 0 || key == "integrator.preset" ||
-        key.find('.') == std::string::npos)
-      throw InputError(where + ".key", "'" + key +
-                                           "' cannot be sampled; expected a numeric "
-                                           "key path such as parameters.contact.clearance");
-    for (const DesignFactor& f : out)
-      if (f.key == key) throw InputError(where + ".key", "'" + key + "' is sampled twice");
-    out.push_back({key, where, read_distribution(fs[i], where)});
+    check_factor_key(key, where + ".key", "", out);
+    out.push_back({key, where, read_distribution(fs[i], where), where + ".key", ""});
   }
   return out;
 }
 
 /// Points per grid point, checked against the cases left (without overflowing).
 std::size_t count_points(DesignMethod m, std::size_t n, std::size_t d, std::size_t max_points) {
-  const std::size_t per = m == DesignMethod::saltelli ? d + 2
-                          : m == DesignMethod::morris ? d + 1
-                                                      : 1;
+  const DesignMethodInfo& info = design_method_info(m);
+  const std::size_t per = info.per_factor * d + info.extra;
   if (n > max_points / per)
     throw InputError("design.size", "makes more than " + std::to_string(max_points) +
                                         " cases with the grid, the limit of a study (1e7); "
@@ -265,7 +274,7 @@ void read_correlation(Design& d, const Json& block) {
   std::vector<std::string_view> accept;
   for (const DesignMethodInfo& m : design_method_catalogue())
     if (m.sample) accept.push_back(m.name);
-  if (d.method == DesignMethod::saltelli || d.method == DesignMethod::morris)
+  if (!design_method_info(d.method).sample)
     throw InputError("design.correlation",
                      "a " + std::string(to_string(d.method)) +
                          " design needs independent factors (its estimator moves one factor "
@@ -292,9 +301,42 @@ void read_correlation(Design& d, const Json& block) {
                      "valid correlation matrix has only positive eigenvalues)");
 }
 
+/// The method's own block of a design without distributions (file): design.file, resolved from
+/// `folder`, and nothing else; the method's draw reads the points.
+void read_points_block(Design& d, const Json& block, const std::filesystem::path& folder,
+                       std::size_t max_points) {
+  check_keys(block, {"method", "file"}, "design");
+  if (!block.contains("file") || !block["file"].is_string() ||
+      block["file"].get<std::string>().empty())
+    throw InputError("design.file",
+                     "expected the path of a CSV file of points (a header row of factor key "
+                     "paths, then one row per case), relative to the study file's folder");
+  d.file = block["file"].get<std::string>();
+  const std::filesystem::path given(d.file);
+  d.resolved = given.is_absolute() || folder.empty() ? given : folder / given;
+  design_method_info(d.method).draw(d);
+  if (d.size > max_points)
+    throw InputError("design.file", d.file + " has " + std::to_string(d.size) +
+                                        " rows, which make more than " +
+                                        std::to_string(max_points) +
+                                        " cases with the grid, the limit of a study (1e7)");
+}
+
+/// The drawn points mapped through the factors' quantile functions (after the copula).
+void map_points(Design& d) {
+  const std::size_t dims = d.factors.size();
+  if (!d.copula.empty()) apply_normal_copula(d.unit, cholesky(d.copula, dims), dims);
+  const std::size_t points = d.unit.size() / dims;
+  d.values.resize(points * dims);
+  for (std::size_t p = 0; p < points; ++p)
+    for (std::size_t j = 0; j < dims; ++j)
+      d.values[p * dims + j] = d.factors[j].distribution.quantile(d.unit[p * dims + j]);
+}
+
 }  // namespace
 
-Design parse_design(const Json& block, std::size_t max_points) {
+Design parse_design(const Json& block, std::size_t max_points,
+                    const std::filesystem::path& folder) {
   if (!block.is_object())
     throw InputError("design", "expected an object {\"method\", \"size\", \"seed\", \"factors\"}");
   check_keys(block, design_keys(), "design");
@@ -303,6 +345,12 @@ Design parse_design(const Json& block, std::size_t max_points) {
                  design_method_catalogue(), [](const DesignMethodInfo& i) { return i.name; },
                  block.contains("method") ? block["method"] : Json(), "design.method")
                  .method;
+  if (!design_method_info(d.method).distributions) {
+    read_points_block(d, block, folder, max_points);
+    return d;
+  }
+  if (block.contains("file"))
+    throw InputError("design.file", "only a file design reads a file of points");
   if (!block.contains("size")) throw InputError("design.size", "missing: the number of points");
   const long long n = integer_at(block["size"], "design.size");
   if (n < 1) throw InputError("design.size", "expected a size >= 1, got " + std::to_string(n));
@@ -316,22 +364,15 @@ Design parse_design(const Json& block, std::size_t max_points) {
   read_correlation(d, block);
   d.size = static_cast<std::size_t>(n);
   d.seed = static_cast<std::uint64_t>(seed);
-  const std::size_t dims = d.factors.size();
-  const std::size_t points = count_points(d.method, d.size, dims, max_points);  // throws above
+  count_points(d.method, d.size, d.factors.size(), max_points);  // throws above the limit
   if (d.method == DesignMethod::morris)
     for (const DesignFactor& f : d.factors)
       if (!distribution_info(f.distribution.kind).bounded)
         throw InputError(f.where + ".distribution",
                          "a morris design needs bounded distributions (its grid reaches both "
                          "ends): expected uniform, truncated-normal, triangular or discrete");
-  d.unit = d.method == DesignMethod::saltelli ? saltelli_unit_points(d.base, d.size, dims, d.seed)
-           : d.method == DesignMethod::morris ? morris_unit_points(d.size, dims, d.levels, d.seed)
-                                              : unit_points(d.method, d.size, dims, d.seed);
-  if (!d.copula.empty()) apply_normal_copula(d.unit, cholesky(d.copula, dims), dims);
-  d.values.resize(points * dims);
-  for (std::size_t p = 0; p < points; ++p)
-    for (std::size_t j = 0; j < dims; ++j)
-      d.values[p * dims + j] = d.factors[j].distribution.quantile(d.unit[p * dims + j]);
+  design_method_info(d.method).draw(d);
+  map_points(d);
   return d;
 }
 

@@ -92,10 +92,11 @@ Json correlation_schema() {
 /// distribution its parameters.
 Json design_schema(const std::string& key_pattern) {
   Json methods = Json::array(), bases = Json::array(), kinds = Json::array(),
-       per_kind = Json::array();
+       per_kind = Json::array(), drawn = Json::array(), given = Json::array();
   for (const auto& m : design_method_catalogue()) {
     methods.push_back(std::string(m.name));
     if (m.sample) bases.push_back(std::string(m.name));
+    (m.distributions ? drawn : given).push_back(std::string(m.name));
   }
   for (const auto& d : distribution_catalogue()) {
     kinds.push_back(std::string(d.name));
@@ -123,7 +124,12 @@ Json design_schema(const std::string& key_pattern) {
   return {
       {"type", "object"},
       {"description", "a sampled design: factors drawn from distributions (docs/uncertainty.md)"},
-      {"required", {"method", "size", "seed", "factors"}},
+      {"required", {"method"}},
+      {"allOf",
+       {{{"if", {{"properties", {{"method", {{"enum", drawn}}}}}}},
+         {"then", {{"required", {"size", "seed", "factors"}}}}},
+        {{"if", {{"properties", {{"method", {{"enum", given}}}}}}},
+         {"then", {{"required", {"file"}}}}}}},
       {"additionalProperties", false},
       {"properties",
        {{"method", {{"enum", methods}}},
@@ -133,6 +139,11 @@ Json design_schema(const std::string& key_pattern) {
          {{"type", "integer"}, {"minimum", 2}, {"maximum", kMaxMorrisLevels}, {"multipleOf", 2}}},
         {"base", {{"enum", bases}}},
         {"correlation", correlation},
+        {"file",
+         {{"type", "string"},
+          {"description",
+           "file design: a CSV file of points, a header of factor key paths, one row per "
+           "case (relative to the study file's folder)"}}},
         {"factors",
          {{"type", "array"},
           {"minItems", 1},

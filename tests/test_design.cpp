@@ -4,9 +4,11 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <fstream>
 #include <numbers>
 #include <set>
 
+#include "fixture.hpp"
 #include "sweep/design.hpp"
 #include "sweep/study.hpp"
 
@@ -399,4 +401,82 @@ TEST_CASE("a design's ids and rows without resolving equal those of the resolved
   doc["grid"] = Json::parse(R"([{"key": "integrator.rel_tol", "values": [1e-6, 1e-7]}])");
   const Study t = parse_study(doc, "d.json", "/tmp/rodend-results");
   for (std::size_t i = 0; i < t.cases.size(); ++i) CHECK(t.cases[i].id == case_id(t.cases[i]));
+}
+
+namespace {
+
+void write_text(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+Study file_study(const std::filesystem::path& folder) {
+  return parse_study(doc_with({{"method", "file"}, {"file", "points.csv"}}), folder / "d.json",
+                     folder / "results");
+}
+
+}  // namespace
+
+TEST_CASE("a file design runs each row as one case, its values in the ids", "[design]") {
+  const test::TempDir dir("design-file");
+  // a byte-order mark, a comment line and a blank line are skipped; the columns in any order
+  write_text(dir.path() / "points.csv",
+             "\xef\xbb\xbf# measured\nparameters.contact.restitution,parameters.contact.clearance\n"
+             "0.5,1e-4\n\n0.7, 2.5e-4\n0.6,3e-4\n");
+  const Study a = file_study(dir.path());
+  REQUIRE(a.cases.size() == 3);
+  CHECK(a.axis_keys == std::vector<std::string>{"design.sample", "parameters.contact.restitution",
+                                                "parameters.contact.clearance"});
+  CHECK(a.design_units == std::vector<std::string>{"1", "m"});
+  const double restitution[] = {0.5, 0.7, 0.6}, clearance[] = {1e-4, 2.5e-4, 3e-4};
+  for (std::size_t i = 0; i < 3; ++i) {
+    CHECK(a.cases[i].design_sample == static_cast<long>(i));
+    CHECK(a.cases[i].parameters.number("contact.restitution") == restitution[i]);
+    CHECK(a.cases[i].parameters.number("contact.clearance") == clearance[i]);
+  }
+  const Json j = a.design->to_json(a.design_units);
+  CHECK(j["method"] == "file");
+  CHECK(j["file"] == "points.csv");
+  CHECK(j["size"] == 3);
+  CHECK(j["points"] == 3);
+  CHECK(j["content_fnv1a64"].get<std::string>().size() == 16);
+  CHECK_FALSE(j.contains("seed"));
+  CHECK_FALSE(j["factors"][0].contains("distribution"));
+  CHECK(j["factors"][1]["units"] == "m");
+  // one cell changed: that row's case gets a new id, the others keep theirs
+  write_text(dir.path() / "points.csv",
+             "parameters.contact.restitution,parameters.contact.clearance\n"
+             "0.5,1e-4\n0.7,2.6e-4\n0.6,3e-4\n");
+  const Study b = file_study(dir.path());
+  CHECK(b.cases[0].id == a.cases[0].id);
+  CHECK(b.cases[1].id != a.cases[1].id);
+  CHECK(b.cases[2].id == a.cases[2].id);
+  CHECK(b.design->to_json(b.design_units)["content_fnv1a64"] != j["content_fnv1a64"]);
+}
+
+TEST_CASE("a file design's bad file: missing, an unknown column, a cell not a number", "[design]") {
+  const test::TempDir dir("design-file");
+  auto problem = [&](const std::string& text) -> std::string {
+    if (!text.empty()) write_text(dir.path() / "points.csv", text);
+    try {
+      file_study(dir.path());
+    } catch (const InputError& e) {
+      CHECK(e.key_path() == "design.file");
+      return e.problem();
+    }
+    return "no error";
+  };
+  CHECK_THAT(problem(""), Catch::Contains("points.csv: no such file"));
+  CHECK_THAT(problem("parameters.contact.restitutoin\n0.5\n"),
+             Catch::Contains("points.csv, line 1 (the header), column 1: unknown parameter "
+                             "'contact.restitutoin'") &&
+                 Catch::Contains("contact.restitution"));  // the nearest name
+  CHECK_THAT(problem("parameters.contact.restitution\n0.5\n0.x\n"),
+             Catch::Contains("points.csv, line 3, column 'parameters.contact.restitution': "
+                             "'0.x'; expected a finite number"));
+  CHECK_THAT(problem("parameters.contact.restitution\nnan\n"),
+             Catch::Contains("expected a finite number"));
+  CHECK_THAT(problem("parameters.contact.restitution,parameters.contact.restitution\n0.5,0.6\n"),
+             Catch::Contains("is sampled twice"));
+  CHECK_THAT(problem("# only a comment\n"), Catch::Contains("has no header"));
+  CHECK_THAT(problem("parameters.contact.restitution\n"), Catch::Contains("no row of points"));
 }

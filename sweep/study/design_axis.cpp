@@ -10,7 +10,10 @@ namespace {
 
 /// What to say when a factor's draw is a value its parameter refuses: an unbounded distribution
 /// reaches values a bounded one would not.
-std::string draw_hint(const DesignFactor& f) {
+std::string draw_hint(const Design& d, const DesignFactor& f) {
+  if (!design_method_info(d.method).distributions)
+    return f.key + " takes the values of the file " + d.file +
+           " (row design.sample + 1 of its points): correct them there";
   const DistributionKind k = f.distribution.kind;
   if (k == DistributionKind::normal)
     return f.where +
@@ -36,7 +39,7 @@ Axis design_axis(const Design& design) {
   for (std::size_t j = 0; j < d; ++j) {
     axis.keys.push_back(design.factors[j].key);
     axis.wheres.push_back(design.factors[j].where);
-    axis.hints.push_back(draw_hint(design.factors[j]));
+    axis.hints.push_back(draw_hint(design, design.factors[j]));
     std::vector<Json> column;
     column.reserve(n);
     for (std::size_t p = 0; p < n; ++p) column.emplace_back(design.values[p * d + j]);
@@ -57,12 +60,14 @@ void check_design_keys(const Design& design, const std::vector<std::string>& sce
       for (const ParameterSet& p : defaults) all.push_back(&p);
       std::string names;
       for (const std::string& n : scenes) names += (names.empty() ? "" : ", ") + n;
-      throw InputError(f.where + ".key",
-                       (scenes.size() == 1 ? "unknown parameter '" + path + "' of scene " + names
-                                           : "no scene of this study (" + names +
-                                                 ") has parameter '" + path + "'") +
-                           " (see `rodend params " + (scenes.size() == 1 ? names : "SCENE") + "`)" +
-                           nearest_key("parameters", path, all));
+      throw InputError(
+          f.key_where,
+          f.context +
+              (scenes.size() == 1
+                   ? "unknown parameter '" + path + "' of scene " + names
+                   : "no scene of this study (" + names + ") has parameter '" + path + "'") +
+              " (see `rodend params " + (scenes.size() == 1 ? names : "SCENE") + "`)" +
+              nearest_key("parameters", path, all));
     }
   }
 }

@@ -101,7 +101,8 @@ std::vector<Axis> read_axes(Study& study, const Json& doc) {
     std::size_t grid_points = 1;
     for (const Axis& a : axes) grid_points *= std::max<std::size_t>(a.size(), 1);
     auto design = std::make_shared<Design>(
-        parse_design(doc["design"], kMaxCases / std::max<std::size_t>(grid_points, 1)));
+        parse_design(doc["design"], kMaxCases / std::max<std::size_t>(grid_points, 1),
+                     study.file.parent_path()));
     axes.push_back(design_axis(*design));
     study.design = std::move(design);
   }

@@ -625,6 +625,23 @@ def test_csv_only(tmp):
     check(not os.path.exists(os.path.join(folder, "analysis")), "summary.csv alone: analysis/")
 
 
+def test_record_columns(tmp):
+    """The metrics are the summary's numeric columns that are neither fields of the case record
+    (sweep/case_record.def, through rodend.analysis.catalogue), grid keys, design.sample nor
+    factors, wherever they stand: record fields after the metric (steps_accepted, rhs_calls) are
+    not analysed (main took every numeric column after finished_utc for a metric)."""
+    n = 64
+    fs = [fx.uniform("parameters.a", 0.0, 1.0)]
+    d = {"method": "monte-carlo", "size": n, "seed": 1, "points": n, "factors": fs}
+    x = fx.mc_points(fs, n, 1)
+    folder = fx.write_folder(os.path.join(tmp, "record"), d, x,
+                             {"y": x[:, 0], "steps_accepted": np.arange(n) + 10,
+                              "rhs_calls": 3 * np.arange(n) + 7})
+    doc = rodend.analyze(folder, plots=False, quiet=True, bootstrap=0)
+    got = list(doc["groups"][0]["metrics"])
+    check(got == ["y"], f"record fields analysed as metrics: {got}")
+
+
 def test_bootstrap_confidence(tmp):
     """--bootstrap 0 means no bootstrap intervals (main: OpenTURNS's TypeError "Bootstrap
     sampling size should be positive" for saltelli); --confidence 0.999 heads the table with
@@ -749,6 +766,7 @@ def main():
         test_bootstrap_confidence(tmp)
         test_no_write_through_links(tmp)
         test_csv_only(tmp)
+        test_record_columns(tmp)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     finish("analyze")

@@ -22,6 +22,9 @@ asks that each lies within the estimated interval.
 Two discrete factors with unequal weights (the clearance and the restitution) through
 monte-carlo, latin-hypercube and saltelli designs: analysed without error, the chaos giving the
 first impact's speed to the clearance alone.
+
+A file design (a CSV of points): each row one case with the file's values, the first impact's
+speed sqrt(2 g c) of each, and the clearance ranked first by |PRCC|, without a chaos.
 """
 import json
 import os
@@ -216,4 +219,43 @@ with tempfile.TemporaryDirectory() as root:
             check(c.get("first_order", [0])[0] > 0.999 and c.get("total", [0, 1])[1] < 1e-3,
                   f"discrete {method}: chaos {c.get('first_order')}, {c.get('total')}, "
                   f"{c.get('validation') or c.get('skipped')}")
+    # 7. a file design: twelve points of clearance and restitution from a CSV, each row one case
+    # with the file's values; the first impact's speed sqrt(2 g c) ranks the clearance first by
+    # |PRCC| (the restitution acts only inside the impact's first step), no chaos without
+    # distributions, and the analysis's mean is the one of the twelve cases
+    clearances = [1e-4 + 3.5e-5 * i for i in range(12)]
+    restitutions = [0.3 + 0.05 * ((5 * i) % 12) for i in range(12)]
+    with open(os.path.join(root, "points.csv"), "w") as f:
+        f.write("# clearance and restitution of twelve parts\n"
+                "parameters.contact.clearance,parameters.contact.restitution\n")
+        f.writelines(f"{c!r},{e!r}\n" for c, e in zip(clearances, restitutions))
+    doc = {"name": "from-file", "scene": "gravity-drop",
+           "time": {"end": 0.012, "sample_interval": 1e-3},
+           "design": {"method": "file", "file": "points.csv"}}
+    path = write_study(os.path.join(root, "from-file.json"), doc)
+    r = run(["run", path, "-q", "--results-root", root])
+    check(r.returncode == 0, f"file design: run exit {r.returncode}\n{r.stderr}")
+    folder = os.path.join(root, "from-file")
+    import csv
+    with open(os.path.join(folder, "summary.csv"), newline="") as f:
+        rows = list(csv.DictReader(f))
+    check([float(x["parameters.contact.clearance"]) for x in rows] == clearances and
+          [int(x["design.sample"]) for x in rows] == list(range(12)),
+          "file design: the summary's clearances are not the file's, row by row")
+    speed = np.array([float(x["first_impact_speed"]) for x in rows])
+    check(np.allclose(speed, np.sqrt(2 * 9.81 * np.array(clearances)), rtol=0.01),
+          f"file design: first impact speeds {speed} are not sqrt(2 g c)")
+    r = run(["analyze", folder, "--metric", "first_impact_speed", "--no-plots"])
+    check(r.returncode == 0 and "Traceback" not in r.stderr,
+          f"file design: analyze exit {r.returncode}\n{r.stderr[-600:]}")
+    if r.returncode == 0:
+        m = doc_metric(folder, "first_impact_speed")
+        check(abs(m["distribution"]["mean"] - speed.mean()) < 1e-12 * speed.mean(),
+              f"file design: mean {m['distribution']['mean']} is not the cases' {speed.mean()}")
+        rank = m["ranking"]
+        check(rank["measure"] == "abs_prcc" and
+              rank["factors"][0]["factor"] == "parameters.contact.clearance" and
+              rank["factors"][0]["value"] > 0.99,
+              f"file design: ranking {rank}")
+        check("skipped" in m["chaos"], f"file design: a chaos without distributions {m['chaos']}")
 finish("uncertainty")

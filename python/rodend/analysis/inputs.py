@@ -6,11 +6,9 @@ import os
 
 import numpy as np
 
-METHODS = ("monte-carlo", "latin-hypercube", "sobol", "saltelli", "morris")
-# summary columns that are neither coordinates nor metrics (docs/results.md)
-RECORD_COLUMNS = ("case_id", "case_index", "scene", "status", "message", "t_reached_s",
-                  "wall_time_s", "steps_accepted", "steps_rejected", "rhs_calls", "started_utc",
-                  "finished_utc")
+from .catalogue import DESIGN_METHODS, RECORD_COLUMNS
+
+METHODS = tuple(DESIGN_METHODS)
 
 
 def read_design(folder):
@@ -21,8 +19,7 @@ def read_design(folder):
                                 "`rodend results-dir STUDY.json` names it)")
     if not os.path.isfile(path):
         raise ValueError(f"{folder}: no design.json: rodend analyze needs the results of a study "
-                         "with a sampled design (a `design` block: monte-carlo, latin-hypercube, "
-                         "sobol, saltelli or morris)")
+                         f"with a sampled design (a `design` block: {', '.join(METHODS)})")
     with open(path, encoding="utf-8") as fh:
         try:
             d = json.load(fh)
@@ -33,10 +30,13 @@ def read_design(folder):
     for key in ("size", "points", "factors"):
         if key not in d:
             raise ValueError(f"{path}: no {key!r}: expected size, points and factors")
-    if not d["factors"] or any("key" not in f or "distribution" not in f for f in d["factors"]):
-        raise ValueError(f"{path}: factors: expected a non-empty list of {{key, distribution, ...}}")
+    method = DESIGN_METHODS[d["method"]]
+    need = ("key", "distribution") if method["distributions"] else ("key",)
+    if not d["factors"] or any(k not in f for f in d["factors"] for k in need):
+        raise ValueError(f"{path}: factors: expected a non-empty list of "
+                         f"{{{', '.join(need)}, ...}}")
     n, dim = int(d["size"]), len(d["factors"])
-    expected = {"saltelli": n * (dim + 2), "morris": n * (dim + 1)}.get(d["method"], n)
+    expected = n * (method["per_factor"] * dim + method["extra"])
     if int(d["points"]) != expected:
         raise ValueError(f"{path}: points {d['points']}: expected {expected} for {d['method']} "
                          f"with size {n} and {dim} factors")
@@ -49,16 +49,19 @@ def read_design(folder):
 
 
 def metric_columns(summary, design):
-    """The metric columns of a summary: after finished_utc, else every numeric column that is
-    not a record column, a coordinate or a factor."""
-    cols = list(summary.columns)
-    if "finished_utc" in cols:
-        out = cols[cols.index("finished_utc") + 1:]
-    else:
-        skip = set(RECORD_COLUMNS) | set(grid_keys(summary)) | {"design.sample"} \
-            | {f["key"] for f in design["factors"]}
-        out = [c for c in cols if c not in skip and summary[c].dtype.kind in "fiu"]
-    return [c for c in out if summary[c].dtype.kind in "fiu"]
+    """The metric columns of a summary: every numeric column that is not a field of the case
+    record (sweep/case_record.def), a grid coordinate, design.sample or a factor, wherever it
+    stands."""
+    skip = set(RECORD_COLUMNS) | set(grid_keys(summary)) | {"design.sample"} \
+        | {f["key"] for f in design["factors"]}
+    return [c for c in summary.columns if c not in skip and summary[c].dtype.kind in "fiu"]
+
+
+def iid_rows(design):
+    """The rows that are an independent sample of the factors: the first iid_blocks x size of
+    the method's catalogue line (all of a monte-carlo design, A and B of a saltelli design, none
+    of a morris design)."""
+    return np.arange(DESIGN_METHODS[design["method"]]["iid_blocks"] * int(design["size"]))
 
 
 def grid_keys(summary):

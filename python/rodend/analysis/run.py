@@ -12,6 +12,8 @@ its own) and each chosen metric:
                         Sobol indices (chaos); the metric's distribution (mean, std, quantiles
                         5/50/95 %, with intervals) and P(metric > threshold) with the
                         Clopper–Pearson interval (stats)
+  the independent sample of any design (the rows its catalogue line names, analysis/catalogue.py;
+  a file design's rows too): the same without the chaos when its factors have no distributions
 and quantile bands of chosen histories. Failed cases (status not ok) and non-finite values are
 left out and counted. Writes FOLDER/analysis/analysis.json, FOLDER/analysis/bands.h5 (histories
 asked) and FOLDER/plots/analysis-*.png; prints per metric its spread and its factors ranked by
@@ -47,15 +49,16 @@ def _read_summary(folder):
                      f"finished: rodend merge {folder} writes the summary from the case files)")
 
 
-def _iid_rows(design):
-    """The rows that are an independent sample of the factors' distribution: all of them, the
-    A and B blocks of a saltelli design, none of a morris design."""
-    n, method = int(design["size"]), design["method"]
-    if method == "saltelli":
-        return np.arange(2 * n)
-    if method == "morris":
-        return np.arange(0)
-    return np.arange(int(design["points"]))
+def _chaos_or_why(design, x, y, chaos):
+    """The polynomial chaos of the sample, or why there is none."""
+    if not inputs.DESIGN_METHODS[design["method"]]["distributions"]:
+        return {"skipped": "a design without distributions (the points of a file): the chaos "
+                           "needs the factors' distributions"}
+    if design.get("correlation"):
+        return {"skipped": "correlated factors (its indices assume independent ones)"}
+    if np.ptp(y) <= 0:
+        return {"skipped": "the metric is constant over the sample"}
+    return _chaos.fit(design, x, y, chaos)
 
 
 def analyze_arrays(design, x, y, keep, confidence=0.95, bootstrap=200, thresholds=(),
@@ -73,16 +76,13 @@ def analyze_arrays(design, x, y, keep, confidence=0.95, bootstrap=200, threshold
         unit = np.asarray(design["unit_points"], dtype=float)
         out["morris"] = morris.statistics(unit, y, n, float(design["delta"]), keep, bootstrap,
                                           confidence, seed)
-    rows = _iid_rows(design)
+    rows = inputs.iid_rows(design)
     rows = rows[keep[rows]]
     if len(rows):
         yi = y[rows]
         out["distribution"] = stats.distribution(yi, confidence, bootstrap, seed)
         out["exceedance"] = [stats.exceedance(yi, t, confidence) for t in thresholds]
-        out["chaos"] = {"skipped": "correlated factors (its indices assume independent "
-                                   "ones)"} if design.get("correlation") else \
-            _chaos.fit(design, x[rows], yi, chaos) if np.ptp(yi) > 0 else \
-            {"skipped": "the metric is constant over the sample"}
+        out["chaos"] = _chaos_or_why(design, x[rows], yi, chaos)
         out["_iid"] = yi
         out["correlation"] = ranking.correlations(x[rows], yi, bootstrap, confidence, seed)
     elif design["method"] == "morris":
