@@ -1,7 +1,8 @@
 // The subcommands of the `rodend` command line, each one function that registers it with CLI11:
 // its options, its help text and its action (a CLI11 callback, run once the whole command line
-// is parsed). app/main.cpp lists them in the order `rodend --help` shows them; adding a
-// subcommand is one line there and its function in the file of its family.
+// is parsed). The catalogue app/commands.def lists them in the order `rodend --help` shows them;
+// adding a subcommand is one line there and its function in the file of its family
+// (scripts/prove-command.sh proves it).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -21,24 +22,9 @@ struct Outcome {
 /// Registers one subcommand on the application; its action writes into the outcome.
 using Command = void (*)(CLI::App& app, Outcome& out);
 
-// run, merge and results-dir: the commands that take a study (app/commands_study.cpp)
-void add_run(CLI::App& app, Outcome& out);
-void add_merge(CLI::App& app, Outcome& out);
-void add_results_dir(CLI::App& app, Outcome& out);
-
-// schema, report, analyze, calibrate and compare: the commands about outputs
-// (app/commands_output.cpp)
-void add_schema(CLI::App& app, Outcome& out);
-void add_report(CLI::App& app, Outcome& out);
-void add_analyze(CLI::App& app, Outcome& out);
-void add_calibrate(CLI::App& app, Outcome& out);
-void add_compare(CLI::App& app, Outcome& out);
-
-// scenes, params, signals, metrics and choices: the catalogues (app/commands_catalogue.cpp)
-void add_scenes(CLI::App& app, Outcome& out);
-void add_params(CLI::App& app, Outcome& out);
-void add_signals(CLI::App& app, Outcome& out);
-void add_metrics(CLI::App& app, Outcome& out);
-void add_choices(CLI::App& app, Outcome& out);
+// one declaration per line of the catalogue
+#define RODEND_COMMAND(function) void function(CLI::App& app, Outcome& out);
+#include "app/commands.def"
+#undef RODEND_COMMAND
 
 }  // namespace rodend::cli

@@ -17,11 +17,11 @@ using namespace rodend;
 
 namespace {
 
-/// The subcommands, in the order `rodend --help` lists them (app/commands.hpp).
+/// The subcommands, in the order `rodend --help` lists them (app/commands.def).
 constexpr cli::Command kCommands[] = {
-    cli::add_run,     cli::add_merge,     cli::add_results_dir, cli::add_schema, cli::add_report,
-    cli::add_analyze, cli::add_calibrate, cli::add_scenes,      cli::add_params, cli::add_signals,
-    cli::add_metrics, cli::add_choices,   cli::add_compare,
+#define RODEND_COMMAND(function) cli::function,
+#include "app/commands.def"
+#undef RODEND_COMMAND
 };
 
 const char* const kDescription =
