@@ -11,9 +11,11 @@
 namespace rodend {
 
 /// Replaces the process by `python3 -m rodend.analyze ARGS...` (python3: $RODEND_PYTHON, else
-/// /usr/bin/python3; the package: PYTHONPATH gets this build's source python/ folder, and
-/// RODEND_BUILD_DIR this executable's folder when unset). Returns only on failure, with 2 and a
-/// message on stderr.
+/// /usr/bin/python3). The package rodend: the one that Python imports by itself (PYTHONPATH,
+/// `pip install`), else PREFIX/share/rodend/python beside an installed executable, else the
+/// source tree's python/ folder named by the file rodend-python-path that the configure step
+/// writes beside the executable of a build tree; RODEND_BUILD_DIR gets this executable's folder
+/// when unset. Returns only on failure, with 2 and a message on stderr naming where it looked.
 int exec_analyze(const std::vector<std::string>& args);
 
 /// The same for `rodend calibrate CONFIG ...`: `python3 -m rodend.calibrate ARGS...`, the
