@@ -1,15 +1,20 @@
 // Internal to core: the integration driver's model, state and stages. `simulate`
-// (core/integrator.cpp) runs them in this order:
-//   setup     make the RunModel (state scaling, the signals to check, what the scene has),
-//             then start: initial state, initial latches, the stepper, the first sample
-//   step      take_step: one step of the method, checked (core/driver/health.cpp)
-//   events    find_event: the earliest contact change inside the step (core/driver/events.cpp);
-//             if there is one, retake_to: the step re-taken up to it, the latches changed there
-//   accept    otherwise accept_step (core/driver/accept.cpp): samples (core/driver/sampling.cpp,
-//             with the energy audit and tracking checks), wear (core/driver/wear_deposit.cpp),
-//             contact peaks (core/driver/peaks.cpp), the latches at the step end
-//             (core/driver/latches.cpp), the step observation, quaternion renormalisation
-//   result    assemble_result: status, message, counts and the final state
+// (core/integrator.cpp) runs them in this order, one file each under core/driver/:
+//   setup.cpp     the RunModel (state scaling, the signals to check, what the scene has), the
+//                 RunState; start: initial state and latches, the stepper, the first sample
+//   step.cpp      take_step: one step of the method; the checks after every step (finite
+//                 state, step budget, penetration)
+//   events.cpp    find_event: the earliest contact change inside the step (the method's roots,
+//                 or located on its interpolant), if any ...
+//   retake.cpp    ... then retake_to: the step re-taken up to the event, the latches changed
+//   accept.cpp    otherwise accept_step, in order:
+//     sampling.cpp      the samples inside the step (full frames), each checked by
+//     audit.cpp         the energy audit and the actuator's tracking,
+//     wear_deposit.cpp  the wear sources of the step,
+//     peaks.cpp         the contacts' force and penetration maxima inside the step,
+//     latches.cpp       contact onset and separation at the step end (also at an event),
+//                       then the step's lean frame and quaternion renormalisation
+//   setup.cpp     assemble_result: status, message, counts and the final state
 #pragma once
 
 #include <cstddef>
@@ -115,12 +120,12 @@ struct Event {
 void start(Run& run);
 void assemble_result(Run& run, RunResult& result);
 
-// step (core/driver/health.cpp): the checks after every step and at every sample
+// step (core/driver/step.cpp) and the checks at every sample (core/driver/audit.cpp)
 void take_step(Run& run);
 void check_health_after_step(Run& run);
 void check_health_at_sample(Run& run, double t);
 
-// events (core/driver/events.cpp)
+// events (core/driver/events.cpp, core/driver/retake.cpp)
 Event find_event(Run& run);
 void retake_to(Run& run, const Event& ev);
 
