@@ -1,7 +1,5 @@
 #include "core/contact.hpp"
 
-#include "core/contact_eval.hpp"
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -25,10 +23,6 @@ double sphere_in_sphere_stiffness(double Rb, double Rs, double Eb, double nub, d
 
 double cylinder_in_cylinder_coefficient(double L, double Eb, double nub, double Es, double nus) {
   return 0.5 * std::numbers::pi * L * effective_modulus(Eb, nub, Es, nus);
-}
-
-double elastic_force(const ClearanceContactModel& m, double delta) {
-  return contact_detail::elastic_force(m, delta);
 }
 
 namespace {
@@ -79,23 +73,6 @@ double smooth_step_slope(double x, double x0, double f0, double x1, double f1) {
   if (x <= x0 || x >= x1) return 0.0;
   const double u = (x - x0) / (x1 - x0);
   return (f1 - f0) * 6.0 * u * (1.0 - u) / (x1 - x0);
-}
-
-ContactGap contact_gap(const ClearanceContactModel& m, const BodyKinematics& ball,
-                       const BodyKinematics& socket) {
-  const auto p = contact_detail::penetration(m, ball, socket);
-  if (p.centred) return {-p.clearance, 0.0};
-  return {p.value(), p.rate(ball, socket)};
-}
-
-ContactEval evaluate_contact(const ClearanceContactModel& m, const BodyKinematics& ball,
-                             const BodyKinematics& socket, const ContactLatch& latch) {
-  return contact_detail::evaluate(m, ball, socket, latch);
-}
-
-ContactEval evaluate_normal_contact(const ClearanceContactModel& m, const BodyKinematics& ball,
-                                    const BodyKinematics& socket, const ContactLatch& latch) {
-  return contact_detail::evaluate<double, false>(m, ball, socket, latch);
 }
 
 }  // namespace rodend

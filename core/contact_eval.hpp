@@ -1,5 +1,5 @@
 // The clearance contact's force pipeline (contact.hpp) as a template on the scalar S: double
-// (evaluate_contact, contact_gap in contact.cpp) or a dual number of core/dual.hpp, whose
+// (evaluate_contact, contact_gap in contact_eval.cpp) or a dual number of core/dual.hpp, whose
 // derivatives make a scene's exact Jacobian. One text for both, so they never disagree.
 #pragma once
 

@@ -6,9 +6,7 @@
 #include <string_view>
 
 #include "core/json_text.hpp"
-#include "core/scene.hpp"
-#include "core/scene_parameters.hpp"
-#include "core/scenes/profile.hpp"
+#include "core/profile_data.hpp"
 
 namespace rodend {
 namespace {
@@ -84,12 +82,6 @@ ParameterSet ParameterSet::from_json(const Json& tree, const std::string& origin
   ParameterSet p;
   p.tree_ = tree;
   return p;
-}
-
-ParameterSet ParameterSet::defaults_for(std::string_view scene) {
-  const std::string file = std::string(scene) + ".params.json";
-  const Json doc = Json::parse(scene_default_parameters_json(scene));
-  return from_json(compose_scene_parameters(doc, file), file);
 }
 
 bool ParameterSet::has(const std::string& path) const {

@@ -23,14 +23,15 @@
 namespace rodend {
 
 using Json = nlohmann::json;
-struct ProfileData;  // core/scenes/profile.hpp
+struct ProfileData;  // core/profile_data.hpp
 
 class ParameterSet {
  public:
   ParameterSet() = default;
   /// Parses a parameter tree; `origin` names it in error messages. Checks every leaf's form.
   static ParameterSet from_json(const Json& tree, const std::string& origin);
-  /// The embedded defaults of a scene: its scene file composed with its parts.
+  /// The embedded defaults of a scene: its scene file composed with its parts (defined with the
+  /// scene catalogue, core/scene_catalog.cpp: the parameters know no scene).
   static ParameterSet defaults_for(std::string_view scene);
 
   /// Replaces the value at `path`. Throws InputError (key path `path`) for an unknown key or a

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/scene.hpp"
+#include "core/scene_parameters.hpp"
 
 namespace rodend {
 
@@ -90,6 +91,12 @@ std::string_view scene_default_parameters_json(std::string_view scene) {
     throw InputError(
         "scene", "unknown scene '" + std::string(scene) + "'; expected one of: " + known_scenes());
   return embedded_scene_defaults(scene);
+}
+
+ParameterSet ParameterSet::defaults_for(std::string_view scene) {
+  const std::string file = std::string(scene) + ".params.json";
+  const Json doc = Json::parse(scene_default_parameters_json(scene));
+  return from_json(compose_scene_parameters(doc, file), file);
 }
 
 namespace {

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "core/integrator.hpp"
+#include "core/integrator_settings.hpp"
 #include "core/scene.hpp"
 
 namespace rodend::detail {

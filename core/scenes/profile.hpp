@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/params.hpp"
+#include "core/profile_data.hpp"
 
 namespace rodend {
 
@@ -32,21 +33,6 @@ namespace rodend {
   RODEND_X(error, "error")                \
   RODEND_X(hold, "hold")                  \
   RODEND_X(repeat, "repeat")
-
-/// One column of a data file against its time column: immutable once read, shared by cases.
-struct ProfileData {
-  std::string file;           ///< the path as the study names it
-  std::string resolved;       ///< the path it was read from (against the study file's folder)
-  std::string content_hash;   ///< FNV-1a 64 of the file's bytes, 16 hex digits
-  std::string column;         ///< the value column (CSV header name; HDF5 dataset path)
-  std::string unit;           ///< the value column's unit, as the file states it
-  std::vector<double> time;   ///< strictly increasing [s]
-  std::vector<double> value;  ///< [unit]
-  std::vector<double> slope;  ///< pchip slopes d(value)/dt at the samples [unit/s]
-
-  double start() const { return time.front(); }
-  double end() const { return time.back(); }
-};
 
 /// Fills `d.slope` (pchip) from d.time and d.value (at least two samples, time increasing).
 void compute_pchip_slopes(ProfileData& d);
