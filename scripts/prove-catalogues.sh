@@ -18,21 +18,11 @@
 #   metric (moments, ranking) over the new design, the distribution read by OpenTURNS.
 # Cost: one Release build of the rodend target (97 compile units; ccache helps little, the
 # catalogues being in headers most units include) and 32 cases of gravity-drop of 0.05 s.
-# CTest: prove.catalogues (label prove).
+# Alone, or with the others by scripts/prove.sh (CTest: prove, label prove).
 # Usage: bash scripts/prove-catalogues.sh
-set -euo pipefail
-cd "$(dirname "$0")/.."
-repo=$(pwd)
-work=$(mktemp -d)
-tree="$work/tree"
-cleanup() {
-  git -C "$repo" worktree remove --force "$tree" > /dev/null 2>&1 || true
-  rm -rf "$work"
-}
-trap cleanup EXIT
-git worktree add --detach "$tree" HEAD > /dev/null
-cd "$tree"
+source "$(dirname "$0")/prove-common.sh"
 
+recipe() {
 # 1. the method: one catalogue line and its draw
 echo 'RODEND_CHOICE(throwaway, "throwaway", "antithetic Monte Carlo (1 - u), added by scripts/prove-catalogues.sh", draw_throwaway, true, true, 0, 1, 1)' \
   >> sweep/design_methods.def
@@ -60,41 +50,16 @@ sed -i 's|^  at(v, MetricId::max_quaternion_norm_error) = stats.max_quaternion_n
 
 for f in sweep/design_methods.def sweep/distributions.def sweep/metrics.def sweep/metrics.cpp \
   python/rodend/analysis/distributions.py; do
-  n=$(git diff --numstat -- "$f" | awk '{print $1 "+" $2 "-"}')
-  [ "$n" = "1+0-" ] || { echo "prove-catalogues: $f changed by $n lines, expected one added" >&2; exit 1; }
+  prove_lines prove-catalogues "$f" 1 0
 done
-n=$(git diff --numstat -- sweep/design.cpp | awk '{print $1 "+" $2 "-"}')
-[ "$n" = "4+0-" ] || { echo "prove-catalogues: sweep/design.cpp changed by $n lines, expected 4 added" >&2; exit 1; }
-changed=$(git status --porcelain | sort)
-expected=$(printf '%s\n' " M python/rodend/analysis/distributions.py" " M sweep/design.cpp" \
+prove_lines prove-catalogues sweep/design.cpp 4 0
+prove_changed prove-catalogues " M python/rodend/analysis/distributions.py" " M sweep/design.cpp" \
   " M sweep/design_methods.def" " M sweep/distributions.def" " M sweep/metrics.cpp" \
-  " M sweep/metrics.def" | sort)
-echo "files the three recipes touched:"
-echo "$changed"
-[ "$changed" = "$expected" ] || { echo "prove-catalogues: expected exactly: $expected" >&2; exit 1; }
+  " M sweep/metrics.def"
+}
 
-# 2. build rodend; the generated files follow (scripts/gen-docs.sh), nothing else
-launcher=()
-export CCACHE_BASEDIR="$work"
-if command -v ccache > /dev/null; then
-  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
-fi
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DRODEND_WERROR=ON -DRODEND_BUILD_TESTS=OFF \
-  -DRODEND_BUILD_BENCHMARKS=OFF "${launcher[@]}" > /dev/null
-cmake --build build --target rodend -j"$(nproc)" > "$work/build.log" 2>&1 ||
-  { tail -30 "$work/build.log"; exit 1; }
-git add -A > /dev/null
-RODEND=./build/rodend bash scripts/gen-docs.sh > /dev/null
-generated=$(git diff --name-only | sort)
-echo "files scripts/gen-docs.sh regenerated:"
-echo "$generated"
-while read -r f; do
-  [ -n "$f" ] || continue
-  case "$f" in
-    docs/metrics.md | docs/studies.md | docs/choices.md | python/rodend/analysis/catalogue.py) ;;
-    *) echo "prove-catalogues: gen-docs.sh changed $f, which is not a generated file" >&2; exit 1 ;;
-  esac
-done <<< "$generated"
+check() {
+prove_generated prove-catalogues
 grep -q '"throwaway"' python/rodend/analysis/catalogue.py ||
   { echo "prove-catalogues: the Python catalogue lacks the method" >&2; exit 1; }
 
@@ -141,3 +106,6 @@ print("metric: throwaway_metric = 2 max_contact_force in all 16 cases;",
       f"analysed: mean {m['distribution']['mean']:.6g}")
 print("prove-catalogues: ok")
 PY
+}
+
+prove_main

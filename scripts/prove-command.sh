@@ -7,25 +7,12 @@
 # checks with git that nothing else changed, builds rodend there, and checks that the new
 # subcommand runs, is listed by `rodend --help` with its help text, and that a bad value of its
 # option is exit 2 like every other.
-# Takes a few minutes without a warm ccache (a build of rodend); CTest runs it as prove.command
+# Takes a few minutes without a warm ccache (a build of rodend); scripts/prove.sh runs it with the others (CTest: prove)
 # (label `prove`). Exit 77 (skipped) outside a git checkout.
 # Usage: bash scripts/prove-command.sh
-set -euo pipefail
-cd "$(dirname "$0")/.."
-repo=$(pwd)
-git rev-parse --verify -q HEAD > /dev/null 2>&1 ||
-  { echo "prove-command: not a git checkout with a commit (it works in a worktree of HEAD): skipped"; exit 77; }
-work=$(mktemp -d)
-tree="$work/tree"
-cleanup() {
-  git -C "$repo" worktree remove --force "$tree" > /dev/null 2>&1 || true
-  rm -rf "$work"
-}
-trap cleanup EXIT
-git worktree add --detach "$tree" HEAD > /dev/null
-cd "$tree"
+source "$(dirname "$0")/prove-common.sh"
 
-# 1. the subcommand: one catalogue line, and its function
+recipe() {
 echo 'RODEND_COMMAND(add_throwaway)' >> app/commands.def
 cat > "$work/function.cpp" << 'CPP'
 namespace rodend::cli {
@@ -40,24 +27,13 @@ void add_throwaway(CLI::App& app, Outcome&) {
 }  // namespace rodend::cli
 CPP
 cat "$work/function.cpp" >> app/commands_catalogue.cpp
-n=$(git diff --numstat -- app/commands.def | awk '{print $1 "+" $2 "-"}')
-[ "$n" = "1+0-" ] || { echo "prove-command: app/commands.def changed by $n lines, expected one added" >&2; exit 1; }
-changed=$(git status --porcelain | sort)
-expected=$(printf '%s\n' " M app/commands.def" " M app/commands_catalogue.cpp" | sort)
-echo "files the recipe touched:"
-echo "$changed"
-[ "$changed" = "$expected" ] || { echo "prove-command: expected exactly: $expected" >&2; exit 1; }
+prove_lines prove-command app/commands.def 1 0
+prove_changed prove-command " M app/commands.def" " M app/commands_catalogue.cpp"
 
 # 2. build rodend
-launcher=()
-export CCACHE_BASEDIR="$work"
-if command -v ccache > /dev/null; then
-  launcher=(-DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-fi
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DRODEND_WERROR=ON -DRODEND_BUILD_TESTS=OFF \
-  -DRODEND_BUILD_BENCHMARKS=OFF -DRODEND_PYTHON=OFF "${launcher[@]}" > /dev/null
-cmake --build build --target rodend -j"${RODEND_JOBS:-$(nproc)}" > "$work/build.log" 2>&1 ||
-  { tail -30 "$work/build.log"; exit 1; }
+}
+
+check() {
 
 # 3. it runs, it is listed, its bad input is exit 2
 out=$(./build/rodend throwaway --times 3)
@@ -70,3 +46,6 @@ rc=0
 [ "$rc" = 2 ] || { echo "prove-command: rodend throwaway --times 0 exit $rc, expected 2" >&2; exit 1; }
 echo "rodend throwaway --times 3: three lines; listed by --help; --times 0: exit 2"
 echo "prove-command: ok"
+}
+
+prove_main

@@ -9,23 +9,11 @@
 # checks with git that nothing else changed, builds rodend there, and runs one case of each:
 # the law in gravity-drop and impact-pair, the scene with the new law. Fails unless both runs
 # are ok and the law's achieved restitution lies between those of Hertz (1) and Hunt-Crossley.
-# Takes a few minutes (a build of rodend); CTest runs it as prove.recipes (label `prove`).
+# Takes a few minutes (a build of rodend); scripts/prove.sh runs it with the others (CTest: prove).
 # Exit 77 (skipped) outside a git checkout. Usage: bash scripts/prove-recipes.sh
-set -euo pipefail
-cd "$(dirname "$0")/.."
-repo=$(pwd)
-git rev-parse --verify -q HEAD > /dev/null 2>&1 ||
-  { echo "prove-recipes: not a git checkout with a commit (it works in a worktree of HEAD): skipped"; exit 77; }
-work=$(mktemp -d)
-tree="$work/tree"
-cleanup() {
-  git -C "$repo" worktree remove --force "$tree" > /dev/null 2>&1 || true
-  rm -rf "$work"
-}
-trap cleanup EXIT
-git worktree add --detach "$tree" HEAD > /dev/null
-cd "$tree"
+source "$(dirname "$0")/prove-common.sh"
 
+recipe() {
 # 1. the law: its own file and one catalogue line
 sed -e 's/Hunt-Crossley: chi = 3(1 - c_r)\/2 (model-notes §3)/Throwaway law of scripts\/prove-recipes.sh: chi = 1.2 (1 - c_r)/' \
     -e 's/"hunt-crossley"/"throwaway"/' -e 's/1\.5 \* (1\.0 - cr)/1.2 * (1.0 - cr)/' \
@@ -42,31 +30,14 @@ echo 'RODEND_SCENE("throwaway-drop", make_throwaway_drop_scene, "gravity-drop ag
   >> core/scenes/scenes.def
 grep -q make_throwaway_drop_scene core/scenes/throwaway_drop.cpp
 
-changed=$(git status --porcelain | sort)
-expected=$(printf '%s\n' " M core/laws/normal_laws.def" " M core/scenes/scenes.def" \
+prove_changed prove-recipes " M core/laws/normal_laws.def" " M core/scenes/scenes.def" \
   "?? core/laws/throwaway.cpp" "?? core/scenes/throwaway-drop.params.json" \
-  "?? core/scenes/throwaway_drop.cpp" | sort)
-echo "files the two recipes touched:"
-echo "$changed"
-if [ "$changed" != "$expected" ]; then
-  echo "prove-recipes: expected exactly these changes:" >&2
-  echo "$expected" >&2
-  exit 1
-fi
-for f in core/laws/normal_laws.def core/scenes/scenes.def; do
-  n=$(git diff --numstat -- "$f" | awk '{print $1 "+" $2 "-"}')
-  [ "$n" = "1+0-" ] || { echo "prove-recipes: $f changed by $n lines, expected one added" >&2; exit 1; }
-done
+  "?? core/scenes/throwaway_drop.cpp"
+prove_lines prove-recipes core/laws/normal_laws.def 1 0
+prove_lines prove-recipes core/scenes/scenes.def 1 0
+}
 
-# 3. build rodend there and run the law and the scene
-launcher=()
-export CCACHE_BASEDIR="$work"  # cache hits against other checkouts built the same way
-if command -v ccache > /dev/null; then
-  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
-fi
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DRODEND_WERROR=ON "${launcher[@]}" > /dev/null
-cmake --build build --target rodend -j"$(nproc)" > "$work/build.log" 2>&1 || { tail -30 "$work/build.log"; exit 1; }
-
+check() {
 cat > "$work/law.json" <<'JSON'
 {"name": "law", "scene": "impact-pair", "time": {"end": 2e-3, "sample_interval": 1e-5},
  "parameters": {"contact.restitution": 0.5},
@@ -93,3 +64,6 @@ assert scene[0]["status"] == "ok" and scene[0]["scene"] == "throwaway-drop", "th
 assert e["hunt-crossley"] < e["throwaway"] < e["hertz"], e
 print("prove-recipes: ok")
 PY
+}
+
+prove_main

@@ -14,50 +14,23 @@
 #   python/rodend/analysis/catalogue.py, which scripts/gen-docs.sh regenerates: the only file it
 #   changes).
 # Cost: one Release build of rodend and the Python module (the 97 compile units of rodend and the
-# module's) and 11 short cases. CTest: prove.record (label prove). Exit 77 (skipped) outside a
+# module's) and 11 short cases. Alone, or with the others by scripts/prove.sh (CTest: prove). Exit 77 (skipped) outside a
 # git checkout.
 # Usage: bash scripts/prove-record.sh
-set -euo pipefail
-cd "$(dirname "$0")/.."
-repo=$(pwd)
-git rev-parse --verify -q HEAD > /dev/null 2>&1 ||
-  { echo "prove-record: not a git checkout with a commit (it works in a worktree of HEAD): skipped"; exit 77; }
-work=$(mktemp -d)
-tree="$work/tree"
-cleanup() {
-  git -C "$repo" worktree remove --force "$tree" > /dev/null 2>&1 || true
-  rm -rf "$work"
-}
-trap cleanup EXIT
-git worktree add --detach "$tree" HEAD > /dev/null
-cd "$tree"
+source "$(dirname "$0")/prove-common.sh"
 
+recipe() {
 # 1. the field: one catalogue line, and its computation
 echo 'RODEND_RECORD_FIELD(throwaway, real, run, "throwaway_s", "s", "a field added by scripts/prove-record.sh: case_index / 8")' \
   >> sweep/case_record.def
 sed -i 's|^  rec.started_utc = utc_now();$|&\n  rec.throwaway = static_cast<double>(spec.index) / 8;|' sweep/case_observer.cpp
 grep -q 'rec.throwaway' sweep/case_observer.cpp || { echo "prove-record: start_record not found" >&2; exit 1; }
-for f in sweep/case_record.def sweep/case_observer.cpp; do
-  n=$(git diff --numstat -- "$f" | awk '{print $1 "+" $2 "-"}')
-  [ "$n" = "1+0-" ] || { echo "prove-record: $f changed by $n lines, expected one added" >&2; exit 1; }
-done
-changed=$(git status --porcelain | sort)
-expected=$(printf '%s\n' " M sweep/case_observer.cpp" " M sweep/case_record.def" | sort)
-echo "files the recipe touched:"
-echo "$changed"
-[ "$changed" = "$expected" ] || { echo "prove-record: expected exactly: $expected" >&2; exit 1; }
+prove_lines prove-record sweep/case_record.def 1 0
+prove_lines prove-record sweep/case_observer.cpp 1 0
+prove_changed prove-record " M sweep/case_observer.cpp" " M sweep/case_record.def"
+}
 
-# 2. build rodend and the Python module
-launcher=()
-export CCACHE_BASEDIR="$work"
-if command -v ccache > /dev/null; then
-  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
-fi
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DRODEND_WERROR=ON -DRODEND_BUILD_TESTS=OFF \
-  -DRODEND_BUILD_BENCHMARKS=OFF "${launcher[@]}" > /dev/null
-cmake --build build --target rodend _rodend -j"$(nproc)" > "$work/build.log" 2>&1 ||
-  { tail -30 "$work/build.log"; exit 1; }
-
+check() {
 # 3. a study of three cases, its summary, the case files, a merge, the Python dictionary
 cat > "$work/rec.json" << 'JSON'
 {"name": "rec", "scene": "gravity-drop", "time": {"end": 0.01, "sample_interval": 1e-3},
@@ -93,15 +66,9 @@ print("rodend.run_case(...).throwaway_s =", case.throwaway_s)
 PY
 
 # 4. the generated Python catalogue follows, and the analysis does not read the field as a metric
-RODEND=./build/rodend bash scripts/gen-docs.sh > /dev/null
-generated=$(git diff --name-only -- . ':!sweep/case_record.def' ':!sweep/case_observer.cpp' | sort)
-echo "files scripts/gen-docs.sh regenerated: $generated"
-for f in $generated; do
-  case "$f" in
-    docs/results.md | python/rodend/analysis/catalogue.py) ;;
-    *) echo "prove-record: gen-docs.sh changed $f, which is not a generated file" >&2; exit 1 ;;
-  esac
-done
+prove_generated prove-record
+grep -q '"throwaway_s"' python/rodend/analysis/catalogue.py ||
+  { echo "prove-record: the Python catalogue lacks the field" >&2; exit 1; }
 cat > "$work/mc.json" << 'JSON'
 {"name": "mc", "scene": "gravity-drop", "time": {"end": 0.01, "sample_interval": 1e-3},
  "design": {"method": "monte-carlo", "size": 8, "seed": 1, "factors": [
@@ -118,3 +85,6 @@ assert metrics, "no metric analysed"
 print(f"rodend analyze: {len(metrics)} metrics analysed, throwaway_s not among them")
 print("prove-record: ok")
 PY
+}
+
+prove_main
