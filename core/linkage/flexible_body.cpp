@@ -23,10 +23,18 @@ Eigen::Matrix2d rotation(double phi) {
 
 }  // namespace
 
-FlexibleBody::FlexibleBody(BeamModes modes, double axis_start,
+FlexibleBody::FlexibleBody(BeamModes modes, const Eigen::Vector2d& axis_start,
+                           const Eigen::Vector2d& axis_end,
                            const std::vector<Eigen::Vector2d>& points, double damping_ratio)
-    : modes_(std::move(modes)), n_(modes_.count()) {
+    : modes_(std::move(modes)), n_(modes_.count()), axis_start_(axis_start) {
   if (!(damping_ratio >= 0.0)) throw std::invalid_argument("flexible body: expected zeta >= 0");
+  const double length = modes_.length();
+  if (std::abs((axis_end - axis_start).norm() - length) > 1e-9 * length)
+    throw std::invalid_argument("flexible body: the axis is " +
+                                std::to_string((axis_end - axis_start).norm()) +
+                                " m long, the beam " + std::to_string(length) + " m");
+  axis_ = (axis_end - axis_start) / length;
+  normal_ = rot90() * axis_;
   // unit largest nodal displacement: the amplitude is that displacement [m]
   for (int i = 0; i < n_; ++i) {
     double big = 0.0;
@@ -36,7 +44,7 @@ FlexibleBody::FlexibleBody(BeamModes modes, double axis_start,
     if (!(big > 0.0)) throw std::invalid_argument("flexible body: a mode without displacement");
     modes_.scale(i, 1.0 / big);
   }
-  integrate_invariants(axis_start);
+  integrate_invariants();
   stiffness_.resize(n_);
   damping_.resize(n_);
   for (int i = 0; i < n_; ++i) {
@@ -44,24 +52,26 @@ FlexibleBody::FlexibleBody(BeamModes modes, double axis_start,
     stiffness_(i) = mff_(i, i) * w * w;
     damping_(i) = 2.0 * damping_ratio * mff_(i, i) * w;
   }
-  const double length = modes_.length();
-  for (const auto& p : points) {
-    const double s = p.x() - axis_start;
-    if (s < -1e-9 * length || s > length * (1.0 + 1e-9))
-      throw std::invalid_argument(
-          "flexible body: a point outside the beam's span (x = " + std::to_string(p.x()) + " m)");
-    PointShape ps{p, Eigen::Matrix<double, 2, Eigen::Dynamic>(2, n_), Eigen::RowVectorXd(n_)};
-    for (int i = 0; i < n_; ++i) {
-      const ModeShapeAt m = modes_.at(i, std::clamp(s, 0.0, length));
-      ps.s(0, i) = m.axial - p.y() * m.slope;
-      ps.s(1, i) = m.transverse;
-      ps.slope(i) = m.slope;
-    }
-    points_.push_back(std::move(ps));
-  }
+  for (const auto& p : points) add_point(p);
 }
 
-void FlexibleBody::integrate_invariants(double axis_start) {
+void FlexibleBody::add_point(const Eigen::Vector2d& p) {
+  const double length = modes_.length();
+  const double s = (p - axis_start_).dot(axis_), d = (p - axis_start_).dot(normal_);
+  if (s < -1e-9 * length || s > length * (1.0 + 1e-9))
+    throw std::invalid_argument("flexible body: a point outside the beam's span (" +
+                                std::to_string(s) + " m along its axis of " +
+                                std::to_string(length) + " m)");
+  PointShape ps{p, Eigen::Matrix<double, 2, Eigen::Dynamic>(2, n_), Eigen::RowVectorXd(n_)};
+  for (int i = 0; i < n_; ++i) {
+    const ModeShapeAt m = modes_.at(i, std::clamp(s, 0.0, length));
+    ps.s.col(i) = (m.axial - d * m.slope) * axis_ + m.transverse * normal_;
+    ps.slope(i) = m.slope;
+  }
+  points_.push_back(std::move(ps));
+}
+
+void FlexibleBody::integrate_invariants() {
   static constexpr double g[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
                                   0.8611363115940526};
   static constexpr double w[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
@@ -78,11 +88,10 @@ void FlexibleBody::integrate_invariants(double axis_start) {
     for (int k = 0; k < 4; ++k) {
       const double st = a + 0.5 * h * (1.0 + g[k]),
                    dm = 0.5 * h * w[k] * modes_.mass_per_length()[e];
-      const Eigen::Vector2d u0(axis_start + st, 0.0);
+      const Eigen::Vector2d u0 = axis_start_ + st * axis_;
       for (int i = 0; i < n_; ++i) {
         const ModeShapeAt m = modes_.at(i, st);
-        s(0, i) = m.axial;
-        s(1, i) = m.transverse;
+        s.col(i) = m.axial * axis_ + m.transverse * normal_;
       }
       mass_ += dm;
       s0_ += dm * u0;

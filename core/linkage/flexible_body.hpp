@@ -5,10 +5,11 @@
 // Coordinates q = (x, y, phi, eta_1 .. eta_n): the frame's origin [m] and angle [rad] in the
 // world, then the amplitudes of the beam's elastic modes (core/linkage/beam_modes.hpp). Each mode
 // is scaled so that its largest nodal displacement (axial or transverse) is 1, so eta_i is that
-// displacement [m]. The beam's axis lies on the frame's x-axis from x = axis_start to
-// axis_start + L. A material point at body-frame (p_x, p_y) belongs to the cross-section at
-// s = p_x - axis_start and moves with it as a rigid cross-section:
-//   u_f(p) = sum_i eta_i (u_i(s) - p_y v_i'(s), v_i(s)),  its rotation sum_i eta_i v_i'(s),
+// displacement [m]. The beam's axis runs in the body frame from the point a (s = 0) to the point
+// b (s = L), along e = (b - a) / L, with n = J e its normal in the plane. A material point p of
+// the body frame belongs to the cross-section at s = (p - a).e and, at the offset
+// d = (p - a).n from the axis, moves with it as a rigid cross-section:
+//   u_f(p) = sum_i eta_i ((u_i(s) - d v_i'(s)) e + v_i(s) n),  its rotation sum_i eta_i v_i'(s),
 // and its world position is r = R + A(phi) (p + u_f(p)).
 //
 // Assumptions: small elastic displacements (linear modes, no geometric stiffening besides the
@@ -40,11 +41,13 @@ namespace rodend::linkage {
 
 class FlexibleBody : public Body {
  public:
-  /// modes: the reduction basis (rescaled here to a unit largest displacement); axis_start: the
-  /// body-frame x of the beam's end s = 0 [m]; points: body-frame points of the undeformed body
-  /// [m] (each within the beam's span in x); damping_ratio: each mode's zeta [-].
-  FlexibleBody(BeamModes modes, double axis_start, const std::vector<Eigen::Vector2d>& points,
-               double damping_ratio);
+  /// modes: the reduction basis (rescaled here to a unit largest displacement); axis_start,
+  /// axis_end: the body-frame points of the beam's ends s = 0 and s = L [m] (their distance is
+  /// the modes' length); points: body-frame points of the undeformed body [m] (each within the
+  /// beam's span along its axis); damping_ratio: each mode's zeta [-]. Throws
+  /// std::invalid_argument on a point outside the span or an axis of another length.
+  FlexibleBody(BeamModes modes, const Eigen::Vector2d& axis_start, const Eigen::Vector2d& axis_end,
+               const std::vector<Eigen::Vector2d>& points, double damping_ratio);
 
   int coordinate_count() const override { return 3 + n_; }
   int point_count() const override { return static_cast<int>(points_.size()); }
@@ -68,10 +71,12 @@ class FlexibleBody : public Body {
     Eigen::Matrix<double, 2, Eigen::Dynamic> s;  ///< displacement per unit amplitude
     Eigen::RowVectorXd slope;                    ///< cross-section rotation per amplitude
   };
-  void integrate_invariants(double axis_start);
+  void integrate_invariants();
+  void add_point(const Eigen::Vector2d& p);
 
   BeamModes modes_;
   int n_ = 0;
+  Eigen::Vector2d axis_start_, axis_, normal_;  ///< a [m], e and n (unit)
   std::vector<PointShape> points_;
   double mass_ = 0.0, i00_ = 0.0;
   Eigen::Vector2d s0_ = Eigen::Vector2d::Zero();
