@@ -14,6 +14,7 @@
 #include "app/analyze.hpp"
 #include "app/report.hpp"
 #include "core/integrator.hpp"
+#include "core/linkage/beam_modes.hpp"
 #include "core/scene.hpp"
 #include "sweep/compare.hpp"
 #include "sweep/mpi_runner.hpp"
@@ -131,6 +132,8 @@ int list_choices(bool markdown, bool as_json) {
   print_choices<DampingCap>("Damping caps", "contact.damping_cap", markdown, json);
   print_choices<WearModelKind>("Wear models", "wear.model", markdown, json);
   print_choices<HistoryPrecision>("History precisions", "output.history_precision", markdown, json);
+  print_choices<BeamSupport>("Boundary conditions of a flexible body's modes",
+                             "linkage.bodies.<name>.boundary_conditions", markdown, json);
   if (as_json) std::cout << out.dump(2) << "\n";
   return 0;
 }

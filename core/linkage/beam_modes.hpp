@@ -19,13 +19,22 @@
 //                 s = 0 and free at s = L;
 //   clamped_free  u(0) = v(0) = v'(0) = 0: the frame is tangent to the beam at s = 0.
 // Alternatively the modes may be given directly (frequencies and nodal shapes on a mesh).
-#include <array>
-#include <string_view>
+#include "core/choice.hpp"
+
 #include <vector>
 
 #include <Eigen/Dense>
 
+namespace rodend {
+/// The boundary conditions of the reduction (core/linkage/beam_supports.def).
+#define RODEND_CHOICE_ENUM BeamSupport
+#define RODEND_CHOICE_FILE "core/linkage/beam_supports.def"
+#include "core/choice.hpp"
+}  // namespace rodend
+
 namespace rodend::linkage {
+
+using rodend::BeamSupport;
 
 /// One piece of uniform section along the beam.
 struct BeamSegment {
@@ -38,10 +47,6 @@ struct BeamMaterial {
   double youngs_modulus = 0.0;  ///< [Pa]
   double density = 0.0;         ///< [kg/m^3]
 };
-
-enum class BeamSupport { free_free, pinned_pinned, clamped_free };
-inline constexpr std::array<std::string_view, 3> kBeamSupportNames{"free_free", "pinned_pinned",
-                                                                   "clamped_free"};
 
 /// A mode's displacement of the beam's axis at one station: axial u, transverse v, and the
 /// cross-section's rotation dv/ds, per unit amplitude.
