@@ -1,6 +1,6 @@
 #pragma once
 // The free vibration modes of a straight, piecewise uniform planar beam: the reduction basis of a
-// flexible body of the planar linkage (core/linkage/flexible_body.hpp, docs/planar-linkage.md).
+// flexible body of the planar linkage (core/linkage/flexible_body.hpp, docs/flexible-bodies.md).
 //
 // Finite elements along the beam's axis (its local s from 0 to the length L [m]): Euler-Bernoulli
 // bending elements (transverse v and slope dv/ds at each node, Hermite cubics) and bar elements

@@ -1,5 +1,5 @@
 #pragma once
-// The flexible body of a linkage part file (kind "flexible", docs/planar-linkage.md): its beam's
+// The flexible body of a linkage part file (kind "flexible", docs/flexible-bodies.md): its beam's
 // section, material, modes and boundary conditions, read from the keys under a body's prefix.
 #include <memory>
 #include <string>
