@@ -36,6 +36,7 @@ void Linkage::finish() {
   ideal->ideal_.reset();
   for (const ClearanceJoint& j : clearance_) ideal->add_revolute(j.journal, j.bearing);
   ideal->clearance_.clear();
+  ideal->rigid_ = true;  // and every flexible body rigid: its modal amplitudes held at zero
   ideal_ = std::move(ideal);
 }
 

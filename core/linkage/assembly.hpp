@@ -85,7 +85,8 @@ class Linkage {
   int body_offset(int b) const { return offsets_[static_cast<std::size_t>(b)]; }
   const Body& body(int b) const { return *bodies_[static_cast<std::size_t>(b)]; }
   const std::vector<ClearanceJoint>& clearance_joints() const { return clearance_; }
-  /// The same linkage with every clearance joint an ideal revolute joint.
+  /// The same linkage with every clearance joint an ideal revolute joint and every flexible
+  /// body rigid (its coordinates beyond the frame's three held at zero).
   std::shared_ptr<const Linkage> ideal() const { return ideal_; }
   /// Builds ideal() (call once, after the last add_*).
   void finish();
@@ -123,6 +124,9 @@ class Linkage {
                          ConstraintRows& c, int row) const;
   void add_prismatic_rows(const Prismatic& j, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                           ConstraintRows& c, int row) const;
+  /// The rows holding a body's coordinates beyond its frame's (modal amplitudes) at zero.
+  void add_rigid_rows(const Eigen::VectorXd& q, ConstraintRows& c, int row) const;
+  int rigid_row_count() const;
   void add_drive_rows(double t, const Drive& j, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                       ConstraintRows& c, int row) const;
   /// Q: the bodies' internal forces and the clearance joints' forces (filled into `out`).
@@ -141,6 +145,7 @@ class Linkage {
   Eigen::Vector2d gravity_ = Eigen::Vector2d::Zero();
   double baumgarte_ = 0.0;
   int n_ = 0;
+  bool rigid_ = false;  ///< the ideal linkage: flexible bodies held rigid
   std::shared_ptr<const Linkage> ideal_;
 };
 

@@ -11,7 +11,23 @@
 namespace rodend::linkage {
 
 int Linkage::constraint_count() const {
-  return 2 * static_cast<int>(revolutes_.size() + prismatics_.size() + drives_.size());
+  return 2 * static_cast<int>(revolutes_.size() + prismatics_.size() + drives_.size()) +
+         rigid_row_count();
+}
+
+int Linkage::rigid_row_count() const {
+  int m = 0;
+  for (int b = 0; rigid_ && b < body_count(); ++b) m += body(b).coordinate_count() - 3;
+  return m;
+}
+
+void Linkage::add_rigid_rows(const Eigen::VectorXd& q, ConstraintRows& c, int row) const {
+  for (int b = 0; rigid_ && b < body_count(); ++b)
+    for (int k = body_offset(b) + 3; k < body_offset(b) + body(b).coordinate_count(); ++k, ++row) {
+      c.value[row] = q[k];
+      c.jacobian(row, k) = 1.0;
+      c.b1[row] = c.b2[row] = 0.0;
+    }
 }
 
 GlobalPoint Linkage::point(PointRef r, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) const {
@@ -77,12 +93,13 @@ ConstraintRows Linkage::constraints(double t, const Eigen::VectorXd& q,
   c.value.resize(m);
   c.b1.resize(m);
   c.b2.resize(m);
-  c.jacobian.resize(m, n_);
+  c.jacobian = Eigen::MatrixXd::Zero(m, n_);
   c.is_angle.assign(static_cast<std::size_t>(m), false);
   int row = 0;
   for (const Revolute& j : revolutes_) add_revolute_rows(j, q, qd, c, (row += 2) - 2);
   for (const Prismatic& j : prismatics_) add_prismatic_rows(j, q, qd, c, (row += 2) - 2);
   for (const Drive& j : drives_) add_drive_rows(t, j, q, qd, c, (row += 2) - 2);
+  add_rigid_rows(q, c, row);
   return c;
 }
 

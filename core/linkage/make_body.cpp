@@ -1,6 +1,7 @@
 // The body factory: one line per kind of body.
 #include "core/linkage/make_body.hpp"
 
+#include "core/linkage/read_flexible_body.hpp"
 #include "core/linkage/rigid_body.hpp"
 #include "core/scenes/parts.hpp"
 
@@ -31,9 +32,9 @@ std::unique_ptr<Body> make_body(const ParameterSet& p, const std::string& prefix
     points.push_back(read_plane_point(p, prefix + ".points." + n));
   const std::string kind = p.text(prefix + ".kind");
   if (kind == "rigid") return make_rigid_body(p, prefix, std::move(points));
-  // a new kind of body is one line here, e.g.
-  //   if (kind == "flexible") return make_flexible_body(p, prefix, std::move(points));
-  throw InputError(prefix + ".kind", "expected \"rigid\", got \"" + kind + "\"");
+  if (kind == "flexible") return make_flexible_body(p, prefix, std::move(points));
+  // a new kind of body is one line here
+  throw InputError(prefix + ".kind", "expected \"rigid\" or \"flexible\", got \"" + kind + "\"");
 }
 
 }  // namespace rodend::linkage

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/linkage/make_body.hpp"
 #include "core/scenes/parts.hpp"
 
 namespace rodend::linkage {
@@ -17,18 +18,12 @@ int read_count(const ParameterSet& p, const std::string& path, int lo, int hi) {
   return static_cast<int>(v);
 }
 
-Eigen::Vector2d read_point(const ParameterSet& p, const std::string& path) {
-  const Vec3 v = p.vec3(path);
-  if (v.z() != 0.0) throw InputError(path, "expected a point of the plane, z = 0 [m]");
-  return {v.x(), v.y()};
-}
-
 }  // namespace
 
 std::unique_ptr<FlexibleBody> make_flexible_body(const ParameterSet& p, const std::string& prefix,
                                                  std::vector<Eigen::Vector2d> points) {
-  const Eigen::Vector2d a = read_point(p, prefix + ".axis_start");
-  const Eigen::Vector2d b = read_point(p, prefix + ".axis_end");
+  const Eigen::Vector2d a = read_plane_point(p, prefix + ".axis_start");
+  const Eigen::Vector2d b = read_plane_point(p, prefix + ".axis_end");
   if (!((b - a).norm() > 0.0))
     throw InputError(prefix + ".axis_end", "expected a point other than axis_start");
   BeamModes::Spec spec;
