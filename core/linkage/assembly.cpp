@@ -69,6 +69,7 @@ Eigen::VectorXd Linkage::applied_forces(const Eigen::VectorXd& q, const Eigen::V
   for (int b = 0; b < body_count(); ++b) {
     const int o = body_offset(b), k = body(b).coordinate_count();
     Q.segment(o, k) = body(b).internal_forces(q.segment(o, k), qd.segment(o, k), gravity_);
+    out.dissipation += body(b).dissipated_power(q.segment(o, k), qd.segment(o, k));
   }
   out.contacts.resize(clearance_.size());
   for (std::size_t i = 0; i < clearance_.size(); ++i) {

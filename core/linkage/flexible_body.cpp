@@ -177,4 +177,9 @@ double FlexibleBody::potential_energy(ConstVectorRef q, const Eigen::Vector2d& g
   return 0.5 * eta.dot(stiffness_.cwiseProduct(eta)) - gravity.dot(first_moment);
 }
 
+double FlexibleBody::dissipated_power(ConstVectorRef /*q*/, ConstVectorRef qdot) const {
+  const auto etad = qdot.tail(n_);
+  return etad.dot(damping_.cwiseProduct(etad));
+}
+
 }  // namespace rodend::linkage

@@ -57,6 +57,7 @@ class FlexibleBody : public Body {
   PointKinematics point(int index, ConstVectorRef q, ConstVectorRef qdot) const override;
   double kinetic_energy(ConstVectorRef q, ConstVectorRef qdot) const override;
   double potential_energy(ConstVectorRef q, const Eigen::Vector2d& gravity) const override;
+  double dissipated_power(ConstVectorRef q, ConstVectorRef qdot) const override;
 
   int mode_count() const { return n_; }
   const BeamModes& modes() const { return modes_; }
