@@ -5,6 +5,7 @@
 
 #include "app/commands.hpp"
 #include "core/integrator.hpp"
+#include "core/linkage/beam_modes.hpp"
 #include "core/scene.hpp"
 #include "sweep/study.hpp"
 
@@ -107,6 +108,8 @@ void list_choices(Format f) {
   print_choices<HistoryPrecision>("History precisions", "output.history_precision", md, json);
   print_choices<DesignMethod>("Design methods", "design.method", md, json);
   print_choices<DistributionKind>("Distributions", "design.factors[i].distribution", md, json);
+  print_choices<BeamSupport>("Boundary conditions of a flexible body's modes",
+                             "linkage.bodies.<name>.boundary_conditions", md, json);
   if (f.json) std::cout << out.dump(2) << "\n";
 }
 

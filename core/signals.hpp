@@ -85,6 +85,11 @@ class SignalFrame {
     values_[o] = a;
     values_[o + 1] = b;
   }
+  /// One component of a signal of any width.
+  void set_component(SignalId id, int component, double v) {
+    assert(component >= 0 && component < signal_spec(id).width);
+    values_[static_cast<std::size_t>(signal_offset(id) + component)] = v;
+  }
   double get(SignalId id, int component = 0) const {
     return values_[static_cast<std::size_t>(signal_offset(id) + component)];
   }

@@ -50,6 +50,7 @@ MetricsAccumulator::MetricsAccumulator(const Scene& scene, const MetricsSettings
       // the rod-extension command: the actuator's, else the prescribed motion itself
       command_signal_(scene.features().has(Feature::actuator) ? SignalId::actuator_command
                                                               : SignalId::actuator_position),
+      linkage_(scene),
       periodic_(scene) {
   v_.fill(kNaN);
   if (has_crank_ && settings_.lowpass_cutoff > 0.0)
@@ -77,6 +78,7 @@ void MetricsAccumulator::on_step(const SignalFrame& f) {
   if (has_crank_) step_crank(f, t, dt);
   if (has_energy_) step_energy(f);
   if (periodic_.active()) periodic_.on_step(f);
+  if (linkage_.active()) linkage_.on_step(f);
   if (accel_hf_) accel_hf_->add(t, f.get(SignalId::surface_acceleration));
   if (pressure_hf_) pressure_hf_->add(t, f.get(SignalId::chamber_pressures, 0));
   t_prev_ = t;
@@ -523,6 +525,14 @@ MetricValues MetricsAccumulator::finish(const RunStats& stats) const {
     if (revolution_ >= 1) finish_crank(v);
   }
   if (periodic_.active()) finish_periodic(v);
+  if (linkage_.active()) {
+    const LinkageMetrics l = linkage_.finish();
+    at(v, MetricId::surface_angle_error_percent) = l.angle_error_percent;
+    at(v, MetricId::surface_rate_fluctuation) = l.rate_fluctuation;
+    at(v, MetricId::surface_acceleration_fluctuation) = l.acceleration_fluctuation;
+    at(v, MetricId::main_frequency) = l.main_frequency;
+    at(v, MetricId::main_frequency_amplitude) = l.main_frequency_amplitude;
+  }
   finish_features(v);
   at(v, MetricId::max_penetration_fraction) = stats.max_penetration_fraction;
   at(v, MetricId::max_penetration_strain) = stats.max_penetration_strain;

@@ -11,6 +11,7 @@
 
 #include "core/integrator.hpp"
 #include "sweep/feature_metrics.hpp"
+#include "sweep/linkage_metrics.hpp"
 #include "sweep/periodic_metrics.hpp"
 
 namespace rodend {
@@ -188,6 +189,7 @@ class MetricsAccumulator {
   void take_revolution(const SignalFrame& f, Revolution& r) const;
   void step_energy(const SignalFrame& f);
   std::vector<double> revolution_peaks_;  // [m/s^2] peak |slider acceleration| of each turn
+  LinkageMetricsAccumulator linkage_;     // a linkage against its ideal
   PeriodicAccumulator periodic_;          // frequency response, free-play loop
   // the rig metrics: the revolution under way, the finished ones, the anti-alias low-pass
   RigRevolution rig_current_, rig_frame_;

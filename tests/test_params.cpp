@@ -294,9 +294,10 @@ FeatureSignals feature_signals(Feature f) {
           {}};
     case Feature::mechanism:
       // surface_rate is not the mechanism's own: the planar slider-crank writes its crank's
-      // rate there
-      return {{S::surface_angle, S::surface_angle_command, S::hinge_moment},
-              {S::actuator_position, S::surface_rate}};
+      // rate there; nor are surface_angle and surface_angle_command: the planar linkage writes
+      // its shaft's angle and its ideal twin's there
+      return {{S::hinge_moment},
+              {S::surface_angle, S::surface_angle_command, S::actuator_position, S::surface_rate}};
     case Feature::actuator:
       return {{S::actuator_command, S::spool_position, S::chamber_pressures},
               {S::actuator_position}};

@@ -55,6 +55,11 @@ class Body {
   virtual double kinetic_energy(ConstVectorRef q, ConstVectorRef qdot) const = 0;
   /// Potential energy, elastic plus gravity [J] (zero height at y = 0).
   virtual double potential_energy(ConstVectorRef q, const Eigen::Vector2d& gravity) const = 0;
+  /// Power of the body's own dissipative forces (modal damping) [W], >= 0: what the energy
+  /// audit counts as dissipated inside the body. A rigid body has none.
+  virtual double dissipated_power(ConstVectorRef /*q*/, ConstVectorRef /*qdot*/) const {
+    return 0.0;
+  }
 };
 
 }  // namespace rodend::linkage

@@ -1,0 +1,152 @@
+#pragma once
+// The planar linkage assembly (docs/planar-linkage.md): bodies in absolute coordinates, ideal
+// joints and drives as constraints with Lagrange multipliers, revolute joints with radial
+// clearance as force elements (the clearance contact of core/contact.hpp), gravity.
+//
+// It talks to its bodies only through Body (core/linkage/body.hpp): a rigid or a flexible body
+// plugs in unchanged. With q the coordinates of all bodies stacked, C(q, t) = 0 the constraints,
+// Cq their Jacobian and Q the bodies' internal forces plus the clearance joints' forces:
+//   [ M   Cq^T ] [ q'' ]   [ Q                                        ]
+//   [ Cq  0    ] [ lam ] = [ -b2 - 2 w (Cq q' + b1) - w^2 C           ]
+// where C' = Cq q' + b1 and C'' = Cq q'' + b2 (b1: the drives' explicit time dependence, b2 the
+// velocity products and the drives' accelerations). The last two terms are Baumgarte's
+// stabilisation with one rate w [1/s], critically damped: the drift obeys C'' + 2 w C' + w^2 C
+// = 0 and decays instead of growing; nothing projects the state, so the state changes only
+// continuously (the scene reports the drift as the constraint_drift signal).
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "core/contact.hpp"
+#include "core/linkage/body.hpp"
+
+namespace rodend::linkage {
+
+/// A material point: `point` of body `body`, or with body -1 the ground point `point`.
+struct PointRef {
+  int body = -1;
+  int point = 0;
+};
+
+/// A prescribed displacement d(t) and its first two time derivatives [m, m/s, m/s^2].
+struct DriveSample {
+  double value = 0.0, rate = 0.0, acceleration = 0.0;
+};
+using DriveLaw = std::function<DriveSample(double t)>;
+
+/// A point of the linkage with its Jacobian over all coordinates (2 x n; the angle row 1 x n).
+struct GlobalPoint {
+  Eigen::Vector2d position = Eigen::Vector2d::Zero(), velocity = Eigen::Vector2d::Zero();
+  Eigen::MatrixXd jacobian;
+  Eigen::Vector2d jacobian_dot_qdot = Eigen::Vector2d::Zero();
+  double angle = 0.0, angular_velocity = 0.0, angle_jacobian_dot_qdot = 0.0;
+  Eigen::RowVectorXd angle_jacobian;
+};
+
+/// The constraints at (t, q, q'): C' = Cq q' + b1, C'' = Cq q'' + b2.
+struct ConstraintRows {
+  Eigen::VectorXd value, b1, b2;
+  Eigen::MatrixXd jacobian;
+  std::vector<bool> is_angle;  ///< rows in [rad] (a guide's angle); the others in [m]
+};
+
+/// A revolute joint with radial clearance: journal on one body, bearing on another (or ground).
+struct ClearanceJoint {
+  PointRef journal, bearing;
+  ClearanceContactModel model;
+};
+
+/// Accelerations and forces at one instant.
+struct LinkageDynamics {
+  Eigen::VectorXd qdd, multipliers;
+  std::vector<ContactEval> contacts;  ///< per clearance joint, in order of addition
+  double dissipation = 0.0;           ///< contact damping and friction power [W]
+  double constraint_power = 0.0;      ///< power of the constraint forces on the bodies [W]
+};
+
+class Linkage {
+ public:
+  int add_body(std::unique_ptr<Body> body);
+  int add_ground_point(const Eigen::Vector2d& position);
+  /// An ideal revolute joint: the two points coincide.
+  void add_revolute(PointRef a, PointRef b);
+  /// An ideal prismatic guide fixed to the ground: point `a` stays on the line through ground
+  /// point `on_line` along `axis`, and a's body keeps its initial angle `angle` [rad].
+  void add_prismatic(PointRef a, PointRef on_line, const Eigen::Vector2d& axis, double angle);
+  /// A prescribed actuator displacement: point `a` at ground point `rest` + d(t) `direction`.
+  void add_drive(PointRef a, PointRef rest, const Eigen::Vector2d& direction, DriveLaw law);
+  int add_clearance_joint(ClearanceJoint joint);
+  void set_gravity(const Eigen::Vector2d& g) { gravity_ = g; }
+  void set_baumgarte_rate(double w) { baumgarte_ = w; }
+
+  int coordinate_count() const { return n_; }
+  int constraint_count() const;
+  int body_count() const { return static_cast<int>(bodies_.size()); }
+  int body_offset(int b) const { return offsets_[static_cast<std::size_t>(b)]; }
+  const Body& body(int b) const { return *bodies_[static_cast<std::size_t>(b)]; }
+  const std::vector<ClearanceJoint>& clearance_joints() const { return clearance_; }
+  /// The same linkage with every clearance joint an ideal revolute joint and every flexible
+  /// body rigid (its coordinates beyond the frame's three held at zero).
+  std::shared_ptr<const Linkage> ideal() const { return ideal_; }
+  /// Builds ideal() (call once, after the last add_*).
+  void finish();
+
+  GlobalPoint point(PointRef r, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) const;
+  ConstraintRows constraints(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) const;
+  LinkageDynamics dynamics(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                           const std::vector<ContactLatch>& latches) const;
+  /// Journal and bearing of clearance joint i as the contact's body kinematics.
+  std::pair<BodyKinematics, BodyKinematics> joint_kinematics(int i, const Eigen::VectorXd& q,
+                                                             const Eigen::VectorXd& qd) const;
+  double kinetic_energy(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) const;
+  double potential_energy(const Eigen::VectorXd& q) const;  ///< bodies: gravity, elastic
+
+  /// Newton on C(q, t) = 0 from q (least-norm steps); returns the final largest |C| [m or rad].
+  double assemble(double t, Eigen::VectorXd& q, int iterations = 50) const;
+  /// The least-norm q' with C' = 0 at (t, q).
+  Eigen::VectorXd consistent_velocity(double t, const Eigen::VectorXd& q) const;
+
+ private:
+  struct Revolute {
+    PointRef a, b;
+  };
+  struct Prismatic {
+    PointRef a, on_line;
+    Eigen::Vector2d axis;
+    double angle;
+  };
+  struct Drive {
+    PointRef a, rest;
+    Eigen::Vector2d direction;
+    DriveLaw law;
+  };
+  void add_revolute_rows(const Revolute& j, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                         ConstraintRows& c, int row) const;
+  void add_prismatic_rows(const Prismatic& j, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                          ConstraintRows& c, int row) const;
+  /// The rows holding a body's coordinates beyond its frame's (modal amplitudes) at zero.
+  void add_rigid_rows(const Eigen::VectorXd& q, ConstraintRows& c, int row) const;
+  int rigid_row_count() const;
+  void add_drive_rows(double t, const Drive& j, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                      ConstraintRows& c, int row) const;
+  /// Q: the bodies' internal forces and the clearance joints' forces (filled into `out`).
+  Eigen::VectorXd applied_forces(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                 const std::vector<ContactLatch>& latches,
+                                 LinkageDynamics& out) const;
+  Eigen::MatrixXd mass_matrix(const Eigen::VectorXd& q) const;
+
+  std::vector<std::shared_ptr<const Body>> bodies_;
+  std::vector<int> offsets_;
+  std::vector<Eigen::Vector2d> ground_;
+  std::vector<Revolute> revolutes_;
+  std::vector<Prismatic> prismatics_;
+  std::vector<Drive> drives_;
+  std::vector<ClearanceJoint> clearance_;
+  Eigen::Vector2d gravity_ = Eigen::Vector2d::Zero();
+  double baumgarte_ = 0.0;
+  int n_ = 0;
+  bool rigid_ = false;  ///< the ideal linkage: flexible bodies held rigid
+  std::shared_ptr<const Linkage> ideal_;
+};
+
+}  // namespace rodend::linkage
