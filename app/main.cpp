@@ -127,6 +127,7 @@ int list_choices(bool markdown, bool as_json) {
   print_choices<IntegratorMethod>("Integration methods", "integrator.method", markdown, json);
   print_choices<ContactOnset>("Contact-onset modes", "integrator.contact_onset", markdown, json);
   print_choices<FrictionLawKind>("Friction laws", "friction.law", markdown, json);
+  print_choices<FrictionMode>("Friction modes", "friction.mode", markdown, json);
   print_choices<ContactGeometry>("Contact geometries", "contact.geometry", markdown, json);
   print_choices<DampingCap>("Damping caps", "contact.damping_cap", markdown, json);
   print_choices<WearModelKind>("Wear models", "wear.model", markdown, json);

@@ -321,6 +321,7 @@ class Driver {
     ContactLatch& l = discrete_.contacts[static_cast<std::size_t>(c)];
     l.in_contact = true;
     l.impact_speed = std::max(g.penetration_rate, 0.0);
+    l.slipping = g.slipping == 1;  // friction.mode stick-slip: the branch its slip speed calls for
     ++stats_.contact_onsets;
     obs_.on_contact_onset(t, c, l.impact_speed);
     ends_[static_cast<std::size_t>(c)].valid = false;  // its force changes law
@@ -808,9 +809,11 @@ class Driver {
   }
 
   /// Discrete updates at the end of an accepted step: an episode ends once its contact is out
-  /// of contact (unless latched a hair before touching and still approaching), and a contact that
-  /// penetrates unlatched starts one (step-end latching, or an onset at a restart point).
-  /// Returns whether an onset was latched (the method restarts with the new force law).
+  /// of contact (unless latched a hair before touching and still approaching), a contact that
+  /// penetrates unlatched starts one (step-end latching, or an onset at a restart point), and a
+  /// contact in friction.mode stick-slip takes the branch its slip speed calls for (stuck to
+  /// slipping above the switch speed, back below it). Returns whether an onset was latched or a
+  /// branch switched (the method restarts with the new force law).
   bool latch_at_step_end() {
     bool onset = false;
     for (int c = 0; c < scene_.contact_count(); ++c) {
@@ -824,6 +827,12 @@ class Driver {
         onset = true;
       } else if (latched(c) && g.penetration > 0.0) {
         touched = 1;
+        ContactLatch& l = discrete_.contacts[static_cast<std::size_t>(c)];
+        if (g.slipping >= 0 && (g.slipping == 1) != l.slipping) {
+          l.slipping = g.slipping == 1;
+          ++stats_.friction_switches;
+          onset = true;
+        }
       }
     }
     unscale(stepper_->z_now, x_);  // for observe_step
