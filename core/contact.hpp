@@ -105,12 +105,11 @@ std::unique_ptr<FrictionLaw> make_friction_law(const FrictionParams& p);
 
 /// The two branches of friction.mode stick-slip for `law` (parameters `p`), switched at the slip
 /// speed v_st = p.static_speed:
-///   stuck     mu(v) = law(v) where law(v) >= law(v_st) or v <= v_st, else law(v_st)
-///             (the rising branch, capped at the static peak: no drop);
+///   stuck     mu(v) = law(v) (the law itself: beyond v_st only until the end of the step that
+///             crossed it, when the driver switches to slipping);
 ///   slipping  mu(v) = law(v) where v >= v_dyn or law(v) <= law(v_dyn), else law(v_dyn)
-///             (the law above v_dyn unchanged; below it capped at its value there).
-/// Both are non-decreasing wherever the law rises to v_st and is non-decreasing above v_dyn. A
-/// law without a drop (law(v_st) <= law(v_dyn)) has none: null branches (the law is used).
+///             (the law above v_dyn unchanged; below it capped at its value there: no drop).
+/// A law without a drop (law(v_st) <= law(v_dyn)) has none: null branches (the law is used).
 struct FrictionBranches {
   std::shared_ptr<const FrictionLaw> stuck, slipping;
 };

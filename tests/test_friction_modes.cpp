@@ -24,8 +24,15 @@ constexpr double kRampEnd = 0.13;  // [s] then the force drops to kHold
 constexpr double kHold = 5.0;      // [N] below mu_dyn F_n: the block stops and sticks again
 constexpr double kBreakaway = kMuSt * kNormal / kRamp;  // 0.12 s
 
+/// The block: its mass, the wall's stiffness K (F_n = K (1e-4 m)^1.5) and the applied force,
+/// a ramp to `ramp_end`, then `hold`.
+struct Block {
+  double mass = kMass, stiffness = 1e8, ramp = kRamp, ramp_end = kRampEnd, hold = kHold;
+  double force(double t) const { return t < ramp_end ? ramp * t : hold; }
+};
+
 double applied_force(double t) {
-  return t < kRampEnd ? kRamp * t : kHold;
+  return Block{}.force(t);
 }
 
 /// A block (a ball that does not turn) pressed on a wall by a fixed penetration, pushed along
@@ -35,11 +42,11 @@ double applied_force(double t) {
 /// x-component, F_n x / c <= 1e-3 N, is left out: the wall is a plane).
 class BlockOnWall final : public Scene {
  public:
-  explicit BlockOnWall(FrictionMode mode) {
+  explicit BlockOnWall(FrictionMode mode, Block b = {}) : b_(b) {
     m_.geometry = ContactGeometry::sphere;
     m_.ball_radius = 0.01;
     m_.clearance = 100.0;
-    m_.stiffness = 1e8;
+    m_.stiffness = b.stiffness;
     m_.exponent = 1.5;
     FrictionParams f;
     f.law = FrictionLawKind::thesis;
@@ -70,7 +77,7 @@ class BlockOnWall final : public Scene {
   }
   void derivatives(double t, const double* x, const DiscreteState& d, double* dx) const override {
     dx[0] = x[1];
-    dx[1] = (applied_force(t) + contact(x, d).friction_on_ball.x()) / kMass;
+    dx[1] = (b_.force(t) + contact(x, d).friction_on_ball.x()) / b_.mass;
   }
   std::span<const SignalId> signals() const override { return kSignals; }
   void outputs(double, const double* x, const DiscreteState& d, SignalFrame& f) const override {
@@ -94,6 +101,7 @@ class BlockOnWall final : public Scene {
       SignalId::time, SignalId::body_position, SignalId::slip_speed,
       SignalId::friction_force_vector, SignalId::contact_force};
   ClearanceContactModel m_;
+  Block b_;
 };
 
 struct Sample {
@@ -112,8 +120,8 @@ struct Run {
   RunResult result;
   std::vector<Sample> samples;
 };
-Run run_block(FrictionMode mode, double tol) {
-  const BlockOnWall scene(mode);
+Run run_block(FrictionMode mode, double tol, Block b = {}) {
+  const BlockOnWall scene(mode, b);
   IntegratorSettings s;
   s.method = IntegratorMethod::cvode_bdf;
   s.abs_tol = s.rel_tol = tol;
@@ -172,27 +180,40 @@ TEST_CASE("stick-slip: a block sticks up to the static limit, then slides with t
 
 TEST_CASE("stick-slip agrees with smooth where the smooth law is resolved",
           "[friction][friction_mode]") {
-  // Below v_st both modes use the law's rising branch and above v_dyn the law itself: they
-  // differ only while the slip speed crosses [v_st, v_dyn] (the smooth law's drop). That crossing
-  // takes < 0.3 ms at each switch, with a force difference <= (mu_st - mu_dyn) F_n = 2 N: a
-  // speed difference <= 2 N * 0.3 ms / 0.1 kg = 6 mm/s, against 0.1-0.2 m/s of sliding.
-  const Run smooth = run_block(FrictionMode::smooth, 1e-10);
-  const Run modes = run_block(FrictionMode::stick_slip, 1e-10);
+  // The stuck branch is the law itself, and above v_dyn both modes slide with the law: they
+  // agree bit for bit until the first switch, and differ only through the drop [v_st, v_dyn].
+  // The smooth law leaves its flat static peak slowly, in about T = (m^2 / (F' F_n k))^(1/3),
+  // k = 3 (mu_st - mu_dyn) / (v_dyn - v_st)^2 = 3750 s^2/m^2 the blend's curvature at v_st;
+  // stick-slip drops to mu_dyn at the first step end past v_st. The block here is loaded as the
+  // rod-end's ball is (1000 N on 0.01 kg: a drop mode of 7.5e5 s^-1, the ball's 1.8e5 s^-1):
+  // T = 30 us, so the burst starts at most ~3 T = 90 us earlier, and the slide differs by at
+  // most the peak speed over 3 T.
+  Block b;
+  b.mass = 0.01;
+  b.stiffness = 1e9;    // F_n = 1000 N
+  b.ramp = 1000.0;      // mu_st F_n at 0.12 s
+  b.ramp_end = 0.1205;  // 0.5 ms of sliding ...
+  b.hold = 50.0;        // ... then it stops and sticks again
+  const Run smooth = run_block(FrictionMode::smooth, 1e-10, b);
+  const Run modes = run_block(FrictionMode::stick_slip, 1e-10, b);
   REQUIRE(smooth.result.status == RunStatus::ok);
   REQUIRE(modes.result.status == RunStatus::ok);
   REQUIRE(smooth.samples.size() == modes.samples.size());
-  double worst_v = 0.0, worst_x = 0.0, peak_v = 0.0, final_x = 0.0;
+  double peak_v = 0.0;
   for (std::size_t i = 0; i < smooth.samples.size(); ++i) {
-    const Sample &a = smooth.samples[i], &b = modes.samples[i];
-    if (a.t < kBreakaway) CHECK(b.x == a.x);  // one law below v_st: bit for bit up to the limit
-    worst_v = std::max(worst_v, std::abs(a.v - b.v));
-    worst_x = std::max(worst_x, std::abs(a.x - b.x));
+    const Sample &a = smooth.samples[i], &c = modes.samples[i];
+    if (a.t < kBreakaway) CHECK(c.x == a.x);  // one law below v_st: bit for bit up to the limit
     peak_v = std::max(peak_v, a.v);
-    final_x = a.x;
   }
-  INFO("largest differences: speed " << worst_v << " m/s of " << peak_v << ", slide " << worst_x
-                                     << " m of " << final_x);
-  CHECK(worst_v < 6e-3);
-  // the slide where the block sticks again: within 1 % (the wear's measure is the slide)
-  CHECK(std::abs(smooth.samples.back().x - modes.samples.back().x) < 0.01 * final_x);
+  const double slide = smooth.samples.back().x - smooth.samples[1200].x;  // from t = 0.12 s
+  const double diff = std::abs(smooth.samples.back().x - modes.samples.back().x);
+  const double T = std::cbrt(b.mass * b.mass / (b.ramp * 1000.0 * 3750.0));
+  // measured: slide 0.299 mm, differing by 0.067 mm (22 %), peak speed 0.89 m/s
+  INFO("slide " << slide << " m, differing by " << diff << " m; peak speed " << peak_v << " m/s, T "
+                << T << " s");
+  CHECK(modes.result.stats.friction_switches == 2);
+  CHECK(diff < peak_v * 3.0 * T);
+  // both stuck again at the end, carrying the held force
+  CHECK(modes.samples.back().v < kVSt);
+  CHECK(modes.samples.back().friction == Approx(smooth.samples.back().friction).margin(1e-3));
 }

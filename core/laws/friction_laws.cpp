@@ -76,10 +76,9 @@ class CoulombFriction final : public FrictionLaw {
   FrictionParams p_;
 };
 
-/// A law held at its value at `cap_speed` where it lies on the wrong side of it: the stuck
-/// branch (`below` false: mu >= law(v_st) beyond v_st, where the law drops) or the slipping
-/// branch (`below` true: mu <= law(v_dyn) below v_dyn, where the law exceeds it) of
-/// friction.mode stick-slip (contact.hpp, make_friction_branches).
+/// A law held at its value at `cap_speed` where it lies on the wrong side of it: `below` true,
+/// mu <= law(v_dyn) below v_dyn, where the law exceeds it (the slipping branch of friction.mode
+/// stick-slip, contact.hpp, make_friction_branches); `below` false, mu >= law(v) beyond v.
 class CappedBranch final : public FrictionLaw {
  public:
   CappedBranch(std::shared_ptr<const FrictionLaw> law, double cap_speed, bool below)
@@ -146,8 +145,7 @@ std::unique_ptr<FrictionLaw> make_friction_law(const FrictionParams& p) {
 FrictionBranches make_friction_branches(std::shared_ptr<const FrictionLaw> law,
                                         const FrictionParams& p) {
   if (!law || !(law->coefficient(p.static_speed) > law->coefficient(p.dynamic_speed))) return {};
-  return {std::make_shared<CappedBranch>(law, p.static_speed, false),
-          std::make_shared<CappedBranch>(law, p.dynamic_speed, true)};
+  return {law, std::make_shared<CappedBranch>(law, p.dynamic_speed, true)};
 }
 
 }  // namespace rodend
