@@ -102,6 +102,7 @@ void list_choices(Format f) {
   print_choices<IntegratorMethod>("Integration methods", "integrator.method", md, json);
   print_choices<ContactOnset>("Contact-onset modes", "integrator.contact_onset", md, json);
   print_choices<FrictionLawKind>("Friction laws", "friction.law", md, json);
+  print_choices<FrictionMode>("Friction modes", "friction.mode", md, json);
   print_choices<ContactGeometry>("Contact geometries", "contact.geometry", md, json);
   print_choices<DampingCap>("Damping caps", "contact.damping_cap", md, json);
   print_choices<WearModelKind>("Wear models", "wear.model", md, json);

@@ -1,11 +1,11 @@
 // A choice from a fixed menu (run status, integrator method, contact-onset mode, friction law,
-// contact geometry, damping cap, wear model, history precision) is an enum inside the program
-// and a name only at its edges: the loader, the results, the schema and the docs.
+// friction mode, contact geometry, damping cap, wear model, history precision) is an enum inside
+// the program and a name only at its edges: the loader, the results, the schema and the docs.
 //
 // Each menu is one catalogue, an X-macro .def file (core/run_statuses.def,
 // core/integrator_methods.def, core/contact_onsets.def, core/laws/friction_laws.def,
-// core/contact_geometries.def, core/damping_caps.def, core/wear_models.def,
-// sweep/history_precisions.def, core/linkage/beam_supports.def) of lines
+// core/laws/friction_modes.def, core/contact_geometries.def, core/damping_caps.def,
+// core/wear_models.def, sweep/history_precisions.def, core/linkage/beam_supports.def) of lines
 //   RODEND_CHOICE(identifier, "name", "description"[, further columns of that catalogue])
 // one per choice, in the enum's order. A header makes the catalogue's enum E, choice_names(E{})
 // and choice_descriptions(E{}) in three lines, inside namespace rodend, by including this file

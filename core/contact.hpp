@@ -40,6 +40,7 @@ namespace rodend {
 struct ContactLatch {
   bool in_contact = false;    ///< a contact episode is under way
   double impact_speed = 0.0;  ///< approach speed delta'^- latched at onset [m/s]
+  bool slipping = false;      ///< friction.mode stick-slip: the slipping branch (else stuck)
 };
 
 /// A normal-contact law F = F_el (1 + chi delta'/delta'^-): it supplies chi(c_r).
@@ -84,6 +85,12 @@ class FrictionLaw {
 /// Whether the law needs dynamic_speed > static_speed (its catalogue line).
 bool needs_ordered_speeds(FrictionLawKind law);
 
+/// How a law is applied (friction.mode), from core/laws/friction_modes.def: smooth (the law as
+/// it is) or stick-slip (stuck and slipping branches, latched by the driver).
+#define RODEND_CHOICE_ENUM FrictionMode
+#define RODEND_CHOICE_FILE "core/laws/friction_modes.def"
+#include "core/choice.hpp"
+
 /// Parameters shared by the friction laws (each uses the ones it needs).
 struct FrictionParams {
   FrictionLawKind law = FrictionLawKind::thesis;  ///< the catalogue's law
@@ -95,6 +102,19 @@ struct FrictionParams {
 };
 /// The law `p.law` with its parameters; null for "none" (frictionless).
 std::unique_ptr<FrictionLaw> make_friction_law(const FrictionParams& p);
+
+/// The two branches of friction.mode stick-slip for `law` (parameters `p`), switched at the slip
+/// speed v_st = p.static_speed:
+///   stuck     mu(v) = law(v) (the law itself: beyond v_st only until the end of the step that
+///             crossed it, when the driver switches to slipping);
+///   slipping  mu(v) = law(v) where v >= v_dyn or law(v) <= law(v_dyn), else law(v_dyn)
+///             (the law above v_dyn unchanged; below it capped at its value there: no drop).
+/// A law without a drop (law(v_st) <= law(v_dyn)) has none: null branches (the law is used).
+struct FrictionBranches {
+  std::shared_ptr<const FrictionLaw> stuck, slipping;
+};
+FrictionBranches make_friction_branches(std::shared_ptr<const FrictionLaw> law,
+                                        const FrictionParams& p);
 
 /// Cubic blend of thesis eq. 3.10.
 double smooth_step(double x, double x0, double f0, double x1, double f1);
@@ -126,6 +146,11 @@ struct ClearanceContactModel {
   double min_impact_speed = 1e-3;               ///< guard on delta'^- [m/s]
   DampingCap damping_cap = DampingCap::none;    ///< eq. 3.14 cap on the damping term
   std::shared_ptr<const FrictionLaw> friction;  ///< null: frictionless
+  /// friction.mode stick-slip: the law's stuck and slipping branches (null: smooth, or a law
+  /// without a drop), chosen by ContactLatch::slipping, and the slip speed v_st that switches
+  /// them [m/s].
+  FrictionBranches branches;
+  double switch_speed = 0.0;
   /// Worn surfaces (core/wear.hpp), fixed for a run; null: as manufactured. With them the
   /// penetration is |e| - c(n), c(n) the local clearance in the contact direction n, and the
   /// normal force acts along the gradient of that penetration (see evaluate_contact).
@@ -181,6 +206,9 @@ using ContactEval = ContactEvalT<double>;
 struct ContactGap {
   double penetration;
   double penetration_rate;
+  /// friction.mode stick-slip, in contact: the branch the slip speed calls for (1 slipping: above
+  /// the switch speed; 0 stuck); -1 without branches or out of contact.
+  int slipping = -1;
 };
 ContactGap contact_gap(const ClearanceContactModel& m, const BodyKinematics& ball,
                        const BodyKinematics& socket);

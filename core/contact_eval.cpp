@@ -12,7 +12,10 @@ ContactGap contact_gap(const ClearanceContactModel& m, const BodyKinematics& bal
                        const BodyKinematics& socket) {
   const auto p = contact_detail::penetration(m, ball, socket);
   if (p.centred) return {-p.clearance, 0.0};
-  return {p.value(), p.rate(ball, socket)};
+  ContactGap g{p.value(), p.rate(ball, socket)};
+  if (m.branches.stuck && g.penetration > 0.0)  // friction.mode stick-slip: the branch due
+    g.slipping = contact_detail::slip_velocity(m, ball, socket, p.normal).norm() > m.switch_speed;
+  return g;
 }
 
 ContactEval evaluate_contact(const ClearanceContactModel& m, const BodyKinematics& ball,

@@ -115,6 +115,16 @@ template <class S>
   return c.normal_force_on_ball;
 }
 
+/// Slip velocity v_t of the ball's contact point relative to the socket's, along the contact
+/// plane of unit normal n (thesis 3.12-3.13): each sphere's own omega x r.
+template <class S>
+Vec3T<S> slip_velocity(const ClearanceContactModel& m, const BodyKinematicsT<S>& ball,
+                       const BodyKinematicsT<S>& socket, const Vec3T<S>& n) {
+  const Vec3T<S> v_rel = (ball.v_W + ball.w_W.cross(m.ball_radius * n)) -
+                         (socket.v_W + socket.w_W.cross(m.socket_radius() * n));
+  return v_rel - v_rel.dot(n) * n;
+}
+
 /// The contact; with kSliding false only its normal part (evaluate_normal_contact).
 template <class S, bool kSliding = true>
 ContactEvalT<S> evaluate(const ClearanceContactModel& m, const BodyKinematicsT<S>& ball,
@@ -136,12 +146,13 @@ ContactEvalT<S> evaluate(const ClearanceContactModel& m, const BodyKinematicsT<S
   // slip velocity of the ball's contact point relative to the socket's (thesis 3.12-3.13)
   const Vec3T<S> r_ball = m.ball_radius * c.normal;
   const Vec3T<S> r_socket = m.socket_radius() * c.normal;
-  const Vec3T<S> v_rel =
-      (ball.v_W + ball.w_W.cross(r_ball)) - (socket.v_W + socket.w_W.cross(r_socket));
-  const Vec3T<S> v_t = v_rel - v_rel.dot(c.normal) * c.normal;
+  const Vec3T<S> v_t = slip_velocity(m, ball, socket, c.normal);
   c.slip_speed = v_t.norm();
-  if (m.friction && c.slip_speed > 0.0 && c.normal_force > 0.0) {
-    const S mu = friction_coefficient(*m.friction, c.slip_speed);
+  const FrictionLaw* law = !m.branches.stuck ? m.friction.get()
+                           : latch.slipping  ? m.branches.slipping.get()
+                                             : m.branches.stuck.get();
+  if (law && c.slip_speed > 0.0 && c.normal_force > 0.0) {
+    const S mu = friction_coefficient(*law, c.slip_speed);
     c.friction_on_ball = -(mu * c.normal_force / c.slip_speed) * v_t;
     // friction moment r x F_t with each sphere's own radius (model-notes §1)
     c.moment_on_ball = r_ball.cross(c.friction_on_ball);

@@ -5,11 +5,23 @@
 #include <functional>
 #include <string_view>
 
+#include "core/edit_distance.hpp"
 #include "core/json_text.hpp"
 #include "core/profile_data.hpp"
 
 namespace rodend {
 namespace {
+
+/// The choice nearest to `value` by edit distance (a leaf's "choices", strings).
+Json nearest_choice(const Json& choices, const Json& value) {
+  Json best;
+  std::size_t best_d = std::string::npos;
+  for (const Json& c : choices)
+    if (const std::size_t d = edit_distance(value.get<std::string>(), c.get<std::string>());
+        d < best_d)
+      best_d = d, best = c;
+  return best;
+}
 
 bool is_leaf(const Json& j) {
   return j.is_object() && j.contains("value");
@@ -110,7 +122,8 @@ void ParameterSet::set(const std::string& path, const Json& value, const std::st
   if (old.is_string() && l->contains("choices")) {
     const Json& choices = (*l)["choices"];
     if (std::find(choices.begin(), choices.end(), value) == choices.end())
-      throw InputError(path, "expected one of " + choices.dump() + ", got " + value.dump());
+      throw InputError(path, "expected one of " + choices.dump() + ", got " + value.dump() +
+                                 "; nearest: " + nearest_choice(choices, value).dump());
   }
   if (value.is_number() && !std::isfinite(value.get<double>()))
     throw InputError(path, "expected a finite number");

@@ -204,6 +204,7 @@ const Catalogue kCatalogues[] = {
        return v;
      }},
     {"friction_laws", &choice_strings<FrictionLawKind>},
+    {"friction_modes", &choice_strings<FrictionMode>},
     {"damping_caps", &choice_strings<DampingCap>},
     {"contact_geometries", &choice_strings<ContactGeometry>},
     {"wear_models", &choice_strings<WearModelKind>},

@@ -42,6 +42,7 @@ TEST_CASE("every catalogue of choices: unique names, each read back as its enum"
   check_catalogue<IntegratorMethod>();
   check_catalogue<ContactOnset>();
   check_catalogue<FrictionLawKind>();
+  check_catalogue<FrictionMode>();
   check_catalogue<ContactGeometry>();
   check_catalogue<DampingCap>();
   check_catalogue<WearModelKind>();
@@ -59,6 +60,7 @@ TEST_CASE("the names of choices are those studies and results files use", "[choi
   CHECK(choice_strings<ContactOnset>() == std::vector<std::string>{"locate", "step-end"});
   CHECK(choice_strings<FrictionLawKind>() ==
         std::vector<std::string>{"thesis", "ambrosio", "coulomb", "none"});
+  CHECK(choice_strings<FrictionMode>() == std::vector<std::string>{"smooth", "stick-slip"});
   CHECK(choice_strings<ContactGeometry>() == std::vector<std::string>{"sphere", "cylinder"});
   CHECK(choice_strings<DampingCap>() == std::vector<std::string>{"none", "elastic"});
   CHECK(choice_strings<WearModelKind>() == std::vector<std::string>{"none", "archard"});
@@ -77,6 +79,7 @@ TEST_CASE("scene parameters offer exactly the catalogues' names", "[choices]") {
   };
   CHECK(choices("wear.model") == choice_strings<WearModelKind>());
   CHECK(choices("friction.law") == choice_strings<FrictionLawKind>());
+  CHECK(choices("friction.mode") == choice_strings<FrictionMode>());
   CHECK(choices("contact.geometry") == choice_strings<ContactGeometry>());
   CHECK(choices("contact.damping_cap") == choice_strings<DampingCap>());
 }

@@ -46,6 +46,7 @@ void latch(Run& run, int c, const ContactGap& g, double t) {
   ContactLatch& l = s.discrete.contacts[static_cast<std::size_t>(c)];
   l.in_contact = true;
   l.impact_speed = std::max(g.penetration_rate, 0.0);
+  l.slipping = g.slipping == 1;  // friction.mode stick-slip: the branch its slip speed calls for
   ++s.stats.contact_onsets;
   run.obs.on_contact_onset(t, c, l.impact_speed);
   s.ends[static_cast<std::size_t>(c)].valid = false;  // its force changes law
@@ -63,9 +64,11 @@ void unlatch(RunState& s, int c) {
 }  // namespace
 
 /// Discrete updates at the end of an accepted step: an episode ends once its contact is out
-/// of contact (unless latched a hair before touching and still approaching), and a contact that
-/// penetrates unlatched starts one (step-end latching, or an onset at a restart point).
-/// Returns whether an onset was latched (the method restarts with the new force law).
+/// of contact (unless latched a hair before touching and still approaching), a contact that
+/// penetrates unlatched starts one (step-end latching, or an onset at a restart point), and a
+/// contact in friction.mode stick-slip takes the branch its slip speed calls for (stuck to
+/// slipping above the switch speed, back below it). Returns whether an onset was latched or a
+/// branch switched (the method restarts with the new force law).
 bool latch_at_step_end(Run& run) {
   RunState& s = run.state;
   bool onset = false;
@@ -79,6 +82,12 @@ bool latch_at_step_end(Run& run) {
       onset = true;
     } else if (latched(run, c) && g.penetration > 0.0) {
       touched = 1;
+      ContactLatch& l = s.discrete.contacts[static_cast<std::size_t>(c)];
+      if (g.slipping >= 0 && (g.slipping == 1) != l.slipping) {
+        l.slipping = g.slipping == 1;
+        ++s.stats.friction_switches;
+        onset = true;
+      }
     }
   }
   run.model.unscale(run.stepper().z_now, s.x);  // for observe_step

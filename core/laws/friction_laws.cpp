@@ -1,6 +1,7 @@
 // Friction laws: mu(|v_t|) in F_t = -mu F_n v_t/|v_t|.
 #include <array>
 #include <cmath>
+#include <utility>
 
 #include "core/contact.hpp"
 
@@ -75,6 +76,37 @@ class CoulombFriction final : public FrictionLaw {
   FrictionParams p_;
 };
 
+/// A law held at its value at `cap_speed` where it lies on the wrong side of it: `below` true,
+/// mu <= law(v_dyn) below v_dyn, where the law exceeds it (the slipping branch of friction.mode
+/// stick-slip, contact.hpp, make_friction_branches); `below` false, mu >= law(v) beyond v.
+class CappedBranch final : public FrictionLaw {
+ public:
+  CappedBranch(std::shared_ptr<const FrictionLaw> law, double cap_speed, bool below)
+      : law_(std::move(law)),
+        speed_(cap_speed),
+        cap_(law_->coefficient(cap_speed)),
+        below_(below) {}
+  std::string_view name() const override { return law_->name(); }
+  double coefficient(double v) const override {
+    const double mu = law_->coefficient(v);
+    return capped(v, mu) ? cap_ : mu;
+  }
+  double slope(double v) const override {
+    return capped(v, law_->coefficient(v)) ? 0.0 : law_->slope(v);
+  }
+
+ private:
+  /// stuck (below_ false): beyond v_st where the law fell under its peak; slipping (below_
+  /// true): below v_dyn where the law is above its value at v_dyn
+  bool capped(double v, double mu) const {
+    return below_ ? v < speed_ && mu > cap_ : v > speed_ && mu < cap_;
+  }
+
+  std::shared_ptr<const FrictionLaw> law_;
+  double speed_, cap_;
+  bool below_;
+};
+
 std::unique_ptr<FrictionLaw> make_thesis_friction(const FrictionParams& p) {
   return std::make_unique<ThesisFriction>(p);
 }
@@ -108,6 +140,12 @@ bool needs_ordered_speeds(FrictionLawKind law) {
 
 std::unique_ptr<FrictionLaw> make_friction_law(const FrictionParams& p) {
   return kLaws[static_cast<std::size_t>(p.law)].make(p);
+}
+
+FrictionBranches make_friction_branches(std::shared_ptr<const FrictionLaw> law,
+                                        const FrictionParams& p) {
+  if (!law || !(law->coefficient(p.static_speed) > law->coefficient(p.dynamic_speed))) return {};
+  return {law, std::make_shared<CappedBranch>(law, p.dynamic_speed, true)};
 }
 
 }  // namespace rodend

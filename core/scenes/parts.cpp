@@ -70,6 +70,10 @@ void read_friction(const ParameterSet& p, const std::string& fprefix, ClearanceC
   if (needs_ordered_speeds(f.law) && !(f.dynamic_speed > f.static_speed))
     throw InputError(fprefix + ".dynamic_speed", "expected dynamic_speed > static_speed");
   m.friction = make_friction_law(f);
+  if (read_choice<FrictionMode>(p, fprefix + ".mode") == FrictionMode::stick_slip) {
+    m.branches = make_friction_branches(m.friction, f);
+    m.switch_speed = f.static_speed;
+  }
 }
 
 }  // namespace

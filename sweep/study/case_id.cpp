@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <iterator>
+#include <string_view>
+#include <utility>
 
 #include "sweep/study/loader.hpp"
 
@@ -50,13 +53,33 @@ Json as_doubles(const Json& j) {
   return j;
 }
 
+/// Parameters added after results were stored, with the value that gives what came before:
+/// left out of the id at that value, so the ids of earlier runs hold.
+constexpr std::pair<std::string_view, std::string_view> kIdentityDefaults[] = {
+    {"friction.mode", "smooth"},  // the law as one function (core/laws/friction_modes.def)
+};
+
+/// Whether a parameter is left out of the id at one of its values (a grid over it: no template).
+bool left_out_at_default(const std::string& key) {
+  return std::any_of(std::begin(kIdentityDefaults), std::end(kIdentityDefaults),
+                     [&](const auto& d) { return d.first == key; });
+}
+
+Json parameter_identity(const ParameterSet& p) {
+  Json values = as_doubles(identity_values(p));
+  for (const auto& [key, value] : kIdentityDefaults) {
+    const auto it = values.find(std::string(key));
+    if (it != values.end() && it->is_string() && it->get<std::string>() == value) values.erase(it);
+  }
+  return values;
+}
+
 }  // namespace
 
 Json CaseSpec::canonical() const {
   Json sig = Json::array();
   for (SignalId id : signals) sig.push_back(std::string(signal_spec(id).name));
-  Json c = {
-      {"scene", scene}, {"parameters", as_doubles(identity_values(parameters))}, {"signals", sig}};
+  Json c = {{"scene", scene}, {"parameters", parameter_identity(parameters)}, {"signals", sig}};
   write_settings(*this, c);
   if (design_sample >= 0) c["design_sample"] = design_sample;
   if (!sensors.empty()) c["sensors"] = sensors_json(sensors);  // ids without sensors unchanged
@@ -80,7 +103,8 @@ std::optional<IdTemplate> IdTemplate::of(const Grid& g, const CaseSpec& base) {
       const std::string mark = "\x01rodend-slot-" + std::to_string(t.slots_.size()) + "\x01";
       if (key == "design.sample") {
         c["design_sample"] = mark;
-      } else if (key.rfind("parameters.", 0) == 0 && c["parameters"].contains(key.substr(11))) {
+      } else if (key.rfind("parameters.", 0) == 0 && c["parameters"].contains(key.substr(11)) &&
+                 !left_out_at_default(key.substr(11))) {
         c["parameters"][key.substr(11)] = mark;
       } else {
         return std::nullopt;  // a setting (its form in the id varies), a key not in the id

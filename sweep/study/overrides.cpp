@@ -2,6 +2,7 @@
 // will check it, and written into the study document at its key path.
 #include <algorithm>
 
+#include "core/edit_distance.hpp"
 #include "core/json_text.hpp"
 #include "sweep/study/loader.hpp"
 
@@ -27,22 +28,6 @@ void erase_path(Json& obj, const std::string& path) {
     }
   }
   for (const std::string& k : gone) obj.erase(k);
-}
-
-/// Levenshtein distance (for "did you mean" in --set errors).
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diag = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] != b[j - 1] ? 1 : 0)});
-      diag = up;
-    }
-  }
-  return row[b.size()];
 }
 
 }  // namespace
