@@ -16,6 +16,7 @@
 #include "core/integrator.hpp"
 #include "core/scene.hpp"
 #include "sweep/compare.hpp"
+#include "sweep/menus.hpp"
 #include "sweep/mpi_runner.hpp"
 #include "sweep/runner.hpp"
 #include "sweep/schema.hpp"
@@ -96,41 +97,32 @@ int list_metrics(bool markdown, bool json) {
   return 0;
 }
 
-/// One catalogue of choices (core/choice.hpp) as a table or JSON: name and description.
-template <Choice E>
-void print_choices(const char* title, const char* key, bool markdown, Json* json) {
-  const auto names = choice_names(E{});
-  const auto descriptions = choice_descriptions(E{});
+/// One menu (core/menus.hpp) as a table or JSON: its choices' names and descriptions.
+void print_menu(const Menu& menu, bool markdown, Json* json) {
+  const std::vector<MenuItem> items = menu.items();
   if (json) {
     Json list = Json::array();
-    for (std::size_t i = 0; i < names.size(); ++i)
-      list.push_back({{"name", names[i]}, {"description", descriptions[i]}});
-    (*json)[key] = list;
+    for (const MenuItem& i : items)
+      list.push_back({{"name", i.name}, {"description", i.description}});
+    (*json)[std::string(menu.id)] = {{"title", menu.title}, {"keys", menu.keys}, {"choices", list}};
     return;
   }
   if (markdown)
-    std::cout << "\n## " << title << " (`" << key << "`)\n\n| name | description |\n|---|---|\n";
+    std::cout << "\n## " << menu.title << " (`" << menu.id << "`)\n\nTaken by " << menu.keys
+              << ".\n\n| name | description |\n|---|---|\n";
   else
-    std::cout << title << " (" << key << "):\n";
-  for (std::size_t i = 0; i < names.size(); ++i)
+    std::cout << menu.title << " (" << menu.id << "; " << menu.keys << "):\n";
+  for (const MenuItem& i : items)
     if (markdown)
-      std::cout << "| `" << names[i] << "` | " << descriptions[i] << " |\n";
+      std::cout << "| `" << i.name << "` | " << i.description << " |\n";
     else
-      std::cout << "  " << names[i] << ": " << descriptions[i] << "\n";
+      std::cout << "  " << i.name << ": " << i.description << "\n";
 }
 
-/// `rodend choices`: every catalogue of choices, with the key that takes its names.
+/// `rodend choices`: every menu (core/menus.def, sweep/menus.def), with the keys that take it.
 int list_choices(bool markdown, bool as_json) {
   Json out = Json::object();
-  Json* json = as_json ? &out : nullptr;
-  print_choices<RunStatus>("Run statuses", "status", markdown, json);
-  print_choices<IntegratorMethod>("Integration methods", "integrator.method", markdown, json);
-  print_choices<ContactOnset>("Contact-onset modes", "integrator.contact_onset", markdown, json);
-  print_choices<FrictionLawKind>("Friction laws", "friction.law", markdown, json);
-  print_choices<ContactGeometry>("Contact geometries", "contact.geometry", markdown, json);
-  print_choices<DampingCap>("Damping caps", "contact.damping_cap", markdown, json);
-  print_choices<WearModelKind>("Wear models", "wear.model", markdown, json);
-  print_choices<HistoryPrecision>("History precisions", "output.history_precision", markdown, json);
+  for (const Menu& m : all_menus()) print_menu(m, markdown, as_json ? &out : nullptr);
   if (as_json) std::cout << out.dump(2) << "\n";
   return 0;
 }
@@ -260,8 +252,8 @@ void add_catalogue_commands(CLI::App& app, Cli& c) {
   c.metrics->add_flag("--json", c.as_json, "as JSON");
   c.choices = app.add_subcommand(
       "choices",
-      "Print the catalogues of choices: run statuses, integrator methods, contact-onset modes, "
-      "friction laws, contact geometries, damping caps, wear models.");
+      "Print every menu of named choices (core/menus.def, sweep/menus.def): its names, what "
+      "each means and the keys that take them.");
   c.choices->add_flag("--markdown", c.markdown, "as Markdown tables");
   c.choices->add_flag("--json", c.as_json, "as JSON");
   c.schema->add_flag("--markdown", c.markdown,

@@ -75,9 +75,9 @@ ParameterSet ParameterSet::from_json(const Json& tree, const std::string& origin
       throw InputError(path + ".unit", "every parameter needs a unit string (\"1\" if none)",
                        origin);
     const std::string src = leaf.value("source", "");
-    if (src != "thesis" && src != "assumed" && src != "derived")
-      throw InputError(path + ".source", "expected \"thesis\", \"assumed\" or \"derived\"", origin);
-    if (src != "thesis" && leaf.value("note", "").empty())
+    const auto source = choice_from_name<ParameterSource>(src);
+    if (!source) throw InputError(path + ".source", choice_expected<ParameterSource>(src), origin);
+    if (*source != ParameterSource::thesis && leaf.value("note", "").empty())
       throw InputError(path + ".note", "an assumed or derived value needs a note saying why",
                        origin);
   });

@@ -8,8 +8,11 @@
 #     and one line in core/scenes/scenes.def), built from gravity-drop's code and parts,
 # checks with git that nothing else changed, builds rodend there, and runs one case of each:
 # the law in gravity-drop and impact-pair, the scene with the new law. Fails unless both runs
-# are ok and the law's achieved restitution lies between those of Hertz (1) and Hunt-Crossley.
-# Takes a few minutes (a build of rodend); not part of CTest. Usage: bash scripts/prove-recipes.sh
+# are ok and the law's achieved restitution lies between those of Hertz (1) and Hunt-Crossley,
+# and `rodend choices` lists both (the menus normal_laws and scenes).
+# Cost: one Release build of rodend (about 150 C++ files), then 4 cases. In CTest as
+# prove.recipes (label prove) when configured with -DRODEND_PROVE_TESTS=ON.
+# Usage: bash scripts/prove-recipes.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
 repo=$(pwd)
@@ -73,6 +76,15 @@ cat > "$work/scene.json" <<'JSON'
 {"name": "scene", "scene": "throwaway-drop", "time": {"end": 0.05, "sample_interval": 1e-3},
  "parameters": {"contact.law": "throwaway", "contact.restitution": 0.5}}
 JSON
+./build/rodend choices --json > "$work/choices.json"
+/usr/bin/python3 - "$work/choices.json" <<'PY'
+import json, sys
+menus = json.load(open(sys.argv[1]))
+names = {k: [c["name"] for c in m["choices"]] for k, m in menus.items()}
+assert names["normal_laws"][-1] == "throwaway", names["normal_laws"]
+assert names["scenes"][-1] == "throwaway-drop", names["scenes"]
+print("rodend choices: throwaway a normal law, throwaway-drop a scene")
+PY
 ./build/rodend run "$work/law.json" --results-root "$work/out" -q
 ./build/rodend run "$work/scene.json" --results-root "$work/out" -q
 /usr/bin/python3 - "$work/out" <<'PY'

@@ -9,7 +9,8 @@
 #   the case file's root attribute (h5py), summary.csv and summary.h5 (written from the record
 #   spool: the spool's round trip), the same after `rodend merge` (the summary rebuilt from the
 #   case files: the case file read back), and the dictionary of rodend.run_case (Python).
-# Takes a few minutes (a build); not part of CTest, run by hand as scripts/prove-recipes.sh is.
+# Cost: one Release build of rodend and the Python module, then 4 cases. In CTest as prove.record
+# (label prove) when configured with -DRODEND_PROVE_TESTS=ON.
 # Usage: bash scripts/prove-record.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
