@@ -1,6 +1,7 @@
 // The batch runner's menus (sweep/menus.def) after the core's.
 #include "sweep/menus.hpp"
 
+#include <iterator>
 #include <vector>
 
 #include "sweep/sensors.hpp"

@@ -49,7 +49,7 @@ Json sensors_schema() {
   // one property per key of sweep/sensor_settings.def, its type and bounds from its check
   const auto property = [&](SensorCheck check, const std::string& unit, const char* text) {
     Json p = {{"type", "number"}};
-    if (check == SensorCheck::signal) p = {{"enum", signals}};
+    if (check == SensorCheck::signal) p = Json{{"enum", signals}};
     if (check == SensorCheck::zero_to_two)
       p = {{"type", "integer"}, {"minimum", 0}, {"maximum", 2}};
     if (check == SensorCheck::at_least_zero) p["minimum"] = 0;
