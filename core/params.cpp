@@ -117,8 +117,15 @@ void ParameterSet::set(const std::string& path, const Json& value, const std::st
     throw InputError(path, "expected " + json_type_name(old) + ", got " + json_type_name(value));
   if (old.is_string() && l->contains("choices")) {
     const Json& choices = (*l)["choices"];
-    if (std::find(choices.begin(), choices.end(), value) == choices.end())
-      throw InputError(path, "expected one of " + choices.dump() + ", got " + value.dump());
+    if (std::find(choices.begin(), choices.end(), value) == choices.end()) {
+      // value is a string here (old is one); the choices are the menu's names
+      const auto names = choices.get<std::vector<std::string>>();
+      const std::vector<std::string_view> views(names.begin(), names.end());
+      const std::string_view near = nearest_name(views, value.get<std::string>());
+      throw InputError(path,
+                       "expected one of " + choices.dump() + ", got " + value.dump() +
+                           (near.empty() ? "" : " (did you mean \"" + std::string(near) + "\"?)"));
+    }
   }
   if (value.is_number() && !std::isfinite(value.get<double>()))
     throw InputError(path, "expected a finite number");
