@@ -5,7 +5,7 @@
 # `cycles` periods of one frequency, checks with git that only those two lines changed, builds
 # rodend there (Release) and checks that the waveform arrives everywhere:
 #   `rodend choices --json`: in the menus waveforms, motion_shapes and hinge_moments (before
-#   profile), and `rodend params` as an allowed command shape of servo-actuator;
+#   profile), and `rodend params servo-actuator --json` as an allowed command.shape;
 #   a run of servo-actuator commanded by it: status ok, its actuator_command history equal to the
 #   formula at every sample (1e-12 m);
 #   a run of rod-end-actuator whose hinge moment is the waveform: status ok.
@@ -26,7 +26,7 @@ prove_changed prove-waveform " M core/scenes/drivers.cpp" " M core/scenes/wavefo
 # 2. build, then every place the name should appear
 prove_build
 ./build/rodend choices --json > "$work/choices.json"
-./build/rodend params servo-actuator > "$work/params.txt"
+./build/rodend params servo-actuator --json > "$work/params.json"
 cat > "$work/wave.json" <<'JSON'
 {"name": "wave", "scene": "servo-actuator", "time": {"end": 0.6, "sample_interval": 1e-3},
  "parameters": {"command.shape": "throwaway", "command.amplitude": 0.004,
@@ -50,8 +50,9 @@ assert names["waveforms"][-1] == "throwaway", names["waveforms"]
 for menu in ("motion_shapes", "hinge_moments"):
     assert names[menu][-2:] == ["throwaway", "profile"], (menu, names[menu])
 print("rodend choices: throwaway in waveforms, motion_shapes and hinge_moments")
-assert "throwaway" in open(f"{work}/params.txt").read(), "rodend params servo-actuator"
-print("rodend params servo-actuator: throwaway an allowed command.shape")
+shapes = json.load(open(f"{work}/params.json"))["command.shape"]["choices"]
+assert shapes == names["motion_shapes"], shapes
+print("rodend params servo-actuator --json: throwaway an allowed command.shape")
 row = next(csv.DictReader(open(f"{work}/out/wave/summary.csv")))
 assert row["status"] == "ok", row["message"]
 with h5py.File(f"{work}/out/wave/cases/{row['case_id']}.h5", "r") as f:
