@@ -5,8 +5,8 @@
 
 #include "app/commands.hpp"
 #include "core/integrator.hpp"
-#include "core/linkage/beam_modes.hpp"
 #include "core/scene.hpp"
+#include "sweep/menus.hpp"
 #include "sweep/study.hpp"
 
 namespace rodend::cli {
@@ -70,47 +70,32 @@ void list_metrics(Format f) {
   }
 }
 
-/// One catalogue of choices (core/choice.hpp) as a table or JSON: name and description.
-template <Choice E>
-void print_choices(const char* title, const char* key, bool markdown, Json* json) {
-  const auto names = choice_names(E{});
-  const auto descriptions = choice_descriptions(E{});
+/// One menu (core/menus.hpp) as a table or JSON: its choices' names and descriptions.
+void print_menu(const Menu& menu, bool markdown, Json* json) {
+  const std::vector<MenuItem> items = menu.items();
   if (json) {
     Json list = Json::array();
-    for (std::size_t i = 0; i < names.size(); ++i)
-      list.push_back({{"name", names[i]}, {"description", descriptions[i]}});
-    (*json)[key] = list;
+    for (const MenuItem& i : items)
+      list.push_back({{"name", i.name}, {"description", i.description}});
+    (*json)[std::string(menu.id)] = {{"title", menu.title}, {"keys", menu.keys}, {"choices", list}};
     return;
   }
   if (markdown)
-    std::cout << "\n## " << title << " (`" << key << "`)\n\n| name | description |\n|---|---|\n";
+    std::cout << "\n## " << menu.title << " (`" << menu.id << "`)\n\nTaken by " << menu.keys
+              << ".\n\n| name | description |\n|---|---|\n";
   else
-    std::cout << title << " (" << key << "):\n";
-  for (std::size_t i = 0; i < names.size(); ++i)
+    std::cout << menu.title << " (" << menu.id << "; " << menu.keys << "):\n";
+  for (const MenuItem& i : items)
     if (markdown)
-      std::cout << "| `" << names[i] << "` | " << descriptions[i] << " |\n";
+      std::cout << "| `" << i.name << "` | " << i.description << " |\n";
     else
-      std::cout << "  " << names[i] << ": " << descriptions[i] << "\n";
+      std::cout << "  " << i.name << ": " << i.description << "\n";
 }
 
-/// `rodend choices`: every catalogue of choices, with the key that takes its names.
+/// `rodend choices`: every menu (core/menus.def, sweep/menus.def), with the keys that take it.
 void list_choices(Format f) {
   Json out = Json::object();
-  Json* json = f.json ? &out : nullptr;
-  const bool md = f.markdown;
-  print_choices<RunStatus>("Run statuses", "status", md, json);
-  print_choices<IntegratorMethod>("Integration methods", "integrator.method", md, json);
-  print_choices<ContactOnset>("Contact-onset modes", "integrator.contact_onset", md, json);
-  print_choices<FrictionLawKind>("Friction laws", "friction.law", md, json);
-  print_choices<FrictionMode>("Friction modes", "friction.mode", md, json);
-  print_choices<ContactGeometry>("Contact geometries", "contact.geometry", md, json);
-  print_choices<DampingCap>("Damping caps", "contact.damping_cap", md, json);
-  print_choices<WearModelKind>("Wear models", "wear.model", md, json);
-  print_choices<HistoryPrecision>("History precisions", "output.history_precision", md, json);
-  print_choices<DesignMethod>("Design methods", "design.method", md, json);
-  print_choices<DistributionKind>("Distributions", "design.factors[i].distribution", md, json);
-  print_choices<BeamSupport>("Boundary conditions of a flexible body's modes",
-                             "linkage.bodies.<name>.boundary_conditions", md, json);
+  for (const Menu& m : all_menus()) print_menu(m, f.markdown, f.json ? &out : nullptr);
   if (f.json) std::cout << out.dump(2) << "\n";
 }
 
@@ -157,8 +142,8 @@ void add_metrics(CLI::App& app, Outcome&) {
 void add_choices(CLI::App& app, Outcome&) {
   auto f = std::make_shared<Format>();
   listing(app, "choices",
-          "Print the catalogues of choices: run statuses, integrator methods, contact-onset "
-          "modes, friction laws, contact geometries, damping caps, wear models.",
+          "Print every menu of named choices (core/menus.def, sweep/menus.def): its names, what "
+          "each means and the keys that take them.",
           "as Markdown tables", f)
       ->callback([f] { list_choices(*f); });
 }

@@ -23,6 +23,7 @@
 #ifndef RODEND_CORE_CHOICE_HPP
 #define RODEND_CORE_CHOICE_HPP
 
+#include <algorithm>
 #include <concepts>
 #include <cstddef>
 #include <optional>
@@ -92,6 +93,41 @@ std::string choice_alternatives() {
   return out;
 }
 
+/// The name in `names` nearest to `name` by edit distance (Levenshtein), or "" when none is
+/// within a third of the longer of the two (at least 2 edits): the "did you mean" of a message.
+inline std::string_view nearest_name(std::span<const std::string_view> names,
+                                     std::string_view name) {
+  std::string_view best;
+  std::size_t best_distance = 0;
+  for (std::string_view n : names) {
+    std::vector<std::size_t> row(n.size() + 1);
+    for (std::size_t j = 0; j <= n.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= name.size(); ++i) {
+      std::size_t diagonal = row[0];
+      row[0] = i;
+      for (std::size_t j = 1; j <= n.size(); ++j) {
+        const std::size_t up = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (name[i - 1] != n[j - 1])});
+        diagonal = up;
+      }
+    }
+    const std::size_t limit = std::max<std::size_t>(2, std::max(n.size(), name.size()) / 3);
+    if (row[n.size()] <= limit && (best.empty() || row[n.size()] < best_distance))
+      best = n, best_distance = row[n.size()];
+  }
+  return best;
+}
+
+/// "expected \"a\" or \"b\", got \"x\" (did you mean \"a\"?)": the message of a name that is not
+/// in the catalogue (the did-you-mean only when a name is near).
+template <Choice E>
+std::string choice_expected(std::string_view got) {
+  std::string out = "expected " + choice_alternatives<E>() + ", got \"" + std::string(got) + "\"";
+  const std::string_view near = nearest_name(choice_names(E{}), got);
+  if (!near.empty()) out += " (did you mean \"" + std::string(near) + "\"?)";
+  return out;
+}
+
 /// "a, b, c": the names for a message.
 template <Choice E>
 std::string choice_list() {
@@ -125,6 +161,13 @@ inline std::span<const std::string_view> choice_names(RODEND_CHOICE_ENUM) {
 #undef RODEND_CHOICE
   };
   return kNames;
+}
+inline constexpr std::size_t choice_count(RODEND_CHOICE_ENUM) {
+  return 0
+#define RODEND_CHOICE(identifier, name, ...) +1
+#include RODEND_CHOICE_FILE
+#undef RODEND_CHOICE
+      ;
 }
 inline std::span<const std::string_view> choice_descriptions(RODEND_CHOICE_ENUM) {
   static constexpr std::string_view kDescriptions[] = {

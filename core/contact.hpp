@@ -48,6 +48,8 @@ class NormalLaw {
  public:
   virtual ~NormalLaw() = default;
   virtual std::string_view name() const = 0;
+  /// One line for `rodend choices` and docs/choices.md: the law's chi(c_r) and its source.
+  virtual std::string_view description() const = 0;
   /// Hysteresis factor chi for the requested restitution coefficient c_r [-].
   virtual double hysteresis_factor(double restitution) const = 0;
   /// Laws that divide by c_r are undefined at c_r = 0 and reject it.

@@ -5,23 +5,11 @@
 #include <functional>
 #include <string_view>
 
-#include "core/edit_distance.hpp"
 #include "core/json_text.hpp"
 #include "core/profile_data.hpp"
 
 namespace rodend {
 namespace {
-
-/// The choice nearest to `value` by edit distance (a leaf's "choices", strings).
-Json nearest_choice(const Json& choices, const Json& value) {
-  Json best;
-  std::size_t best_d = std::string::npos;
-  for (const Json& c : choices)
-    if (const std::size_t d = edit_distance(value.get<std::string>(), c.get<std::string>());
-        d < best_d)
-      best_d = d, best = c;
-  return best;
-}
 
 bool is_leaf(const Json& j) {
   return j.is_object() && j.contains("value");
@@ -85,9 +73,9 @@ ParameterSet ParameterSet::from_json(const Json& tree, const std::string& origin
       throw InputError(path + ".unit", "every parameter needs a unit string (\"1\" if none)",
                        origin);
     const std::string src = leaf.value("source", "");
-    if (src != "thesis" && src != "assumed" && src != "derived")
-      throw InputError(path + ".source", "expected \"thesis\", \"assumed\" or \"derived\"", origin);
-    if (src != "thesis" && leaf.value("note", "").empty())
+    const auto source = choice_from_name<ParameterSource>(src);
+    if (!source) throw InputError(path + ".source", choice_expected<ParameterSource>(src), origin);
+    if (*source != ParameterSource::thesis && leaf.value("note", "").empty())
       throw InputError(path + ".note", "an assumed or derived value needs a note saying why",
                        origin);
   });
@@ -121,9 +109,15 @@ void ParameterSet::set(const std::string& path, const Json& value, const std::st
     throw InputError(path, "expected " + json_type_name(old) + ", got " + json_type_name(value));
   if (old.is_string() && l->contains("choices")) {
     const Json& choices = (*l)["choices"];
-    if (std::find(choices.begin(), choices.end(), value) == choices.end())
-      throw InputError(path, "expected one of " + choices.dump() + ", got " + value.dump() +
-                                 "; nearest: " + nearest_choice(choices, value).dump());
+    if (std::find(choices.begin(), choices.end(), value) == choices.end()) {
+      // value is a string here (old is one); the choices are the menu's names
+      const auto names = choices.get<std::vector<std::string>>();
+      const std::vector<std::string_view> views(names.begin(), names.end());
+      const std::string_view near = nearest_name(views, value.get<std::string>());
+      throw InputError(path,
+                       "expected one of " + choices.dump() + ", got " + value.dump() +
+                           (near.empty() ? "" : " (did you mean \"" + std::string(near) + "\"?)"));
+    }
   }
   if (value.is_number() && !std::isfinite(value.get<double>()))
     throw InputError(path, "expected a finite number");

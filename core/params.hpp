@@ -5,8 +5,9 @@
 // are leaves of the form
 //   {"value": 0.2, "unit": "kg", "source": "thesis", "note": "thesis §3.3"}
 // with source one of "thesis", "assumed" (the note gives the reason) or "derived" (the note
-// says from what). String leaves may list their allowed "choices" (in the files, a
-// "catalogue" of the code instead). Overrides address leaves by dotted key path
+// says from what): the menu core/parameter_sources.def. String leaves may list their allowed
+// "choices" (in the files, a "catalogue" of the code instead). Overrides address leaves by dotted
+// key path
 // ("contact.clearance") and must match the leaf's type.
 #pragma once
 
@@ -17,10 +18,16 @@
 #include <string_view>
 #include <vector>
 
+#include "core/choice.hpp"
 #include "core/errors.hpp"
 #include "core/math.hpp"
 
 namespace rodend {
+
+/// Where a parameter's value comes from (a leaf's "source").
+#define RODEND_CHOICE_ENUM ParameterSource
+#define RODEND_CHOICE_FILE "core/parameter_sources.def"
+#include "core/choice.hpp"
 
 using Json = nlohmann::json;
 struct ProfileData;  // core/profile_data.hpp

@@ -16,7 +16,7 @@ IntegratorSettings adaptive(IntegratorMethod method, double tol, double max_step
 
 struct Entry {
   std::string_view scene;  ///< "*" for any scene without its own entry
-  std::string_view preset;
+  IntegratorPreset preset;
   IntegratorSettings settings;
 };
 
@@ -36,12 +36,13 @@ const std::array<Entry, 12>& table() {
       // flight is the same to the last bit at any tolerance (until then it needed 1e-8
       // kinematic, 1e-9 actuator). Stiff, so that a sustained hinge moment does not hold it to
       // dopri5's microsecond steps. Checked by the [presets] test.
-      {"rod-end-kinematic", "fast", adaptive(IntegratorMethod::cvode_bdf, 1e-5)},
-      {"rod-end-kinematic", "balanced", adaptive(IntegratorMethod::cvode_bdf, 1e-6)},
-      {"rod-end-kinematic", "reference", adaptive(IntegratorMethod::dopri5, 1e-10)},
-      {"rod-end-actuator", "fast", adaptive(IntegratorMethod::cvode_bdf, 1e-5)},
-      {"rod-end-actuator", "balanced", adaptive(IntegratorMethod::cvode_bdf, 1e-7)},
-      {"rod-end-actuator", "reference", adaptive(IntegratorMethod::dopri5, 1e-10)},
+      {"rod-end-kinematic", IntegratorPreset::fast, adaptive(IntegratorMethod::cvode_bdf, 1e-5)},
+      {"rod-end-kinematic", IntegratorPreset::balanced,
+       adaptive(IntegratorMethod::cvode_bdf, 1e-6)},
+      {"rod-end-kinematic", IntegratorPreset::reference, adaptive(IntegratorMethod::dopri5, 1e-10)},
+      {"rod-end-actuator", IntegratorPreset::fast, adaptive(IntegratorMethod::cvode_bdf, 1e-5)},
+      {"rod-end-actuator", IntegratorPreset::balanced, adaptive(IntegratorMethod::cvode_bdf, 1e-7)},
+      {"rod-end-actuator", IntegratorPreset::reference, adaptive(IntegratorMethod::dopri5, 1e-10)},
       // measured (issue 21; docs/planar-slider-crank.md "Integrator presets"): the rod-slider
       // clearance at 0.1, 0.3 and 0.5 mm, 10 revolutions, dopri5 at 1e-5 ... 1e-12; error of
       // peak_slider_acceleration and peak_contact_force against 1e-12, largest over the three.
@@ -49,25 +50,27 @@ const std::array<Entry, 12>& table() {
       // 0.11 % / 0.10 %, 4.1e5 (1e-6 is within 0.3 % too, 0.26 %, but with little margin: the
       // error of the 0.5 mm case, whose impacts come every few turns, is not monotonic in the
       // tolerance, 0.28 % at 1e-8). reference: 1e-10, 8.9e-5 / 2e-6, 1.5e6 (1e-12: 3.7e6).
-      {"planar-slider-crank", "fast", adaptive(IntegratorMethod::dopri5, 1e-5)},
-      {"planar-slider-crank", "balanced", adaptive(IntegratorMethod::dopri5, 1e-7)},
-      {"planar-slider-crank", "reference", adaptive(IntegratorMethod::dopri5, 1e-10)},
-      {"*", "fast", adaptive(IntegratorMethod::dopri5, 1e-6)},
-      {"*", "balanced", adaptive(IntegratorMethod::dopri5, 1e-8)},
-      {"*", "reference", adaptive(IntegratorMethod::dopri5, 1e-11)},
+      {"planar-slider-crank", IntegratorPreset::fast, adaptive(IntegratorMethod::dopri5, 1e-5)},
+      {"planar-slider-crank", IntegratorPreset::balanced, adaptive(IntegratorMethod::dopri5, 1e-7)},
+      {"planar-slider-crank", IntegratorPreset::reference,
+       adaptive(IntegratorMethod::dopri5, 1e-10)},
+      {"*", IntegratorPreset::fast, adaptive(IntegratorMethod::dopri5, 1e-6)},
+      {"*", IntegratorPreset::balanced, adaptive(IntegratorMethod::dopri5, 1e-8)},
+      {"*", IntegratorPreset::reference, adaptive(IntegratorMethod::dopri5, 1e-11)},
   }};
   return t;
 }
 
-constexpr std::array<std::string_view, 3> kNames{"fast", "balanced", "reference"};
-
 }  // namespace
 
 std::span<const std::string_view> preset_names() {
-  return kNames;
+  return choice_names(IntegratorPreset{});
 }
 
-std::optional<IntegratorSettings> preset_settings(std::string_view scene, std::string_view preset) {
+std::optional<IntegratorSettings> preset_settings(std::string_view scene, std::string_view name) {
+  const std::optional<IntegratorPreset> named = choice_from_name<IntegratorPreset>(name);
+  if (!named) return std::nullopt;
+  const IntegratorPreset preset = *named;
   for (const Entry& e : table())
     if (e.scene == scene && e.preset == preset) return e.settings;
   for (const Entry& e : table())

@@ -5,9 +5,7 @@
 #include <functional>
 #include <map>
 
-#include "core/contact.hpp"
-#include "core/scenes/drivers.hpp"
-#include "core/scenes/servo_actuator.hpp"
+#include "core/menus.hpp"
 
 namespace rodend {
 namespace {
@@ -187,34 +185,6 @@ void resolve_catalogues(Json& node, const std::string& prefix, const std::string
   }
 }
 
-std::vector<std::string> strings(std::span<const std::string_view> names) {
-  return {names.begin(), names.end()};
-}
-
-struct Catalogue {
-  std::string_view name;
-  std::vector<std::string> (*names)();
-};
-
-const Catalogue kCatalogues[] = {
-    {"normal_laws",
-     [] {
-       std::vector<std::string> v;
-       for (const NormalLaw* l : normal_laws()) v.emplace_back(l->name());
-       return v;
-     }},
-    {"friction_laws", &choice_strings<FrictionLawKind>},
-    {"friction_modes", &choice_strings<FrictionMode>},
-    {"damping_caps", &choice_strings<DampingCap>},
-    {"contact_geometries", &choice_strings<ContactGeometry>},
-    {"wear_models", &choice_strings<WearModelKind>},
-    {"torque_motors", [] { return strings(torque_motor_names()); }},
-    {"motion_shapes", [] { return strings(motion_shape_names()); }},
-    {"hinge_moments", [] { return strings(hinge_moment_names()); }},
-    {"profile_interpolations", [] { return strings(profile_interpolation_names()); }},
-    {"profile_past_end", [] { return strings(profile_past_end_names()); }},
-};
-
 }  // namespace
 
 Json compose_scene_parameters(const Json& scene_doc, const std::string& file,
@@ -231,14 +201,13 @@ Json compose_scene_parameters(const Json& scene_doc, const std::string& file,
 }
 
 std::vector<std::string> parameter_catalogue(std::string_view name) {
-  for (const Catalogue& c : kCatalogues)
-    if (c.name == name) return c.names();
-  return {};
+  const Menu* m = find_menu(core_menus(), name);
+  return m ? menu_names(*m) : std::vector<std::string>{};
 }
 
 std::vector<std::string> parameter_catalogue_names() {
   std::vector<std::string> out;
-  for (const Catalogue& c : kCatalogues) out.emplace_back(c.name);
+  for (const Menu& m : core_menus()) out.emplace_back(m.id);
   return out;
 }
 

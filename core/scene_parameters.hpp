@@ -41,9 +41,8 @@ std::span<const EmbeddedJson> embedded_part_files();
 Json compose_scene_parameters(const Json& scene_doc, const std::string& file,
                               std::span<const EmbeddedJson> parts = embedded_part_files());
 
-/// The names a catalogue allows (normal_laws, friction_laws, friction_modes, damping_caps,
-/// contact_geometries, torque_motors, motion_shapes, hinge_moments); empty for an unknown
-/// catalogue.
+/// The names a catalogue allows: a menu of core/menus.def by its id (normal_laws,
+/// friction_laws, motion_shapes, ...); empty for an unknown catalogue.
 std::vector<std::string> parameter_catalogue(std::string_view name);
 /// The catalogues a leaf may name, for error messages and documentation.
 std::vector<std::string> parameter_catalogue_names();

@@ -82,8 +82,8 @@ work = sys.argv[1]
 schema = json.dumps(json.load(open(f"{work}/schema.json")))
 assert schema.count('"throwaway"') >= 2, "rodend schema lacks the method or the distribution"
 choices = json.load(open(f"{work}/choices.json"))
-assert "throwaway" in [c["name"] for c in choices["design.method"]], choices
-assert "throwaway" in [c["name"] for c in choices["design.factors[i].distribution"]], choices
+assert "throwaway" in [c["name"] for c in choices["design_methods"]["choices"]], choices
+assert "throwaway" in [c["name"] for c in choices["distributions"]["choices"]], choices
 design = json.load(open(f"{work}/out/throwaway/design.json"))
 f = design["factors"][0]
 assert design["method"] == "throwaway" and f["distribution"] == "throwaway", design

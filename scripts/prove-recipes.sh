@@ -47,6 +47,15 @@ cat > "$work/scene.json" <<'JSON'
 {"name": "scene", "scene": "throwaway-drop", "time": {"end": 0.05, "sample_interval": 1e-3},
  "parameters": {"contact.law": "throwaway", "contact.restitution": 0.5}}
 JSON
+./build/rodend choices --json > "$work/choices.json"
+/usr/bin/python3 - "$work/choices.json" <<'PY'
+import json, sys
+menus = json.load(open(sys.argv[1]))
+names = {k: [c["name"] for c in m["choices"]] for k, m in menus.items()}
+assert names["normal_laws"][-1] == "throwaway", names["normal_laws"]
+assert names["scenes"][-1] == "throwaway-drop", names["scenes"]
+print("rodend choices: throwaway a normal law, throwaway-drop a scene")
+PY
 ./build/rodend run "$work/law.json" --results-root "$work/out" -q
 ./build/rodend run "$work/scene.json" --results-root "$work/out" -q
 PYTHONPATH="$tree/python" /usr/bin/python3 - "$work/out" <<'PY'

@@ -4,6 +4,7 @@
 
 #include <fstream>
 
+#include "core/scenes/drivers.hpp"
 #include "core/scenes/parts.hpp"
 
 namespace rodend {
@@ -16,12 +17,18 @@ std::string input_of(const std::string& file_path) {
   return file_path.substr(0, file_path.size() - kFileLeaf.size());
 }
 
+/// The text at `key` of `values` is the profile choice of the menu E.
+template <Choice E>
+bool names_profile(const Json& values, const std::string& key) {
+  const auto it = values.find(key);
+  return it != values.end() && it->is_string() &&
+         choice_from_name<E>(it->get<std::string>()) == E::profile;
+}
+
+/// The input under `input` (a motion's shape or a hinge moment's kind) is a profile.
 bool in_use(const Json& values, const std::string& input) {
-  for (const char* selector : {".shape", ".kind"}) {
-    const auto it = values.find(input + selector);
-    if (it != values.end() && it->is_string() && it->get<std::string>() == "profile") return true;
-  }
-  return false;
+  return names_profile<MotionShape>(values, input + ".shape") ||
+         names_profile<HingeMomentKind>(values, input + ".kind");
 }
 
 /// Where the results folder of a run read `file` from, by its profiles.json (the study as run,
@@ -103,7 +110,9 @@ void attach_profiles(ParameterSet& p, ProfileStore& store) {
 void check_profiles_cover(const ParameterSet& p, double t_end) {
   for (const std::string& prefix : profiles_in_use(p)) {
     const auto data = p.attached(prefix + ".file");
-    if (!data || p.text(prefix + ".past_end") != "error" || data->end() >= t_end) continue;
+    if (!data || data->end() >= t_end ||
+        read_choice<ProfilePastEnd>(p, prefix + ".past_end") != ProfilePastEnd::error)
+      continue;
     throw InputError("parameters." + prefix + ".file",
                      data->file + ": its last sample is at " + format_number(data->end()) +
                          " s, before the run's end (time.end = " + format_number(t_end) +

@@ -46,19 +46,24 @@ Json sensors_schema() {
   Json signals = Json::array();
   for (SignalId id : kStepSignals)
     if (id != SignalId::time) signals.push_back(std::string(signal_spec(id).name));
-  const Json number = {{"type", "number"}};
+  // one property per key of sweep/sensor_settings.def, its type and bounds from its check
+  const auto property = [&](SensorCheck check, const std::string& unit, const char* text) {
+    Json p = {{"type", "number"}};
+    if (check == SensorCheck::signal) p = Json{{"enum", signals}};
+    if (check == SensorCheck::zero_to_two)
+      p = {{"type", "integer"}, {"minimum", 0}, {"maximum", 2}};
+    if (check == SensorCheck::at_least_zero) p["minimum"] = 0;
+    if (check == SensorCheck::above_zero) p["exclusiveMinimum"] = 0;
+    p["description"] = text + (unit == "signal" ? " [unit of the signal]" : unit_note(unit));
+    return p;
+  };
+  Json properties = Json::object();
+#define RODEND_SENSOR_SETTING(key, type, check, unit, value, provenance, what, description) \
+  properties[#key] = property(SensorCheck::check, unit, description);
+#include "sweep/sensor_settings.def"
+#undef RODEND_SENSOR_SETTING
   const Json sensor = {
-      {"type", "object"},
-      {"additionalProperties", false},
-      {"properties",
-       {{"signal", {{"enum", signals}, {"description", "the signal read (accepted-step frames)"}}},
-        {"component", {{"type", "integer"}, {"minimum", 0}, {"maximum", 2}}},
-        {"noise_std", {{"type", "number"}, {"minimum", 0}, {"description", "white noise, std"}}},
-        {"bias", number},
-        {"quantisation", {{"type", "number"}, {"minimum", 0}}},
-        {"filter_order", {{"type", "integer"}, {"minimum", 0}, {"maximum", 2}}},
-        {"cutoff", {{"type", "number"}, {"exclusiveMinimum", 0}, {"description", "[Hz]"}}},
-        {"rate", {{"type", "number"}, {"exclusiveMinimum", 0}, {"description", "[Hz]"}}}}}};
+      {"type", "object"}, {"additionalProperties", false}, {"properties", properties}};
   return {{"type", "object"},
           {"description",
            "instruments recording signals with noise, bias, quantisation, a "

@@ -82,28 +82,42 @@ void apply_defaults(SensorSettings& s, const Json& v, const std::string& key) {
     if (s.defaults == e.set) sensor_named(s, e.spec.name, key) = e.spec;
 }
 
+void read_setting(std::string& out, const Json& v, const std::string& key, SensorCheck,
+                  const char* what) {
+  if (!v.is_string()) throw InputError(key, std::string("expected ") + what);
+  out = v.get<std::string>();
+}
+
+void read_setting(int& out, const Json& v, const std::string& key, SensorCheck, const char*) {
+  out = static_cast<int>(whole_number(v, key, 0, 2));
+}
+
+void read_setting(double& out, const Json& v, const std::string& key, SensorCheck c,
+                  const char* what) {
+  if (c == SensorCheck::at_least_zero) out = at_least_zero(v, key, what);
+  if (c == SensorCheck::above_zero) out = above_zero(v, key, what);
+  if (c == SensorCheck::finite) out = finite_number(v, key);
+}
+
+/// One key of a sensor's object, by the catalogue sweep/sensor_settings.def.
 void apply_sensor_field(SensorSpec& x, const std::string& k, const Json& v,
                         const std::string& key) {
-  if (k == "signal") {
-    if (!v.is_string()) throw InputError(key, "expected a signal name (rodend signals)");
-    x.signal = v.get<std::string>();
-  } else if (k == "component") {
-    x.component = static_cast<int>(whole_number(v, key, 0, 2));
-  } else if (k == "noise_std") {
-    x.noise_std = at_least_zero(v, key, "a standard deviation");
-  } else if (k == "bias") {
-    x.bias = finite_number(v, key);
-  } else if (k == "quantisation") {
-    x.quantisation = at_least_zero(v, key, "a quantisation step (0: none)");
-  } else if (k == "filter_order") {
-    x.filter_order = static_cast<int>(whole_number(v, key, 0, 2));
-  } else if (k == "cutoff") {
-    x.cutoff = above_zero(v, key, "a cut-off frequency [Hz]");
-  } else if (k == "rate") {
-    x.rate = above_zero(v, key, "a sampling rate [Hz]");
-  } else {
-    throw InputError(key, "unknown sensor key; expected one of " + quoted_list(sensor_keys()));
-  }
+#define RODEND_SENSOR_SETTING(name, type, check, unit, value, provenance, what, description) \
+  if (k == #name) return read_setting(x.name, v, key, SensorCheck::check, what);
+#include "sweep/sensor_settings.def"
+#undef RODEND_SENSOR_SETTING
+  throw InputError(key, "unknown sensor key; expected one of " + quoted_list(sensor_keys()));
+}
+
+/// A setting as the canonical form writes it (numbers as numbers, whole ones too).
+Json canonical(const std::string& v) {
+  return v;
+}
+Json canonical(double v) {
+  return v;
+}
+Json canonical(int v) {
+  return static_cast<double>(v);
 }
 
 }  // namespace
@@ -115,9 +129,19 @@ std::vector<std::string> sensor_set_names() {
   return out;
 }
 
+std::vector<std::string> sensor_set_members(const std::string& set) {
+  std::vector<std::string> out;
+  for (const SetEntry& e : set_catalogue())
+    if (set == e.set) out.push_back(e.spec.name);
+  return out;
+}
+
 const std::vector<std::string>& sensor_keys() {
-  static const std::vector<std::string> keys{"signal",       "component",    "noise_std", "bias",
-                                             "quantisation", "filter_order", "cutoff",    "rate"};
+  static const std::vector<std::string> keys{
+#define RODEND_SENSOR_SETTING(key, ...) #key,
+#include "sweep/sensor_settings.def"
+#undef RODEND_SENSOR_SETTING
+  };
   return keys;
 }
 
@@ -180,15 +204,13 @@ void check_sensors(const SensorSettings& s, const Scene& scene) {
 Json sensors_json(const SensorSettings& s) {
   if (s.empty()) return nullptr;
   Json list = Json::object();
-  for (const SensorSpec& x : s.sensors)
-    list[x.name] = {{"signal", x.signal},
-                    {"component", static_cast<double>(x.component)},
-                    {"noise_std", x.noise_std},
-                    {"bias", x.bias},
-                    {"quantisation", x.quantisation},
-                    {"filter_order", static_cast<double>(x.filter_order)},
-                    {"cutoff", x.filter_order > 0 ? x.cutoff : 0.0},
-                    {"rate", x.rate}};
+  for (const SensorSpec& x : s.sensors) {
+    Json& entry = list[x.name];
+#define RODEND_SENSOR_SETTING(key, ...) entry[#key] = canonical(x.key);
+#include "sweep/sensor_settings.def"
+#undef RODEND_SENSOR_SETTING
+    if (x.filter_order == 0) entry["cutoff"] = 0.0;  // no filter: its cut-off does not matter
+  }
   return {{"sensors", list}, {"seed", std::to_string(s.seed)}, {"noise_scale", s.noise_scale}};
 }
 

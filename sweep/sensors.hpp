@@ -17,19 +17,19 @@
 
 namespace rodend {
 
-/// One sensor, its values in the unit of the signal it reads.
+/// How a sensor setting's value is checked (the check column of sweep/sensor_settings.def).
+enum class SensorCheck { signal, zero_to_two, finite, at_least_zero, above_zero };
+
+/// One sensor, its values in the unit of the signal it reads: its name, then one member per key
+/// of sweep/sensor_settings.def (with its default).
 struct SensorSpec {
   std::string name;
-  std::string signal;         ///< a signal of the catalogue (core/signals.def)
-  int component = 0;          ///< of a signal of several components
-  double noise_std = 0.0;     ///< white noise on each sample, standard deviation
-  double bias = 0.0;          ///< added to every sample
-  double quantisation = 0.0;  ///< step of the reported values (0: none)
-  int filter_order = 0;       ///< 0 none, 1 first-order, 2 second-order Butterworth low-pass
-  double cutoff = 0.0;        ///< [Hz] the low-pass's -3 dB frequency (filter_order > 0)
-  double rate = 0.0;          ///< [Hz] samples per second, from t = 0
-  bool from_set = false;      ///< given by a named default set (left out where the scene lacks
-                              ///< its signal)
+#define RODEND_SENSOR_SETTING(key, type, check, unit, value, provenance, what, description) \
+  type key = value;
+#include "sweep/sensor_settings.def"
+#undef RODEND_SENSOR_SETTING
+  bool from_set = false;  ///< given by a named default set (left out where the scene lacks
+                          ///< its signal)
 };
 
 /// The "sensors" block of a case.
@@ -43,7 +43,9 @@ struct SensorSettings {
 
 /// The names of the default sets (sweep/sensor_sets.def).
 std::vector<std::string> sensor_set_names();
-/// The keys of one sensor's object, in order.
+/// The names of the sensors of default set `set`, in order (none for an unknown set).
+std::vector<std::string> sensor_set_members(const std::string& set);
+/// The keys of one sensor's object, in order (sweep/sensor_settings.def).
 const std::vector<std::string>& sensor_keys();
 /// Applies one key of the block: `field` is the path below "sensors." ("defaults", "seed",
 /// "noise_scale", "<name>.<key>"), `key` the full path for messages. Throws InputError.

@@ -7,9 +7,20 @@
 
 #include "core/contact.hpp"
 #include "core/integrator.hpp"
+#include "core/menus.hpp"
 #include "core/params.hpp"
+#include "core/presets.hpp"
 #include "core/scene.hpp"
+#include "core/scene_parameters.hpp"
+#include "core/scenes/drivers.hpp"
+#include "core/scenes/impact_pair.hpp"
+#include "core/scenes/parts.hpp"
+#include "core/scenes/planar_slider_crank_options.hpp"
+#include "core/scenes/profile.hpp"
+#include "core/scenes/servo_actuator.hpp"
 #include "core/wear.hpp"
+#include "sweep/menus.hpp"
+#include "sweep/study.hpp"
 
 using namespace rodend;
 
@@ -46,6 +57,84 @@ TEST_CASE("every catalogue of choices: unique names, each read back as its enum"
   check_catalogue<ContactGeometry>();
   check_catalogue<DampingCap>();
   check_catalogue<WearModelKind>();
+  check_catalogue<IntegratorPreset>();
+  check_catalogue<ParameterSource>();
+  check_catalogue<WaveformKind>();
+  check_catalogue<MotionShape>();
+  check_catalogue<HingeMomentKind>();
+  check_catalogue<ProfileInterpolation>();
+  check_catalogue<ProfilePastEnd>();
+  check_catalogue<TorqueMotor>();
+  check_catalogue<LoadKind>();
+  check_catalogue<LoadFrame>();
+  check_catalogue<OuterBody>();
+  check_catalogue<JointModel>();
+  check_catalogue<RodModel>();
+  check_catalogue<GuideModel>();
+  check_catalogue<DriveModel>();
+  check_catalogue<HistoryPrecision>();
+}
+
+TEST_CASE("every menu is one line of the catalogue of menus, listed by rodend choices",
+          "[choices]") {
+  std::set<std::string_view> ids;
+  for (const Menu& m : all_menus()) {
+    CAPTURE(m.id);
+    CHECK(ids.insert(m.id).second);
+    CHECK(!m.title.empty());
+    CHECK(!m.keys.empty());
+    const std::vector<MenuItem> items = m.items();
+    REQUIRE(!items.empty());
+    std::set<std::string> names;
+    for (const MenuItem& i : items) {
+      CHECK(names.insert(i.name).second);
+      CHECK(!i.description.empty());
+    }
+  }
+  // the 24 of the core, then the batch runner's (the design menus join them there)
+  CHECK(core_menus().size() == 24);
+  CHECK(all_menus().size() >= 26);
+  // the menus scene files name: each leaf's catalogue resolves to the menu's names
+  CHECK(parameter_catalogue("outer_bodies") == std::vector<std::string>{"fixed", "free"});
+  CHECK(parameter_catalogue("normal_laws").size() == normal_laws().size());
+  CHECK(parameter_catalogue("no_such_menu").empty());
+  const Menu* sets = find_menu(all_menus(), "sensor_sets");
+  REQUIRE(sets);
+  CHECK(menu_names(*sets) == std::vector<std::string>{"typical"});
+}
+
+TEST_CASE("the waveforms are one list inside both menus that offer them", "[choices]") {
+  const std::size_t n = choice_count(WaveformKind{});
+  CHECK(choice_count(MotionShape{}) == 4 + n);
+  CHECK(choice_count(HingeMomentKind{}) == 4 + n);
+  for (WaveformKind w : choice_values<WaveformKind>()) {
+    CAPTURE(choice_name(w));
+    const auto i = static_cast<std::size_t>(w);
+    CHECK(choice_names(MotionShape{})[3 + i] == choice_name(w));
+    CHECK(choice_names(HingeMomentKind{})[3 + i] == choice_name(w));
+    Waveform wave;
+    wave.kind = w;
+    // the catalogue's single-frequency column: sine and triangle
+    CHECK(wave.single_frequency() == (w == WaveformKind::sine || w == WaveformKind::triangle));
+  }
+}
+
+TEST_CASE("an unknown name: the key, the menu's names and the nearest one", "[choices]") {
+  CHECK(nearest_name(choice_names(JointModel{}), "clearence") == "clearance");
+  CHECK(nearest_name(choice_names(JointModel{}), "welded").empty());
+  CHECK(choice_expected<OuterBody>("fre") ==
+        "expected \"fixed\" or \"free\", got \"fre\" (did you mean \"free\"?)");
+  ParameterSet p = ParameterSet::defaults_for("impact-pair");
+  REQUIRE_THROWS_WITH(p.set("impact.outer_body", "fre"), Catch::Contains("impact.outer_body"));
+  // a leaf without a list of choices: the reader's own message
+  const ParameterSet q = ParameterSet::from_json(
+      Json::parse(R"({"guide": {"model": {"value": "idael", "unit": "1", "source": "assumed",
+                                          "note": "a misspelt name"}}})"),
+      "test");
+  REQUIRE_THROWS_WITH(read_choice<GuideModel>(q, "guide.model"),
+                      Catch::Contains("guide.model") &&
+                          Catch::Contains("expected \"ideal\" or \"clearance\", got \"idael\" "
+                                          "(did you mean \"ideal\"?)"));
 }
 
 TEST_CASE("the names of choices are those studies and results files use", "[choices]") {

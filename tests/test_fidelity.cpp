@@ -352,7 +352,7 @@ TEST_CASE("chamber flows are positive into each chamber (thesis fig. 6.20-6.21)"
 TEST_CASE("torque motor: the solenoid law of eq. 6.1 against the linear one",
           "[actuator][fidelity]") {
   std::vector<std::string> names;
-  for (std::string_view n : torque_motor_names()) names.emplace_back(n);
+  for (std::string_view n : choice_names(TorqueMotor{})) names.emplace_back(n);
   REQUIRE(names == std::vector<std::string>{"linear", "solenoid"});
   for (const char* scene : {"servo-actuator", "rod-end-actuator"}) {
     const ParameterSet p = ParameterSet::defaults_for(scene);

@@ -114,9 +114,9 @@ TEST_CASE("log chirp: ln(f1/f0) read once gives the values of computing it per c
 }
 
 TEST_CASE("waveform catalogues: one list for the command and the hinge moment", "[inputs]") {
-  const auto shapes = motion_shape_names();
-  const auto kinds = hinge_moment_names();
-  const auto waves = waveform_names();
+  const auto shapes = choice_names(MotionShape{});
+  const auto kinds = choice_names(HingeMomentKind{});
+  const auto waves = choice_names(WaveformKind{});
   // three strokes or loads of their own, the waveforms, then a profile from data (profile.hpp)
   REQUIRE(shapes.size() == 4 + waves.size());
   REQUIRE(kinds.size() == 4 + waves.size());

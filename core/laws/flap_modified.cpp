@@ -10,6 +10,10 @@ namespace {
 class Law final : public NormalLaw {
  public:
   std::string_view name() const override { return "flap-modified"; }
+  std::string_view description() const override {
+    return "the flap-actuation study's modified law: Gonthier's chi, meant for contact.geometry "
+           "cylinder (model-notes §3)";
+  }
   double hysteresis_factor(double cr) const override { return (1.0 - cr * cr) / cr; }
   bool defined_at_zero_restitution() const override { return false; }
 };

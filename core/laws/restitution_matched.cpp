@@ -48,6 +48,10 @@ double relation(double chi, double e) {
 class Law final : public NormalLaw {
  public:
   std::string_view name() const override { return "restitution-matched"; }
+  std::string_view description() const override {
+    return "chi(c_r) such that a free impact restitutes exactly c_r, for either geometry; "
+           "undefined at c_r = 0";
+  }
   double hysteresis_factor(double cr) const override { return hysteresis_for_restitution(cr); }
   bool defined_at_zero_restitution() const override { return false; }
 };

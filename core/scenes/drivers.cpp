@@ -11,34 +11,13 @@ namespace rodend {
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
-#define RODEND_X(id, name) name,
-constexpr std::string_view kWaveNames[]{RODEND_WAVEFORMS(RODEND_X)};
-constexpr std::string_view kShapeNames[]{"raised-cosine", "minimum-jerk", "step",
-                                         RODEND_WAVEFORMS(RODEND_X) "profile"};
-constexpr std::string_view kHingeNames[]{"none", "constant", "proportional",
-                                         RODEND_WAVEFORMS(RODEND_X) "profile"};
-#undef RODEND_X
-constexpr auto kWaveformCount = std::size(kWaveNames);
-static_assert(std::size(kShapeNames) == 4 + kWaveformCount);
-static_assert(std::size(kHingeNames) == 4 + kWaveformCount);
-static_assert(static_cast<std::size_t>(ActuatorMotion::Shape::profile) + 1 ==
-              std::size(kShapeNames));
-static_assert(static_cast<std::size_t>(HingeMoment::Kind::profile) + 1 == std::size(kHingeNames));
-
-/// The position of the text at `path` in `names`; InputError naming them if it is not there.
-std::size_t catalogue_index(const ParameterSet& p, const std::string& path,
-                            std::span<const std::string_view> names) {
-  const std::string s = p.text(path);
-  const auto it = std::find(names.begin(), names.end(), s);
-  if (it != names.end()) return static_cast<std::size_t>(it - names.begin());
-  std::string expected;
-  for (std::size_t i = 0; i < names.size(); ++i)
-    expected += (i == 0                  ? ""
-                 : i + 1 == names.size() ? " or "
-                                         : ", ") +
-                ("\"" + std::string(names[i]) + "\"");
-  throw InputError(path, "expected " + expected);
-}
+// the waveforms sit at the same place in both menus that include them
+constexpr auto kWaveformCount = choice_count(WaveformKind{});
+static_assert(static_cast<int>(MotionShape::profile) - static_cast<int>(MotionShape::sine) ==
+              static_cast<int>(kWaveformCount));
+static_assert(static_cast<int>(HingeMomentKind::profile) -
+                  static_cast<int>(HingeMomentKind::sine) ==
+              static_cast<int>(kWaveformCount));
 
 /// Normalised stroke S(u), u in [0, 1], and its first two derivatives.
 void stroke_shape(ActuatorMotion::Shape s, double u, double& S, double& dS, double& ddS) {
@@ -79,13 +58,18 @@ int read_cycles(const ParameterSet& p, const std::string& key) {
 
 }  // namespace
 
-std::span<const std::string_view> waveform_names() {
-  return kWaveNames;
-}
-
 std::optional<PeriodicInput> periodic_input(const Waveform& w) {
   if (!w.single_frequency()) return std::nullopt;
   return PeriodicInput{w.frequency, w.start_time, w.cycles, w.amplitude};
+}
+
+bool Waveform::single_frequency() const {
+  static constexpr bool kSingle[] = {
+#define RODEND_CHOICE(identifier, name, description, single_frequency) single_frequency,
+#include "core/scenes/waveforms.def"
+#undef RODEND_CHOICE
+  };
+  return kSingle[static_cast<std::size_t>(kind)];
 }
 
 double Waveform::end_time() const {
@@ -201,13 +185,9 @@ ActuatorMotion::Sample ActuatorMotion::at(double t) const {
   return {-retraction, 0.0, 0.0};
 }
 
-std::span<const std::string_view> motion_shape_names() {
-  return kShapeNames;
-}
-
 ActuatorMotion read_motion(const ParameterSet& p, const std::string& prefix) {
   ActuatorMotion m;
-  m.shape = static_cast<ActuatorMotion::Shape>(catalogue_index(p, prefix + ".shape", kShapeNames));
+  m.shape = read_choice<MotionShape>(p, prefix + ".shape");
   m.extension = read_positive(p, prefix + ".extension", true);
   m.retraction = read_positive(p, prefix + ".retraction", true);
   m.extension_time = read_positive(p, prefix + ".extension_time");
@@ -247,13 +227,9 @@ double HingeMoment::at(double t, double theta) const {
   return m;
 }
 
-std::span<const std::string_view> hinge_moment_names() {
-  return kHingeNames;
-}
-
 HingeMoment read_hinge(const ParameterSet& p, const std::string& prefix) {
   HingeMoment h;
-  h.kind = static_cast<HingeMoment::Kind>(catalogue_index(p, prefix + ".kind", kHingeNames));
+  h.kind = read_choice<HingeMomentKind>(p, prefix + ".kind");
   h.constant_moment = p.number(prefix + ".constant_moment");
   h.step_time = read_positive(p, prefix + ".step_time", true);
   h.stiffness = read_positive(p, prefix + ".stiffness", true);

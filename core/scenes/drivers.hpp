@@ -7,20 +7,26 @@
 #include <string_view>
 #include <utility>
 
+#include "core/choice.hpp"
 #include "core/params.hpp"
 #include "core/scene.hpp"
 #include "core/scenes/profile.hpp"
 
 namespace rodend {
 
-/// The periodic and swept waveforms, offered both as position commands (motion.shape) and as
-/// hinge moments (hinge.kind): RODEND_X(enumerator, "name"). One line adds a waveform to both
-/// catalogues (its formula goes in Waveform::at, drivers.cpp).
-#define RODEND_WAVEFORMS(RODEND_X)       \
-  RODEND_X(sine, "sine")                 \
-  RODEND_X(linear_chirp, "linear-chirp") \
-  RODEND_X(log_chirp, "log-chirp")       \
-  RODEND_X(triangle, "triangle")
+/// The menus of this file (core/choice.hpp): the waveforms (core/scenes/waveforms.def), offered
+/// both as position commands (motion.shape, core/scenes/motion_shapes.def) and as hinge moments
+/// (hinge.kind, core/scenes/hinge_moments.def), which include the waveforms' lines: one line
+/// adds a waveform to both (its formula goes in Waveform::at, drivers.cpp).
+#define RODEND_CHOICE_ENUM WaveformKind
+#define RODEND_CHOICE_FILE "core/scenes/waveforms.def"
+#include "core/choice.hpp"
+#define RODEND_CHOICE_ENUM MotionShape
+#define RODEND_CHOICE_FILE "core/scenes/motion_shapes.def"
+#include "core/choice.hpp"
+#define RODEND_CHOICE_ENUM HingeMomentKind
+#define RODEND_CHOICE_FILE "core/scenes/hinge_moments.def"
+#include "core/choice.hpp"
 
 /// A periodic or swept waveform w(t) on the window [start_time, end_time()], `offset` before
 /// it and its end value after it (offset after whole periods of sine and triangle; a chirp
@@ -32,11 +38,8 @@ namespace rodend {
 ///   log-chirp:    offset + A sin(2 pi f0 D (k^(tau/D) - 1) / ln k), k = f1/f0, over D
 /// (the chirps' instantaneous frequency runs from f0 to f1 linearly or geometrically in time).
 struct Waveform {
-  enum class Kind {
-#define RODEND_X(id, name) id,
-    RODEND_WAVEFORMS(RODEND_X)
-#undef RODEND_X
-  } kind = Kind::sine;
+  using Kind = WaveformKind;
+  Kind kind = Kind::sine;
   double amplitude = 0.0;        ///< A [unit of the signal]
   double frequency = 1.0;        ///< f of sine and triangle [Hz]
   double offset = 0.0;           ///< [unit of the signal]
@@ -59,16 +62,11 @@ struct Waveform {
   double end_time() const;
   /// Whether the waveform has one frequency (sine, triangle): what the frequency-response and
   /// free-play metrics read (Scene::periodic_inputs).
-  bool single_frequency() const {
-    return kind == Kind::sine || kind == Kind::triangle;
-  }
+  bool single_frequency() const;
 };
 
 /// The waveform as a PeriodicInput (Scene::periodic_inputs) when it has one frequency.
 std::optional<PeriodicInput> periodic_input(const Waveform& w);
-
-/// The waveform names in the order of Waveform::Kind.
-std::span<const std::string_view> waveform_names();
 
 /// Reads the waveform keys under `prefix` (amplitude, frequency, offset, start_time, cycles,
 /// start_frequency, end_frequency, chirp_duration), checking only those `kind` uses: a frequency
@@ -85,17 +83,10 @@ Waveform read_waveform(const ParameterSet& p, const std::string& prefix, Wavefor
 struct ActuatorMotion {
   /// step: the position jumps at the start of each stroke (a command only: the actuator scenes
   /// accept it, the kinematic scene, which needs a velocity, rejects it)
-  /// then the waveforms (RODEND_WAVEFORMS), which replace the stroke by `wave`
+  /// then the waveforms (core/scenes/waveforms.def), which replace the stroke by `wave`
   /// then profile: a time series from a file (`<prefix>.profile.*`, core/scenes/profile.hpp)
-  enum class Shape {
-    raised_cosine,
-    minimum_jerk,
-    step,
-#define RODEND_X(id, name) id,
-    RODEND_WAVEFORMS(RODEND_X)
-#undef RODEND_X
-        profile,
-  } shape = Shape::raised_cosine;
+  using Shape = MotionShape;
+  Shape shape = Shape::raised_cosine;
   double extension = 0.05;       ///< extended position [m]
   double retraction = 0.0;       ///< retracted position is -retraction [m]
   double extension_time = 1.0;   ///< [s]
@@ -107,13 +98,9 @@ struct ActuatorMotion {
   ProfileInput profile;  ///< the time series of shape profile [m]
 
   /// Whether the shape is a waveform (sine, chirp, triangle).
-  bool is_waveform() const {
-    return shape > Shape::step && shape < Shape::profile;
-  }
+  bool is_waveform() const { return shape > Shape::step && shape < Shape::profile; }
   /// Whether the shape is a stroke out and back (raised-cosine, minimum-jerk, step).
-  bool is_stroke() const {
-    return shape <= Shape::step;
-  }
+  bool is_stroke() const { return shape <= Shape::step; }
   /// The smallest and largest position the profile reaches [m] (0 included: the start).
   std::pair<double, double> range() const;
 
@@ -125,14 +112,8 @@ struct ActuatorMotion {
   /// Time at which the profile ends (after the last hold; a profile's last sample) [s].
   double duration() const;
   /// One stroke cycle: extension, hold, retraction, hold [s].
-  double stroke_period() const {
-    return extension_time + retraction_time + 2.0 * hold_time;
-  }
+  double stroke_period() const { return extension_time + retraction_time + 2.0 * hold_time; }
 };
-
-/// The catalogue of profile shapes: the allowed values of `<prefix>.shape`, in the order of
-/// ActuatorMotion::Shape.
-std::span<const std::string_view> motion_shape_names();
 
 /// Reads `<prefix>.*` (shape, extension, retraction, extension_time, retraction_time,
 /// hold_time, start_time, cycles; the waveform's keys; `<prefix>.profile.*` for a profile).
@@ -144,17 +125,10 @@ ActuatorMotion read_motion(const ParameterSet& p, const std::string& prefix);
 ///   proportional: -k theta, always opposing deflection;
 ///   plus an optional sinusoidal term A sin(2 pi f t).
 struct HingeMoment {
-  /// then the waveforms (RODEND_WAVEFORMS): M = the waveform `wave`
+  /// then the waveforms (core/scenes/waveforms.def): M = the waveform `wave`
   /// then profile: M = the time series `profile` from a file (`<prefix>.profile.*`)
-  enum class Kind {
-    none,
-    constant,
-    proportional,
-#define RODEND_X(id, name) id,
-    RODEND_WAVEFORMS(RODEND_X)
-#undef RODEND_X
-        profile,
-  } kind = Kind::none;
+  using Kind = HingeMomentKind;
+  Kind kind = Kind::none;
   double constant_moment = 0.0;  ///< M0 [N m]
   double step_time = 0.0;        ///< [s]
   double stiffness = 0.0;        ///< k [N m/rad]
@@ -163,24 +137,14 @@ struct HingeMoment {
   Waveform wave;                 ///< the moment of a waveform kind [N m]
   ProfileInput profile;          ///< the moment of kind profile [N m]
 
-  bool is_waveform() const {
-    return kind > Kind::proportional && kind < Kind::profile;
-  }
+  bool is_waveform() const { return kind > Kind::proportional && kind < Kind::profile; }
 
   double at(double t, double theta) const;
   /// Whether at() is 0 at every (t, theta): kind none without a sine term.
-  bool is_zero() const {
-    return kind == Kind::none && sine_amplitude == 0.0;
-  }
+  bool is_zero() const { return kind == Kind::none && sine_amplitude == 0.0; }
   /// d at / d theta [N m/rad] (the exact Jacobians).
-  double slope() const {
-    return kind == Kind::proportional ? -stiffness : 0.0;
-  }
+  double slope() const { return kind == Kind::proportional ? -stiffness : 0.0; }
 };
-
-/// The catalogue of hinge-moment kinds: the allowed values of hinge.kind, in the order of
-/// HingeMoment::Kind.
-std::span<const std::string_view> hinge_moment_names();
 
 HingeMoment read_hinge(const ParameterSet& p, const std::string& prefix);
 

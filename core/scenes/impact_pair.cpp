@@ -19,6 +19,7 @@
 #include <cmath>
 
 #include "core/scene.hpp"
+#include "core/scenes/impact_pair.hpp"
 #include "core/scenes/parts.hpp"
 
 namespace rodend {
@@ -50,10 +51,7 @@ class ImpactPairScene final : public OneContactScene<ImpactPairScene> {
         approach_speed_(read_positive(p, "impact.approach_speed")),
         tangential_speed_(p.number("impact.tangential_speed")),
         gravity_(p.vec3("gravity")) {
-    const std::string outer = p.text("impact.outer_body");
-    if (outer != "fixed" && outer != "free")
-      throw InputError("impact.outer_body", "expected \"fixed\" or \"free\"");
-    free_ = outer == "free";
+    free_ = read_choice<OuterBody>(p, "impact.outer_body") == OuterBody::free;
     if (!std::isfinite(tangential_speed_))
       throw InputError("impact.tangential_speed", "expected a finite number [m/s]");
     dissipated_ = free_ ? 2 * BodyStateLayout::size : BodyStateLayout::size;

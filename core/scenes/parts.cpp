@@ -135,22 +135,11 @@ Spring3DParams read_spring(const ParameterSet& p, const std::string& prefix) {
 
 LoadProfile read_load(const ParameterSet& p, const std::string& prefix) {
   LoadProfile l;
-  const std::string kind = p.text(prefix + ".kind");
-  if (kind == "constant")
-    l.kind = LoadProfile::Kind::constant;
-  else if (kind == "sine")
-    l.kind = LoadProfile::Kind::sine;
-  else if (kind == "ramp")
-    l.kind = LoadProfile::Kind::ramp;
-  else
-    throw InputError(prefix + ".kind", "expected \"constant\", \"sine\" or \"ramp\"");
+  l.kind = read_choice<LoadKind>(p, prefix + ".kind");
   l.amplitude = p.vec3(prefix + ".amplitude");
   l.frequency = read_positive(p, prefix + ".frequency", true);
   l.ramp_time = read_positive(p, prefix + ".ramp_time");
-  const std::string frame = p.text(prefix + ".frame");
-  if (frame != "inertial" && frame != "body")
-    throw InputError(prefix + ".frame", "expected \"inertial\" or \"body\"");
-  l.body_frame = frame == "body";
+  l.body_frame = read_choice<LoadFrame>(p, prefix + ".frame") == LoadFrame::body;
   return l;
 }
 

@@ -37,19 +37,29 @@ std::string format_number(double v);
 double read_positive(const ParameterSet& p, const std::string& path, bool allow_zero = false);
 
 /// A choice of a catalogue (core/choice.hpp) named by the text at `path`; an unknown name is an
-/// InputError listing the catalogue's names ("expected \"a\" or \"b\"").
+/// InputError naming the key path, listing the catalogue's names and the nearest one
+/// (choice_expected). The one reader of a menu's name in a parameter set.
 template <Choice E>
 E read_choice(const ParameterSet& p, const std::string& path) {
   const std::string name = p.text(path);
   if (const auto e = choice_from_name<E>(name)) return *e;
-  throw InputError(path, "expected " + choice_alternatives<E>());
+  throw InputError(path, choice_expected<E>(name));
 }
 
 /// A load history: `<prefix>.kind` in {constant, sine, ramp}, `<prefix>.amplitude` (3 numbers),
 /// `<prefix>.frequency` [Hz] for sine, `<prefix>.ramp_time` [s] for ramp.
 ///   constant: A;  sine: A sin(2 pi f t);  ramp: A t / T
+#define RODEND_CHOICE_ENUM LoadKind
+#define RODEND_CHOICE_FILE "core/scenes/load_kinds.def"
+#include "core/choice.hpp"
+/// The frame a load's amplitude is given in (`<prefix>.frame`).
+#define RODEND_CHOICE_ENUM LoadFrame
+#define RODEND_CHOICE_FILE "core/scenes/load_frames.def"
+#include "core/choice.hpp"
+
 struct LoadProfile {
-  enum class Kind { constant, sine, ramp } kind = Kind::constant;
+  using Kind = LoadKind;  ///< the menu core/scenes/load_kinds.def
+  Kind kind = Kind::constant;
   Vec3 amplitude = Vec3::Zero();
   double frequency = 0.0;   ///< [Hz]
   double ramp_time = 1.0;   ///< [s]

@@ -297,10 +297,7 @@ class PlanarSliderCrankScene final : public Scene {
   void read_joints(const ParameterSet& p) {
     for (int j = 0; j < 3; ++j) {
       const std::string key = kJointKeys[static_cast<std::size_t>(j)];
-      const std::string model = p.text(key + ".model");
-      if (model != "ideal" && model != "clearance")
-        throw InputError(key + ".model", "expected \"ideal\" or \"clearance\"");
-      if (model == "clearance") {
+      if (read_choice<JointModel>(p, key + ".model") == JointModel::clearance) {
         const double c = p.number(key + ".clearance");
         if (!(c > 0.0) || !std::isfinite(c))
           throw InputError(key + ".clearance",

@@ -1,6 +1,6 @@
 // Scene planar-slider-crank, the model forms of issue 36 item 4: each an option of the scene, a
-// parameter block read once into an immutable model, its choice an enum (the names only here,
-// in the order of the enum, and in the parameter file's "choices").
+// parameter block read once into an immutable model, its choice an enum (the names only in its
+// menu, core/scenes/rod_models.def, guide_models.def, drive_models.def).
 //   rod_flexibility  the connecting rod's first bending mode in a floating frame (rigid: none);
 //   guide            the slider's guide with clearance and friction (ideal: a rigid,
 //                    frictionless guide);
@@ -15,6 +15,7 @@
 #include <string>
 #include <string_view>
 
+#include "core/choice.hpp"
 #include "core/contact.hpp"
 #include "core/errors.hpp"
 #include "core/params.hpp"
@@ -22,18 +23,20 @@
 
 namespace rodend {
 
-/// `key` as the index of its value in `names` (the enum's order); the error lists the names.
-template <std::size_t N>
-int read_choice(const ParameterSet& p, const std::string& key,
-                const std::array<std::string_view, N>& names) {
-  const std::string v = p.text(key);
-  std::string list;
-  for (std::size_t i = 0; i < N; ++i) {
-    if (v == names[i]) return static_cast<int>(i);
-    list += (i ? ", \"" : "\"") + std::string(names[i]) + "\"";
-  }
-  throw InputError(key, "expected one of " + list + ", got \"" + v + "\"");
-}
+/// The menus of the model forms (core/choice.hpp), read by read_choice (parts.hpp).
+#define RODEND_CHOICE_ENUM RodModel
+#define RODEND_CHOICE_FILE "core/scenes/rod_models.def"
+#include "core/choice.hpp"
+#define RODEND_CHOICE_ENUM GuideModel
+#define RODEND_CHOICE_FILE "core/scenes/guide_models.def"
+#include "core/choice.hpp"
+#define RODEND_CHOICE_ENUM DriveModel
+#define RODEND_CHOICE_FILE "core/scenes/drive_models.def"
+#include "core/choice.hpp"
+/// A revolute joint of the mechanism: ideal, or with clearance (`<joint>.model`).
+#define RODEND_CHOICE_ENUM JointModel
+#define RODEND_CHOICE_FILE "core/scenes/joint_models.def"
+#include "core/choice.hpp"
 
 /// The connecting rod's first bending mode, pinned-pinned in the chord frame (the frame through
 /// the two bore centres, so the joints see no deflection): w(s, t) = eta(t) sin(pi s / L), of a
@@ -42,8 +45,7 @@ int read_choice(const ParameterSet& p, const std::string& key,
 /// rod (each point a mass m w_k / 2 moving with the rod plus eta psi_k normal to its chord), so
 /// the rigid rod with the table's mass and inertia is kept exactly and eta = 0 is the rigid rod.
 struct RodMode {
-  enum class Model { rigid, first_mode };
-  static constexpr std::array<std::string_view, 2> kNames{"rigid", "first_mode"};
+  using Model = RodModel;
   static constexpr int kPoints = 5;
   Model model = Model::rigid;
   double stiffness = 0.0;  ///< modal stiffness EI (pi/L)^4 L/2 [N/m]
@@ -54,7 +56,7 @@ struct RodMode {
 
   static RodMode read(const ParameterSet& p, double L, double m, double inertia, double com) {
     RodMode r;
-    r.model = static_cast<Model>(read_choice(p, "rod_flexibility.model", kNames));
+    r.model = read_choice<RodModel>(p, "rod_flexibility.model");
     if (!r.on()) return r;
     const double E = read_positive(p, "rod_flexibility.youngs_modulus");
     const double I = read_positive(p, "rod_flexibility.section_second_moment");
@@ -93,8 +95,7 @@ struct RodMode {
 /// mu F_n along the guide, regularised below friction_speed (Ambrosio's c_d ramp from
 /// friction_speed/10 to friction_speed).
 struct Guide {
-  enum class Model { ideal, clearance };
-  static constexpr std::array<std::string_view, 2> kNames{"ideal", "clearance"};
+  using Model = GuideModel;
   Model model = Model::ideal;
   double clearance = 0.0;  ///< half the play across the guide [m]
   double stiffness = 0.0;  ///< wall stiffness [N/m]
@@ -105,7 +106,7 @@ struct Guide {
 
   static Guide read(const ParameterSet& p, double slider_mass) {
     Guide g;
-    g.model = static_cast<Model>(read_choice(p, "guide.model", kNames));
+    g.model = read_choice<GuideModel>(p, "guide.model");
     if (!g.on()) return g;
     g.clearance = read_positive(p, "guide.clearance");
     g.stiffness = read_positive(p, "guide.stiffness");
@@ -142,8 +143,7 @@ struct Guide {
 /// controller) tau = slope (omega - theta') about the no-load speed omega = drive.crank_speed,
 /// through the flywheel's inertia (motor rotor, gear and flywheel, referred to the crank shaft).
 struct Drive {
-  enum class Model { prescribed_speed, motor };
-  static constexpr std::array<std::string_view, 2> kNames{"prescribed_speed", "motor"};
+  using Model = DriveModel;
   Model model = Model::prescribed_speed;
   double flywheel = 0.0;  ///< [kg m^2] about the crank axis
   double slope = 0.0;     ///< [N m s/rad]
@@ -151,7 +151,7 @@ struct Drive {
 
   static Drive read(const ParameterSet& p) {
     Drive d;
-    d.model = static_cast<Model>(read_choice(p, "drive.model", kNames));
+    d.model = read_choice<DriveModel>(p, "drive.model");
     if (!d.on()) return d;
     d.flywheel = read_positive(p, "drive.flywheel_inertia");
     d.slope = read_positive(p, "drive.motor_slope");

@@ -3,25 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/scenes/parts.hpp"
+
 namespace rodend {
 namespace {
-
-#define RODEND_X(id, name) name,
-constexpr std::string_view kInterpolationNames[]{RODEND_PROFILE_INTERPOLATIONS(RODEND_X)};
-constexpr std::string_view kPastEndNames[]{RODEND_PROFILE_PAST_END(RODEND_X)};
-#undef RODEND_X
-
-/// The position of the text at `path` in `names`; InputError naming them if it is not there.
-std::size_t index_of(const ParameterSet& p, const std::string& path,
-                     std::span<const std::string_view> names) {
-  const std::string s = p.text(path);
-  const auto it = std::find(names.begin(), names.end(), s);
-  if (it != names.end()) return static_cast<std::size_t>(it - names.begin());
-  std::string expected;
-  for (std::string_view n : names)
-    expected += (expected.empty() ? "\"" : ", \"") + std::string(n) + "\"";
-  throw InputError(path, "expected one of " + expected);
-}
 
 /// The cubic Hermite interpolant on [t0, t0 + h] through (y0, slope d0) and (y1, slope d1).
 ProfileInput::Sample hermite(double s, double h, double y0, double y1, double d0, double d1) {
@@ -78,19 +63,10 @@ std::pair<double, double> ProfileInput::range() const {
   return {*lo, *hi};
 }
 
-std::span<const std::string_view> profile_interpolation_names() {
-  return kInterpolationNames;
-}
-std::span<const std::string_view> profile_past_end_names() {
-  return kPastEndNames;
-}
-
 ProfileInput read_profile_input(const ParameterSet& p, const std::string& prefix) {
   ProfileInput in;
-  in.interpolation = static_cast<ProfileInput::Interpolation>(
-      index_of(p, prefix + ".interpolation", kInterpolationNames));
-  in.past_end =
-      static_cast<ProfileInput::PastEnd>(index_of(p, prefix + ".past_end", kPastEndNames));
+  in.interpolation = read_choice<ProfileInterpolation>(p, prefix + ".interpolation");
+  in.past_end = read_choice<ProfilePastEnd>(p, prefix + ".past_end");
   in.data = p.attached(prefix + ".file");
   if (!in.data)
     throw InputError(prefix + ".file",

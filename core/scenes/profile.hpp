@@ -11,44 +11,38 @@
 #include <utility>
 #include <vector>
 
+#include "core/choice.hpp"
 #include "core/params.hpp"
 #include "core/profile_data.hpp"
 
 namespace rodend {
 
-/// How a profile is read between its samples: RODEND_X(enumerator, "name").
+/// How a profile is read between its samples (core/scenes/profile_interpolations.def):
 ///   linear: straight lines (the value is continuous, its rate steps at each sample)
 ///   pchip:  the monotone piecewise-cubic Hermite interpolant (Fritsch & Carlson 1980, slopes
 ///           by Brodlie's weighted harmonic mean as in MATLAB's and Boost's pchip): continuous
 ///           value and rate, no overshoot (it stays within each interval's two samples)
-#define RODEND_PROFILE_INTERPOLATIONS(RODEND_X) \
-  RODEND_X(linear, "linear")                    \
-  RODEND_X(pchip, "pchip")
+#define RODEND_CHOICE_ENUM ProfileInterpolation
+#define RODEND_CHOICE_FILE "core/scenes/profile_interpolations.def"
+#include "core/choice.hpp"
 
-/// What a profile does past its last sample: RODEND_X(enumerator, "name").
+/// What a profile does past its last sample (core/scenes/profile_past_end.def):
 ///   error:  a run longer than the profile is refused when the study is loaded
 ///   hold:   the last value is held
 ///   repeat: the profile repeats with the period last time - first time
-#define RODEND_PROFILE_PAST_END(RODEND_X) \
-  RODEND_X(error, "error")                \
-  RODEND_X(hold, "hold")                  \
-  RODEND_X(repeat, "repeat")
+#define RODEND_CHOICE_ENUM ProfilePastEnd
+#define RODEND_CHOICE_FILE "core/scenes/profile_past_end.def"
+#include "core/choice.hpp"
 
 /// Fills `d.slope` (pchip) from d.time and d.value (at least two samples, time increasing).
 void compute_pchip_slopes(ProfileData& d);
 
 /// A profile as a scene reads it.
 struct ProfileInput {
-  enum class Interpolation {
-#define RODEND_X(id, name) id,
-    RODEND_PROFILE_INTERPOLATIONS(RODEND_X)
-#undef RODEND_X
-  } interpolation = Interpolation::linear;
-  enum class PastEnd {
-#define RODEND_X(id, name) id,
-    RODEND_PROFILE_PAST_END(RODEND_X)
-#undef RODEND_X
-  } past_end = PastEnd::error;
+  using Interpolation = ProfileInterpolation;
+  using PastEnd = ProfilePastEnd;
+  Interpolation interpolation = Interpolation::linear;
+  PastEnd past_end = PastEnd::error;
   std::shared_ptr<const ProfileData> data;
 
   /// Value, rate and its rate at time t. Before the first sample the first value is held; past
@@ -61,13 +55,8 @@ struct ProfileInput {
   /// The smallest and largest value (both interpolations stay within the samples' range).
   std::pair<double, double> range() const;
   /// The time of the last sample [s].
-  double end_time() const {
-    return data->end();
-  }
+  double end_time() const { return data->end(); }
 };
-
-std::span<const std::string_view> profile_interpolation_names();
-std::span<const std::string_view> profile_past_end_names();
 
 /// Reads `<prefix>.interpolation`, `<prefix>.past_end` and the data attached to `<prefix>.file`
 /// (ParameterSet::attach, done by the study that loaded the parameters). Throws InputError

@@ -17,13 +17,7 @@ S opening(const S& x, double e) {
   return 0.5 * (x + sqrt(x * x + e * e));
 }
 
-constexpr std::array<std::string_view, 2> kTorqueMotorNames{"linear", "solenoid"};
-
 }  // namespace
-
-std::span<const std::string_view> torque_motor_names() {
-  return kTorqueMotorNames;
-}
 
 ServoActuatorParams read_servo_actuator(const ParameterSet& p, const std::string& pre) {
   ServoActuatorParams a;
@@ -34,16 +28,7 @@ ServoActuatorParams read_servo_actuator(const ParameterSet& p, const std::string
   a.ki = pos("integral_gain", true);
   a.current_limit = pos("current_limit");
   a.lvdt_time_constant = pos("lvdt_time_constant");
-  const std::string motor = p.text(pre + ".torque_motor");
-  bool known = false;
-  for (std::size_t i = 0; i < kTorqueMotorNames.size(); ++i)
-    if (kTorqueMotorNames[i] == motor) {
-      a.torque_motor = static_cast<TorqueMotor>(i);
-      known = true;
-    }
-  if (!known)
-    throw InputError(pre + ".torque_motor",
-                     "expected \"linear\" or \"solenoid\", got \"" + motor + "\"");
+  a.torque_motor = read_choice<TorqueMotor>(p, pre + ".torque_motor");
   a.motor_gain = pos("motor_gain");
   a.jet_mass = pos("jet_mass");
   a.jet_stiffness = pos("jet_stiffness", true);

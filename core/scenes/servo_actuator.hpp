@@ -13,20 +13,21 @@
 #include <string>
 #include <string_view>
 
+#include "core/choice.hpp"
 #include "core/params.hpp"
 #include "core/signals.hpp"
 
 namespace rodend {
 
-/// Force law of the torque motor (thesis eq. 6.1), in the order of torque_motor_names():
+/// Force law of the torque motor (thesis eq. 6.1), the menu core/scenes/torque_motors.def:
 ///   linear:   F = motor_gain i (the push-pull motor with a polarising flux: (I0 + i)^2 -
 ///             (I0 - i)^2 = 4 I0 i, exactly linear in the current at a fixed air gap);
 ///   solenoid: eq. 6.1 as the thesis writes it, F = B^2 S / (2 mu) with B proportional to the
 ///             current of the one solenoid energised (no bias): F = motor_gain I_r (i/I_r)|i/I_r|,
 ///             I_r = current_limit, so both laws give the same force at the rated current.
-enum class TorqueMotor { linear, solenoid };
-/// The catalogue: the allowed values of actuator.torque_motor, in enum order.
-std::span<const std::string_view> torque_motor_names();
+#define RODEND_CHOICE_ENUM TorqueMotor
+#define RODEND_CHOICE_FILE "core/scenes/torque_motors.def"
+#include "core/choice.hpp"
 
 struct ServoActuatorParams {
   // controller and sensor

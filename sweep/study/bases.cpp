@@ -21,8 +21,8 @@ Draft base_draft(const std::string& name, const Json& doc, bool several, const O
   Draft base;
   base.scene = name;
   base.skip_absent_parameters = several;
-  base.parameters = ParameterSet::defaults_for(name);        // unknown scene -> key "scene"
-  base.integrator = *preset_settings(name, kDefaultPreset);  // overridden below
+  base.parameters = ParameterSet::defaults_for(name);  // unknown scene -> key "scene"
+  base.integrator = *preset_settings(name, choice_name(kDefaultPreset));  // overridden below
   try {
     for (const std::string& section : case_sections()) apply_section(base, doc, section, origins);
     apply_section(base, doc, "sensors", origins);
