@@ -33,6 +33,8 @@
 #include <type_traits>
 #include <vector>
 
+#include "core/edit_distance.hpp"
+
 namespace rodend {
 
 /// An enum with a catalogue: choice_names(E{}) lists its names in the enum's order.
@@ -100,20 +102,9 @@ inline std::string_view nearest_name(std::span<const std::string_view> names,
   std::string_view best;
   std::size_t best_distance = 0;
   for (std::string_view n : names) {
-    std::vector<std::size_t> row(n.size() + 1);
-    for (std::size_t j = 0; j <= n.size(); ++j) row[j] = j;
-    for (std::size_t i = 1; i <= name.size(); ++i) {
-      std::size_t diagonal = row[0];
-      row[0] = i;
-      for (std::size_t j = 1; j <= n.size(); ++j) {
-        const std::size_t up = row[j];
-        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (name[i - 1] != n[j - 1])});
-        diagonal = up;
-      }
-    }
+    const std::size_t d = edit_distance(name, n);
     const std::size_t limit = std::max<std::size_t>(2, std::max(n.size(), name.size()) / 3);
-    if (row[n.size()] <= limit && (best.empty() || row[n.size()] < best_distance))
-      best = n, best_distance = row[n.size()];
+    if (d <= limit && (best.empty() || d < best_distance)) best = n, best_distance = d;
   }
   return best;
 }

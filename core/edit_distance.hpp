@@ -4,13 +4,13 @@
 
 #include <algorithm>
 #include <cstddef>
-#include <string>
+#include <string_view>
 #include <vector>
 
 namespace rodend {
 
 /// Insertions, deletions and substitutions that turn `a` into `b`.
-inline std::size_t edit_distance(const std::string& a, const std::string& b) {
+inline std::size_t edit_distance(std::string_view a, std::string_view b) {
   std::vector<std::size_t> row(b.size() + 1);
   for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
   for (std::size_t i = 1; i <= a.size(); ++i) {

@@ -11,8 +11,8 @@ namespace rodend {
 
 double predicted_cost(const ParameterSet& p) {
   if (!p.has("hinge.kind") || !p.has("hinge.constant_moment")) return 0.0;
-  const auto kind = hinge_moment_names()[static_cast<std::size_t>(HingeMoment::Kind::constant)];
-  if (p.text("hinge.kind") != kind) return 0.0;
+  if (choice_from_name<HingeMomentKind>(p.text("hinge.kind")) != HingeMomentKind::constant)
+    return 0.0;
   return std::abs(p.number("hinge.constant_moment"));
 }
 
