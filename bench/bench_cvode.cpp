@@ -269,7 +269,7 @@ json method_cost(IntegratorMethod m, const std::vector<Repeated>& cfg,
 std::vector<Repeated> run_ladder(const Scene& scene, const IntegratorSettings& def,
                                  const std::vector<double>& tols, int reps) {
   std::vector<Repeated> cfg;
-  cfg.push_back({def, std::string(rodend::kDefaultPreset), {}, {}, {}, false});
+  cfg.push_back({def, std::string(choice_name(rodend::kDefaultPreset)), {}, {}, {}, false});
   for (const IntegratorMethod m : kCvodeMethods)
     for (double tol : tols) {
       IntegratorSettings s = def;
@@ -287,7 +287,7 @@ json cvode_scene(const std::string& name, int reps, const std::vector<double>& t
                  const std::vector<ThroughputRow>& tp) {
   std::fprintf(stderr, "rodend-bench: CVODE ladder, %s...\n", name.c_str());
   const auto scene = build(name);
-  const IntegratorSettings def = preset_for(*scene, std::string(rodend::kDefaultPreset));
+  const IntegratorSettings def = preset_for(*scene, std::string(choice_name(rodend::kDefaultPreset)));
   const std::optional<Reference> ref = reference_run(*scene, name, def);
   if (!ref) return json();
   const std::vector<Repeated> cfg = run_ladder(*scene, def, tols, reps);
@@ -343,7 +343,7 @@ void part_cvode(const Options& opt, const std::vector<ThroughputRow>& tp, json& 
           : std::vector<double>{1e-4, 3e-5, 1e-5, 3e-6, 1e-6, 3e-7, 1e-7, 3e-8, 1e-8, 3e-9, 1e-9};
   json jc = json::array();
   std::printf("\n3. CVODE against the default preset (%s) at equal achieved error\n",
-              std::string(rodend::kDefaultPreset).c_str());
+              std::string(choice_name(rodend::kDefaultPreset)).c_str());
   std::printf(
       "   error of a run = largest relative error over {first_contact_time, "
       "first_impact_peak_force, max_contact_force, max_eccentricity, final_surface_angle}\n"
@@ -354,7 +354,7 @@ void part_cvode(const Options& opt, const std::vector<ThroughputRow>& tp, json& 
       reps, reps > 1 ? "s" : "");
   for (const auto& name : kMechScenes)
     if (json scene = cvode_scene(name, reps, tols, tp); !scene.is_null()) jc.push_back(scene);
-  out["cvode"] = {{"default_preset", std::string(rodend::kDefaultPreset)},
+  out["cvode"] = {{"default_preset", std::string(choice_name(rodend::kDefaultPreset))},
                   {"repetitions", reps},
                   {"tolerances", tols},
                   {"scenes", jc}};

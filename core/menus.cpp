@@ -4,6 +4,7 @@
 #include "core/contact.hpp"
 #include "core/integrator.hpp"
 #include "core/linkage/beam_modes.hpp"
+#include "core/linkage/linkage_choices.hpp"
 #include "core/params.hpp"
 #include "core/presets.hpp"
 #include "core/scene.hpp"

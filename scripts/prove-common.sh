@@ -6,7 +6,7 @@
 #           prove_changed that it touched exactly those files and lines;
 #   check   after the build ($tree/build: rodend and the Python module), shows the thing
 #           everywhere it should appear; scratch files go in $work.
-# Alone (`bash scripts/prove-X.sh`) a script makes its own throwaway worktree, runs its recipe,
+# Alone (`bash scripts/prove-record.sh`, say) a script makes its own throwaway worktree, runs its recipe,
 # builds, and runs its check. `bash scripts/prove.sh` runs every recipe in one worktree, each
 # committed there before the next (so each is still checked alone), builds once, then runs every
 # check: one build instead of one per script (CTest: `prove`, label prove).

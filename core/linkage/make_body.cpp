@@ -1,6 +1,7 @@
 // The body factory: one line per kind of body.
 #include "core/linkage/make_body.hpp"
 
+#include "core/linkage/linkage_choices.hpp"
 #include "core/linkage/read_flexible_body.hpp"
 #include "core/linkage/rigid_body.hpp"
 #include "core/scenes/parts.hpp"
@@ -30,11 +31,11 @@ std::unique_ptr<Body> make_body(const ParameterSet& p, const std::string& prefix
   std::vector<Eigen::Vector2d> points;
   for (const std::string& n : point_names)
     points.push_back(read_plane_point(p, prefix + ".points." + n));
-  const std::string kind = p.text(prefix + ".kind");
-  if (kind == "rigid") return make_rigid_body(p, prefix, std::move(points));
-  if (kind == "flexible") return make_flexible_body(p, prefix, std::move(points));
-  // a new kind of body is one line here
-  throw InputError(prefix + ".kind", "expected \"rigid\" or \"flexible\", got \"" + kind + "\"");
+  switch (read_choice<BodyKind>(p, prefix + ".kind")) {  // a new kind: its line in core/linkage/body_kinds.def
+    case BodyKind::rigid: return make_rigid_body(p, prefix, std::move(points));
+    case BodyKind::flexible: return make_flexible_body(p, prefix, std::move(points));
+  }
+  throw InputError(prefix + ".kind", "a kind of body without its maker");
 }
 
 }  // namespace rodend::linkage

@@ -5,7 +5,9 @@
 #include <map>
 #include <memory>
 
+#include "core/linkage/linkage_choices.hpp"
 #include "core/linkage/make_body.hpp"
+#include "core/scenes/planar_slider_crank_options.hpp"
 #include "core/scenes/parts.hpp"
 
 namespace rodend::linkage {
@@ -86,11 +88,12 @@ void Reader::read_bodies() {
 
 void Reader::read_joint(const std::string& name) {
   const std::string k = "linkage.joints." + name;
-  const std::string type = p.text(k + ".type"), model = p.text(k + ".model");
+  const JointType type = read_choice<JointType>(p, k + ".type");
+  const JointModel model = read_choice<JointModel>(p, k + ".model");
   const PointRef a = point(k + ".a");
-  if (type == "prismatic") {
+  if (type == JointType::prismatic) {
     if (a.body < 0) throw InputError(k + ".a", "expected a point of a body, not of the ground");
-    if (model != "ideal")
+    if (model != JointModel::ideal)
       throw InputError(k + ".model", "expected \"ideal\" for a prismatic guide");
     const Vec3 axis = p.vec3(k + ".axis");
     if (!(axis.head<2>().norm() > 0.0) || axis.z() != 0.0)
@@ -99,10 +102,8 @@ void Reader::read_joint(const std::string& name) {
     m.linkage.add_prismatic(a, ground_point(k + ".b"), axis.head<2>(), angle);
     return;
   }
-  if (type != "revolute") throw InputError(k + ".type", "expected \"revolute\" or \"prismatic\"");
   const PointRef b = point(k + ".b");
-  if (model == "ideal") return m.linkage.add_revolute(a, b);
-  if (model != "clearance") throw InputError(k + ".model", "expected \"ideal\" or \"clearance\"");
+  if (model == JointModel::ideal) return m.linkage.add_revolute(a, b);
   if (a.body < 0) throw InputError(k + ".a", "expected the journal on a body, not the ground");
   ClearanceContactModel c = read_clearance_contact(p, "contact", "friction", k + ".clearance");
   if (c.clearance >= c.ball_radius)
