@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/errors.hpp"
+#include "sweep/csv_cells.hpp"
 #include "sweep/design.hpp"
 #include "sweep/study.hpp"
 
@@ -18,20 +19,8 @@ namespace {
 /// The largest points file read (the case limit of a study, 1e7 rows, at a few numbers each).
 constexpr std::uintmax_t kMaxPointsBytes = 256u << 20;
 
-std::string trim(const std::string& s) {
-  const auto a = s.find_first_not_of(" \t\r");
-  if (a == std::string::npos) return "";
-  return s.substr(a, s.find_last_not_of(" \t\r") - a + 1);
-}
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> cells;
-  std::string cell;
-  std::istringstream in(line);
-  while (std::getline(in, cell, ',')) cells.push_back(trim(cell));
-  if (!line.empty() && line.back() == ',') cells.emplace_back();
-  return cells;
-}
+using csv::split;
+using csv::trim;
 
 /// At most 40 bytes of a cell, for a message.
 std::string excerpt(const std::string& s) {

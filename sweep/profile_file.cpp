@@ -15,6 +15,7 @@
 #include <cstring>
 #include <sstream>
 
+#include "sweep/csv_cells.hpp"
 #include "sweep/profile.hpp"
 #include "sweep/study.hpp"
 
@@ -122,20 +123,8 @@ void check_samples(const ProfileRequest& r, const ProfileData& d,
     refuse(r, "", "holds " + std::to_string(d.time.size()) + " sample(s); expected at least two");
 }
 
-std::string trim(const std::string& s) {
-  const auto a = s.find_first_not_of(" \t\r");
-  if (a == std::string::npos) return "";
-  return s.substr(a, s.find_last_not_of(" \t\r") - a + 1);
-}
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> cells;
-  std::string cell;
-  std::istringstream in(line);
-  while (std::getline(in, cell, ',')) cells.push_back(trim(cell));
-  if (!line.empty() && line.back() == ',') cells.emplace_back();
-  return cells;
-}
+using csv::split;
+using csv::trim;
 
 /// A header cell "name [unit]" -> {name, unit} (unit empty when the cell has none).
 std::pair<std::string, std::string> header_cell(const std::string& cell) {
