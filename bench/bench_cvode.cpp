@@ -287,7 +287,8 @@ json cvode_scene(const std::string& name, int reps, const std::vector<double>& t
                  const std::vector<ThroughputRow>& tp) {
   std::fprintf(stderr, "rodend-bench: CVODE ladder, %s...\n", name.c_str());
   const auto scene = build(name);
-  const IntegratorSettings def = preset_for(*scene, std::string(choice_name(rodend::kDefaultPreset)));
+  const IntegratorSettings def =
+      preset_for(*scene, std::string(choice_name(rodend::kDefaultPreset)));
   const std::optional<Reference> ref = reference_run(*scene, name, def);
   if (!ref) return json();
   const std::vector<Repeated> cfg = run_ladder(*scene, def, tols, reps);

@@ -31,9 +31,12 @@ std::unique_ptr<Body> make_body(const ParameterSet& p, const std::string& prefix
   std::vector<Eigen::Vector2d> points;
   for (const std::string& n : point_names)
     points.push_back(read_plane_point(p, prefix + ".points." + n));
-  switch (read_choice<BodyKind>(p, prefix + ".kind")) {  // a new kind: its line in core/linkage/body_kinds.def
-    case BodyKind::rigid: return make_rigid_body(p, prefix, std::move(points));
-    case BodyKind::flexible: return make_flexible_body(p, prefix, std::move(points));
+  switch (read_choice<BodyKind>(
+      p, prefix + ".kind")) {  // a new kind: its line in core/linkage/body_kinds.def
+    case BodyKind::rigid:
+      return make_rigid_body(p, prefix, std::move(points));
+    case BodyKind::flexible:
+      return make_flexible_body(p, prefix, std::move(points));
   }
   throw InputError(prefix + ".kind", "a kind of body without its maker");
 }

@@ -7,8 +7,8 @@
 
 #include "core/linkage/linkage_choices.hpp"
 #include "core/linkage/make_body.hpp"
-#include "core/scenes/planar_slider_crank_options.hpp"
 #include "core/scenes/parts.hpp"
+#include "core/scenes/planar_slider_crank_options.hpp"
 
 namespace rodend::linkage {
 
