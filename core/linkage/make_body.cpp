@@ -31,8 +31,8 @@ std::unique_ptr<Body> make_body(const ParameterSet& p, const std::string& prefix
   std::vector<Eigen::Vector2d> points;
   for (const std::string& n : point_names)
     points.push_back(read_plane_point(p, prefix + ".points." + n));
-  switch (read_choice<BodyKind>(
-      p, prefix + ".kind")) {  // a new kind: its line in core/linkage/body_kinds.def
+  // a new kind of body: its line in core/linkage/body_kinds.def and its case here
+  switch (read_choice<BodyKind>(p, prefix + ".kind")) {
     case BodyKind::rigid:
       return make_rigid_body(p, prefix, std::move(points));
     case BodyKind::flexible:
