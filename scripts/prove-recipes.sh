@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Proves the two recipes of docs/architecture.md (issue 18): a contact law is its own file plus
+# Proves the two recipes of docs/architecture.md: a contact law is its own file plus
 # one catalogue line, and a scene is its code, its scene file naming parts, plus one
 # registration line. In a throwaway git worktree of HEAD it adds
 #   - a law "throwaway" (core/laws/throwaway.cpp, chi = 1.2 (1 - c_r), and one line in

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Proves the record recipe of docs/architecture.md (issue 32): a new field of the case record is
+# Proves the record recipe of docs/architecture.md: a new field of the case record is
 # one line of sweep/case_record.def plus the code that computes it. In a throwaway git worktree of
 # HEAD it adds
 #   - the line RODEND_RECORD_FIELD(throwaway, real, run, "throwaway_s", "s", ...) and
