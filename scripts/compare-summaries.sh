@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Checks that a change leaves the results as they were (issue 32, "Done when"): every shipped
+# Checks that a change leaves the results as they were: every shipped
 # study (studies/*.json), every regression study (tests/regression/studies/*.json) and every test
 # study (tests/studies/*.json) is run by the rodend of a BASE commit and by the rodend of this
 # checkout (./build/rodend, built beforehand), with the same options; their summary.csv must be

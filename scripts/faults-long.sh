@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The long fault scenarios of issue 19 (docs/testing.md, "Faults"), beyond what the default
+# The long fault scenarios (docs/testing.md, "Faults"), beyond what the default
 # suite runs in seconds:
 #   - a real full disk: a study run into a small tmpfs (needs root to mount it; skipped with a
 #     message otherwise): exit 2, one message, earlier results intact, resume completes;
