@@ -19,6 +19,8 @@
 //   memory_file.cpp             case files built in memory; sink_driver.cpp: summary.h5 streamed
 //   chunks.cpp                  history chunks encoded off the lock; /signals
 //   case_file.cpp               write_case_file; case_reader.cpp: records and signals read back
+//   case_from_template.cpp      case files patched from a template built once per shape (issue
+//                               33): case_template.cpp (bytes), template_driver.cpp (HDF5)
 //   summary_table.cpp           the summary's columns and CSV text; summary.cpp writes it,
 //                               summary_read.cpp reads (and repairs) it
 //   spool.cpp                   RecordSpool; text.cpp: shortest_decimal, utc_now, provenance
@@ -203,8 +205,11 @@ void prepare_results_io();
 /// call): the serial section of a sweep, in count (RODEND_LOCK_STATS=1 prints its time).
 long long hdf5_lock_count();
 
-/// Writes results/<study>/cases/<id>.h5 (temporary name, then rename): HDF5 builds the file in
-/// memory under its lock from chunks encoded outside it (sweep/results/chunks.hpp).
+/// Writes results/<study>/cases/<id>.h5 (temporary name, then rename). With uncompressed
+/// histories (output.compression_level 0), HDF5 builds a case file once per shape of case (a
+/// template, sweep/results/case_template.hpp) and the other cases of that shape are written without
+/// HDF5, outside its lock; RODEND_CASE_TEMPLATES=0 in the environment has HDF5 build every one
+/// (to compare the two).
 void write_case_file(const std::filesystem::path& path, const CaseSpec& spec,
                      const CaseRecord& record, const History& history, const Json& provenance);
 

@@ -33,6 +33,7 @@
 #include "sweep/results/chunks.hpp"
 #include "sweep/results/hdf5.hpp"
 #include "sweep/results/memory_file.hpp"
+#include "sweep/results/template_driver.hpp"
 
 namespace rodend::results_detail {
 namespace {
@@ -156,7 +157,7 @@ void check_case_array(const Context& cx, const CaseArray& a) {
     if (!std::isfinite(v)) cx.fail(what + ": a value is not finite");
 }
 
-void write_case_arrays(const Context& cx, hid_t root, const History& h) {
+void write_case_arrays(const Context& cx, hid_t root, const History& h, CaseSlots* raw) {
   std::map<std::string, Handle> groups;
   for (const CaseArray& a : h.arrays) {
     const std::string what = "cannot write " + a.group + "/" + a.name;
@@ -171,9 +172,16 @@ void write_case_arrays(const Context& cx, hid_t root, const History& h) {
     Handle d = cx.own(H5Dcreate2(it->second.get(), a.name.c_str(), H5T_IEEE_F64LE, space.get(),
                                  H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
                       H5Dclose, what);
-    if (n > 0)
+    if (n > 0) {
+      const DroppingRawData dropping(raw != nullptr);  // a template's: each case writes its own
       cx.ok(H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, a.values.data()),
             what);
+    }
+    if (raw && n > 0) {  // H5Dget_offset counts the user block, image offsets do not
+      const haddr_t addr = H5Dget_offset(d.get());
+      if (addr == HADDR_UNDEF || addr < kUserBlock) cx.fail(what + ": no address");
+      raw->raw(addr - kUserBlock, 8 * n);
+    }
     attr_units(cx, d.get(), a.unit, a.description);
     cx.ok(d.close(), what);
   }
@@ -215,8 +223,12 @@ void write_case_file(const fs::path& path, const CaseSpec& spec, const CaseRecor
   // 4-9 kB): an estimate too small makes the core driver grow its buffer by a whole estimate
   // (a copy and a clear of the file so far, under the lock)
   estimate += history.signals.size() * (1 << 14);
+  // chunks of a fixed size (not compressed): the case's image from its template, no HDF5
   ByteSpan image;
-  {
+  const char* const templates = std::getenv("RODEND_CASE_TEMPLATES");
+  if (spec.output.compression_level == 0 && !(templates && std::string_view(templates) == "0"))
+    image = image_from_template(path, {spec, record, history, prov, encoded, estimate});
+  if (image.empty()) {
     Hdf5Lock lock;  // held for the in-memory build: cheap calls only, the chunks are ready
     const Context cx(path, "cannot write results file");
     image = build_image(cx, kUserBlock, estimate, [&](hid_t file) {

@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "sweep/results/memory_file.hpp"
+#include "sweep/results/template_driver.hpp"
 
 namespace rodend::results_detail {
 
@@ -94,7 +95,7 @@ EncodedSignal encode_signal(const std::vector<double>& values, long long samples
 namespace {
 
 void write_signal(const Context& cx, hid_t group, const SignalSpec& s, const EncodedSignal& e,
-                  const OutputSettings& out) {
+                  const OutputSettings& out, CaseSlots* raw) {
   const std::string what = "cannot write signal " + std::string(s.name);
   const int rank = s.width == 1 ? 1 : 2;
   const hsize_t dims[2] = {e.rows, e.width};
@@ -117,10 +118,18 @@ void write_signal(const Context& cx, hid_t group, const SignalSpec& s, const Enc
   Handle d = cx.own(H5Dcreate2(group, std::string(s.name).c_str(), file_type, space.get(),
                                H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
                     H5Dclose, what);
+  const DroppingRawData dropping(raw != nullptr);  // a template's: each case writes its own
   for (std::size_t k = 0; k < e.chunks.size(); ++k) {
     const hsize_t offset[2] = {static_cast<hsize_t>(k) * e.chunk_rows, 0};
     cx.ok(H5Dwrite_chunk(d.get(), H5P_DEFAULT, 0, offset, e.chunks[k].size(), e.chunks[k].data()),
           what);
+    if (raw) {
+      unsigned mask = 0;
+      haddr_t addr = HADDR_UNDEF;
+      hsize_t size = 0;
+      cx.ok(H5Dget_chunk_info_by_coord(d.get(), offset, &mask, &addr, &size), what);
+      raw->raw(addr, size);  // relative to the base address: an image offset
+    }
   }
   attr_units(cx, d.get(), std::string(s.unit), std::string(s.description));
   cx.ok(d.close(), what);
@@ -156,10 +165,11 @@ void attach_signal_dimensions(const Context& cx, hid_t root, hid_t signals, cons
 }  // namespace
 
 void write_case_signals(const Context& cx, hid_t root, const History& h,
-                        const std::vector<EncodedSignal>& encoded, const OutputSettings& out) {
+                        const std::vector<EncodedSignal>& encoded, const OutputSettings& out,
+                        CaseSlots* raw) {
   const Handle g = create_group(cx, root, "signals");
   for (std::size_t i = 0; i < h.signals.size(); ++i)
-    write_signal(cx, g.get(), signal_spec(h.signals[i]), encoded[i], out);
+    write_signal(cx, g.get(), signal_spec(h.signals[i]), encoded[i], out, raw);
   attach_signal_dimensions(cx, root, g.get(), h);
 }
 

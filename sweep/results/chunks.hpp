@@ -30,7 +30,10 @@ EncodedSignal encode_signal(const std::vector<double>& values, long long samples
                             const OutputSettings& out);
 /// Writes /signals of a case file: the encoded signals of `h` and their netCDF dimensions.
 /// Call under Hdf5Lock.
+/// The group /signals of a case file; `raw`: where HDF5 put each chunk is recorded there (a
+/// template: the chunks are then not kept, template_driver.hpp).
 void write_case_signals(const Context& cx, hid_t root, const History& h,
-                        const std::vector<EncodedSignal>& encoded, const OutputSettings& out);
+                        const std::vector<EncodedSignal>& encoded, const OutputSettings& out,
+                        CaseSlots* raw = nullptr);
 
 }  // namespace rodend::results_detail

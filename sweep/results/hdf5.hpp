@@ -9,7 +9,9 @@
 //   the histories' chunks are shuffled and deflated (libdeflate, chunks.cpp) by the thread that
 //   ran the case, before it takes the lock, and handed to HDF5 finished (H5Dwrite_chunk); HDF5
 //   builds a case file in memory (memory_file.hpp) and the thread writes the image to the disk
-//   after it has released the lock. Nothing outside sweep/results/ calls HDF5.
+//   after it has released the lock. Uncompressed case files enter HDF5 once per shape of case
+//   only: the others are patched from that one, a template, outside the lock
+//   (case_template.hpp). Nothing outside sweep/results/ calls HDF5.
 // - Quiet: HDF5's automatic error printing is switched off in every thread that calls HDF5
 //   (H5Eset_auto2; the error stacks are per thread); HDF5 failures become std::runtime_error
 //   naming the file (read_case_record returns nullopt instead). HDF5 never sees a failed write,
@@ -32,6 +34,7 @@
 #include "sweep/clock.hpp"
 #include "sweep/memory_reserve.hpp"
 #include "sweep/results.hpp"
+#include "sweep/results/case_template.hpp"
 
 namespace rodend::results_detail {
 
@@ -108,12 +111,17 @@ bool hdf5_out_of_memory();
 /// failure to allocate is std::bad_alloc: the environment's failure, not the file's.
 class Context {
  public:
-  Context(const fs::path& file, std::string action)
-      : file_(file.string()), action_(std::move(action)) {}
+  /// `slots`: the writers of attributes record their values there (case_template.hpp); when it
+  /// is collecting, they make no HDF5 call at all.
+  Context(const fs::path& file, std::string action, CaseSlots* slots = nullptr)
+      : file_(file.string()), action_(std::move(action)), slots_(slots) {}
+
+  CaseSlots* slots() const { return slots_; }
+  bool collecting() const { return slots_ && slots_->collecting(); }
 
   [[noreturn]] void fail(const std::string& what) const {
-    if (hdf5_out_of_memory()) throw std::bad_alloc();
-    const std::string detail = hdf5_error_text();
+    if (!collecting() && hdf5_out_of_memory()) throw std::bad_alloc();
+    const std::string detail = collecting() ? std::string() : hdf5_error_text();
     throw std::runtime_error(action_ + " " + file_ + ": " + what +
                              (detail.empty() ? "" : " (HDF5: " + detail + ")"));
   }
@@ -133,9 +141,12 @@ class Context {
 
  private:
   std::string file_, action_;
+  CaseSlots* slots_;
 };
 
-// Writing helpers.
+// Writing helpers. With a CaseSlots in the Context (a case file's template, case_template.hpp),
+// text and number attributes are slots: their values are recorded, and placeholders written in
+// their stead; the values of int and int8 attributes and the groups are the template's key.
 
 Handle utf8_string_type(const Context& cx);
 Handle scalar_space(const Context& cx);

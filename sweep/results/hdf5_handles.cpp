@@ -76,20 +76,24 @@ void write_attribute(const Context& cx, hid_t obj, const std::string& name, hid_
 }  // namespace
 
 void attr_string(const Context& cx, hid_t obj, const std::string& name, const std::string& v) {
+  const std::string value = cx.slots() ? cx.slots()->text(name, v) : v;
+  if (cx.collecting()) return;
   const Handle t = utf8_string_type(cx);
   const Handle s = scalar_space(cx);
-  const char* p = v.c_str();
+  const char* p = value.c_str();
   write_attribute(cx, obj, name, t.get(), t.get(), s.get(), &p);
 }
 
 namespace {
 
-/// A scalar 8-byte number attribute, `v` its bytes in memory.
+/// A scalar 8-byte number attribute (a slot with a CaseSlots), `v` its bytes in memory.
 template <class T>
 void attr_number(const Context& cx, hid_t obj, const std::string& name, hid_t file_type,
                  hid_t mem_type, T v) {
   static_assert(sizeof(T) == 8);
   std::uint64_t bits = std::bit_cast<std::uint64_t>(v);
+  if (cx.slots()) bits = cx.slots()->number(name, bits);
+  if (cx.collecting()) return;
   const Handle s = scalar_space(cx);
   write_attribute(cx, obj, name, file_type, mem_type, s.get(), &bits);
 }
@@ -105,11 +109,15 @@ void attr_int64(const Context& cx, hid_t obj, const std::string& name, long long
 }
 
 void attr_int(const Context& cx, hid_t obj, const std::string& name, int v) {
+  if (cx.slots()) cx.slots()->fixed("int " + name + "=" + std::to_string(v));
+  if (cx.collecting()) return;
   const Handle s = scalar_space(cx);
   write_attribute(cx, obj, name, H5T_STD_I32LE, H5T_NATIVE_INT, s.get(), &v);
 }
 
 void attr_int8(const Context& cx, hid_t obj, const std::string& name, signed char v) {
+  if (cx.slots()) cx.slots()->fixed("int8 " + name + "=" + std::to_string(v));
+  if (cx.collecting()) return;
   const Handle s = scalar_space(cx);
   write_attribute(cx, obj, name, H5T_STD_I8LE, H5T_NATIVE_SCHAR, s.get(), &v);
 }
@@ -119,6 +127,11 @@ void attr_doubles(const Context& cx, hid_t obj, const std::string& name,
   std::vector<std::uint64_t> bits(v.size());
   std::transform(v.begin(), v.end(), bits.begin(),
                  [](double x) { return std::bit_cast<std::uint64_t>(x); });
+  if (cx.slots()) {
+    cx.slots()->fixed("doubles " + name + "[" + std::to_string(v.size()) + "]");
+    for (std::uint64_t& b : bits) b = cx.slots()->number(name, b);
+  }
+  if (cx.collecting()) return;
   const Handle s = vector_space(cx, v.size());
   write_attribute(cx, obj, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, s.get(), bits.data());
 }
@@ -154,6 +167,8 @@ Handle dimension_without_variable(const Context& cx, hid_t group, const std::str
 
 Handle create_group(const Context& cx, hid_t parent, const std::string& name,
                     bool track_link_order) {
+  if (cx.slots()) cx.slots()->fixed("group " + name);
+  if (cx.collecting()) return Handle();
   const std::string what = "cannot create group " + name;
   Handle gcpl;
   if (track_link_order) {
