@@ -7,6 +7,7 @@
 #include <string_view>
 #include <utility>
 
+#include "core/contact.hpp"
 #include "sweep/study/loader.hpp"
 
 namespace rodend {
@@ -53,10 +54,11 @@ Json as_doubles(const Json& j) {
   return j;
 }
 
-/// Parameters added after results were stored, with the value that gives what came before:
-/// left out of the id at that value, so the ids of earlier runs hold.
-constexpr std::pair<std::string_view, std::string_view> kIdentityDefaults[] = {
-    {"friction.mode", "smooth"},  // the law as one function (core/laws/friction_modes.def)
+/// Parameters added after results were stored, with the value that gives what came before
+/// (its name from its catalogue): left out of the id at that value, so the ids of earlier runs
+/// hold.
+const std::pair<std::string_view, std::string_view> kIdentityDefaults[] = {
+    {"friction.mode", choice_name(FrictionMode::smooth)},  // the law as one function
 };
 
 /// Whether a parameter is left out of the id at one of its values (a grid over it: no template).
