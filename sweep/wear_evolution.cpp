@@ -1,4 +1,4 @@
-// The wear-evolution loop (issue 11): duty cycles on surfaces worn by the cycles before.
+// The wear-evolution loop: duty cycles on surfaces worn by the cycles before.
 #include "sweep/wear_evolution.hpp"
 
 #include <algorithm>

@@ -99,8 +99,7 @@ void RodEndMechanism::check_closure(const ActuatorMotion& motion, const std::str
   // both stroke shapes rise monotonically), so it spans [-retraction, extension] over the whole
   // profile (a waveform spans offset -+ amplitude: ActuatorMotion::range): when both ends close,
   // every instant does, and the scan below (which finds the first offending time) is needed only
-  // when one does not. This keeps the check cheap when a large grid is validated (issue 19, fast
-  // validation).
+  // when one does not. This keeps the check cheap when a large grid is validated.
   {
     const double margin = 1e-6 * geometry_.max_rod();
     const auto [lo, hi] = motion.range();
