@@ -61,8 +61,8 @@ struct RunStats {
   long long steps_rejected = 0;
   long long rhs_calls = 0;
   long long contact_onsets = 0;
-  long long friction_switches = 0;  ///< friction.mode stick-slip, switch: branch switches latched
-  double t_reached = 0.0;           ///< [s]
+  long long friction_switches = 0;         ///< friction.mode stick-slip: branch switches latched
+  double t_reached = 0.0;                  ///< [s]
   double max_quaternion_norm_error = 0.0;  ///< largest | |q| - 1 | seen before renormalising [-]
   double max_penetration_fraction = 0.0;   ///< largest penetration / clearance seen [-]
   double max_penetration_strain = 0.0;     ///< largest penetration / contact radius seen [-]
