@@ -246,11 +246,14 @@ TEST_CASE("switch: a block is held exactly stuck up to the static limit, slides,
     REQUIRE(s.normal == Approx(kNormal).epsilon(1e-3));
     const double F = applied_force(s.t);
     if (s.t < kBreakaway) {
-      // stuck: no slip at all (the block starts at rest and the held force balances the
-      // applied one to round-off: v' = (F + f) / m ~ 1e-16 F / m), the friction the applied force
-      CHECK(std::abs(s.v) < 1e-12);
-      CHECK(std::abs(s.x) < 1e-14);
-      CHECK(s.friction == Approx(-F).epsilon(1e-12).margin(1e-12));
+      // stuck: no slip but the integration's error (the held force balances the applied one,
+      // and a residual slip decays with the drift time tau = 1 ms; the error control holds the
+      // speed to its absolute tolerance, 1e-8 x the scale 1e-2 m/s = 1e-10 m/s: measured
+      // 1.3e-10), so |v| < 1e-9 m/s, x < 1e-9 m/s x 0.12 s, and the friction the applied force
+      // but for m v / tau <= 1e-7 N (the creep of stick-slip: up to 1 mm/s and 3.4e-3 N)
+      CHECK(std::abs(s.v) < 1e-9);
+      CHECK(std::abs(s.x) < 1.2e-10);
+      CHECK(s.friction == Approx(-F).margin(1e-7));
     }
     if (first_fast < 0.0 && s.v > kVDyn) first_fast = s.t;
     if (s.v > kVDyn)  // slipping above v_dyn: the law's force, mu_dyn F_n
@@ -281,7 +284,7 @@ TEST_CASE("switch: the breakaway of a linear ramp is where the ramp reaches mu_s
   const double to_vst = std::sqrt(2.0 * kMass * kVSt / kRamp);
   int checked = 0;
   for (const Sample& s : r.samples) {
-    if (s.t <= kBreakaway) CHECK(s.x == Approx(0.0).margin(1e-14));
+    if (s.t <= kBreakaway) CHECK(s.x == Approx(0.0).margin(1.2e-12));  // as above, at 1e-10
     const double dt = s.t - kBreakaway;
     if (dt > 0.0 && dt < 0.9 * to_vst) {
       CHECK(s.v == Approx(kRamp * dt * dt / (2.0 * kMass)).margin(1e-8));
