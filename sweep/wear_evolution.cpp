@@ -90,6 +90,7 @@ bool run_update(const CaseSpec& spec, const Scene& base, Evolution& e, CaseRecor
   rec.steps_accepted += r.stats.steps_accepted;
   rec.steps_rejected += r.stats.steps_rejected;
   rec.rhs_calls += r.stats.rhs_calls;
+  rec.friction_switches += r.stats.friction_switches;
   rec.t_reached = r.stats.t_reached;
   if (e.updates == 0) e.first = obs.finish(r.stats);
   ++e.updates;

@@ -150,7 +150,8 @@ TEST_CASE("the names of choices are those studies and results files use", "[choi
   CHECK(choice_strings<ContactOnset>() == std::vector<std::string>{"locate", "step-end"});
   CHECK(choice_strings<FrictionLawKind>() ==
         std::vector<std::string>{"thesis", "ambrosio", "coulomb", "none"});
-  CHECK(choice_strings<FrictionMode>() == std::vector<std::string>{"smooth", "stick-slip"});
+  CHECK(choice_strings<FrictionMode>() ==
+        std::vector<std::string>{"smooth", "stick-slip", "switch"});
   CHECK(choice_strings<ContactGeometry>() == std::vector<std::string>{"sphere", "cylinder"});
   CHECK(choice_strings<DampingCap>() == std::vector<std::string>{"none", "elastic"});
   CHECK(choice_strings<WearModelKind>() == std::vector<std::string>{"none", "archard"});
