@@ -204,3 +204,35 @@ TEST_CASE("slider-crank through the linkage: a commanded crank angle",
   CHECK(e_angle < 1e-9);
   CHECK(e_x < 1e-10);
 }
+
+TEST_CASE("slider-crank through the linkage: agreement against tolerance and run length",
+          "[.][slider-crank-linkage-table]") {
+  // not run by default (about two minutes): the table of docs/planar-linkage.md, "The
+  // slider-crank through the linkage". At 0.5 mm, the slider acceleration and the contact
+  // force of the two scenes (cross) beside each scene's own integration error (its difference
+  // from a run at 1e-13), over 1, 5 and 20 revolutions; first the Baumgarte rate's effect
+  const auto [a, b] = rigs("clearance", 5e-4);
+  const Track first = run("planar-slider-crank", a, 1.0, 1e-12);
+  for (const double w : {0.0, 10.0, 100.0, 1000.0}) {  // the stabilisation is not a source
+    ParameterSet bw = b;
+    bw.set("linkage.baumgarte_rate", w);
+    const Track lk = run("planar-linkage", bw, 1.0, 1e-12);
+    std::printf(
+        "baumgarte %6.0f 1/s, 1 rev, tol 1e-12: slider_acceleration %.2e contact_force "
+        "%.2e\n",
+        w, difference(first, lk, SignalId::slider_acceleration),
+        difference(first, lk, SignalId::contact_force));
+  }
+  for (const double revs : {1.0, 5.0, 20.0}) {
+    const Track sc0 = run("planar-slider-crank", a, revs, 1e-13);
+    const Track lk0 = run("planar-linkage", b, revs, 1e-13);
+    for (const double tol : {1e-8, 1e-10, 1e-12, 1e-13}) {
+      const Track sc = tol == 1e-13 ? sc0 : run("planar-slider-crank", a, revs, tol);
+      const Track lk = tol == 1e-13 ? lk0 : run("planar-linkage", b, revs, tol);
+      for (SignalId id : {SignalId::slider_acceleration, SignalId::contact_force})
+        std::printf("revs %4.0f tol %.0e %-20s cross %.2e  reduced %.2e  linkage %.2e\n", revs, tol,
+                    std::string(signal_spec(id).name).c_str(), difference(sc, lk, id),
+                    difference(sc0, sc, id), difference(lk0, lk, id));
+    }
+  }
+}

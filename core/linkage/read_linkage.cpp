@@ -150,6 +150,10 @@ void Reader::read_rotary_drive(const ActuatorMotion& motion) {
     });
     return;
   }
+  if (!p.has("linkage.actuator.speed"))
+    throw InputError("linkage.actuator.speed",
+                     "expected the crank speed [rad/s] of a \"crank_speed\" drive in the part file "
+                     "(linkage.actuator.speed)");
   const double w = m.crank_speed = p.number("linkage.actuator.speed");
   if (!(std::abs(w) > 0.0) || !std::isfinite(w))
     throw InputError("linkage.actuator.speed", "expected a finite non-zero crank speed [rad/s]");
