@@ -177,6 +177,34 @@ TEST_CASE("slider-crank through the linkage: the guide with play",
   CHECK(w < kReproduced);
 }
 
+TEST_CASE("slider-crank through the linkage: the crank driven by the motor curve",
+          "[planar-linkage][slider-crank-linkage]") {
+  // the slider-crank scene's drive.model motor (1.8 N m s/rad about the no-load 500 rpm,
+  // 0.02 kg m^2 flywheel) against the linkage's motor drive, the 0.5 mm clearance joint, one
+  // revolution at tolerance 1e-12: see the measured line
+  auto [a, b] = rigs("clearance", 5e-4);
+  a.set("drive.model", "motor");
+  b.set("linkage.actuator.kind", "motor");
+  const Track sc = run("planar-slider-crank", a, 1.0, 1e-12);
+  const Track lk = run("planar-linkage", b, 1.0, 1e-12);
+  const double w = worst(sc, lk);
+  measured("motor, 0.5 mm, 1 rev, tol 1e-12: worst signal (rel)", w, kReproduced);
+  CHECK(w < kReproduced);
+  // its energy audit: the motor's power is input work, the flywheel's energy kinetic
+  const auto scene = make_scene("planar-linkage", b);
+  Recorder rec({SignalId::energy_residual, SignalId::input_work}, true);
+  REQUIRE(simulate(*scene, dopri5(1e-10, 1e-3), TimeSettings{kTurn, 1e-4}, rec).status ==
+          RunStatus::ok);
+  double residual = 0.0, work = 0.0;
+  for (std::size_t i = 0; i < rec.steps.size(); ++i) {
+    residual = std::max(residual, std::abs(rec.steps.get(i, SignalId::energy_residual)));
+    work = std::max(work, std::abs(rec.steps.get(i, SignalId::input_work)));
+  }
+  REQUIRE(work > 0.0);
+  measured("motor: energy residual / input work", residual / work, kEnergyResidualRel);
+  CHECK(residual / work < kEnergyResidualRel);
+}
+
 TEST_CASE("slider-crank through the linkage: a commanded crank angle",
           "[planar-linkage][slider-crank-linkage]") {
   // linkage.actuator.kind crank_angle: the crank's angle is its angle at t = 0 plus the motion

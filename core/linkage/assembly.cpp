@@ -33,6 +33,9 @@ void Linkage::add_rotary_drive(PointRef a, double angle0, DriveLaw law) {
   d.angle0 = angle0;
   drives_.push_back(std::move(d));
 }
+void Linkage::add_motor(PointRef a, double angle0, double speed, double slope, double flywheel) {
+  motors_.push_back({a, angle0, speed, slope, flywheel});
+}
 int Linkage::add_clearance_joint(ClearanceJoint j) {
   clearance_.push_back(std::move(j));
   return static_cast<int>(clearance_.size()) - 1;
@@ -47,6 +50,11 @@ void Linkage::finish() {
   for (const ClearanceJoint& j : clearance_) ideal->add_revolute(j.journal, j.bearing);
   ideal->clearance_.clear();
   for (Prismatic& g : ideal->prismatics_) g.play = Guide{};
+  for (const Motor& m : motors_)  // the ideal linkage's motor holds its no-load speed
+    ideal->add_rotary_drive(m.a, m.angle0, [w = m.speed](double t) {
+      return DriveSample{w * t, w, 0.0};
+    });
+  ideal->motors_.clear();
   ideal->rigid_ = true;  // and every flexible body rigid: its modal amplitudes held at zero
   ideal_ = std::move(ideal);
 }
@@ -56,6 +64,10 @@ Eigen::MatrixXd Linkage::mass_matrix(const Eigen::VectorXd& q) const {
   for (int b = 0; b < body_count(); ++b) {
     const int o = body_offset(b), k = body(b).coordinate_count();
     M.block(o, o, k, k) = body(b).mass_matrix(q.segment(o, k));
+  }
+  for (const Motor& m : motors_) {  // the flywheel turns with the motor's section
+    const GlobalPoint a = point(m.a, q, Eigen::VectorXd::Zero(n_));
+    M += m.flywheel * a.angle_jacobian.transpose() * a.angle_jacobian;
   }
   return M;
 }
@@ -98,6 +110,14 @@ Eigen::VectorXd Linkage::applied_forces(const Eigen::VectorXd& q, const Eigen::V
   }
   for (const Prismatic& g : prismatics_)
     if (g.play.on()) add_guide_forces(g, q, qd, Q, out.dissipation);
+  for (const Motor& m : motors_) {
+    const GlobalPoint a = point(m.a, q, qd);
+    // the motor curve's torque, and the flywheel's velocity product -I (jd q') on the angle
+    const double torque = m.slope * (m.speed - a.angular_velocity);
+    Q += a.angle_jacobian.transpose() * (torque - m.flywheel * a.angle_jacobian_dot_qdot);
+    out.motor_torques.push_back(torque);
+    out.motor_power += torque * a.angular_velocity;
+  }
   return Q;
 }
 
@@ -136,6 +156,10 @@ double Linkage::kinetic_energy(const Eigen::VectorXd& q, const Eigen::VectorXd& 
   for (int b = 0; b < body_count(); ++b) {
     const int o = body_offset(b), k = body(b).coordinate_count();
     e += body(b).kinetic_energy(q.segment(o, k), qd.segment(o, k));
+  }
+  for (const Motor& m : motors_) {
+    const double w = point(m.a, q, qd).angular_velocity;
+    e += 0.5 * m.flywheel * w * w;
   }
   return e;
 }

@@ -64,8 +64,10 @@ struct LinkageDynamics {
   /// per drive, in order of addition: the force the drive applies along its direction [N], or
   /// the torque a rotary drive applies to its body [N m] (counter-clockwise positive)
   std::vector<double> drive_forces;
-  double dissipation = 0.0;       ///< contact damping and friction power [W]
-  double constraint_power = 0.0;  ///< power of the constraint forces on the bodies [W]
+  std::vector<double> motor_torques;  ///< per motor: its torque on its body [N m]
+  double motor_power = 0.0;           ///< the motors' power on the bodies [W]
+  double dissipation = 0.0;           ///< contact damping and friction power [W]
+  double constraint_power = 0.0;      ///< power of the constraint forces on the bodies [W]
 };
 
 class Linkage {
@@ -87,6 +89,11 @@ class Linkage {
   /// A prescribed angle: the angle of point `a`'s section is `angle0` + d(t) [rad] (a crank
   /// at constant speed, d = omega t, or any command).
   void add_rotary_drive(PointRef a, double angle0, DriveLaw law);
+  /// A motor on the section at `a`: torque slope (speed - its angular velocity) (a linear
+  /// motor curve about the no-load `speed` [rad/s], `slope` [N m s/rad]) through a flywheel of
+  /// inertia `flywheel` [kg m^2] turning with it. The ideal linkage turns it at `speed` from
+  /// `angle0` instead (a rotary drive).
+  void add_motor(PointRef a, double angle0, double speed, double slope, double flywheel);
   int add_clearance_joint(ClearanceJoint joint);
   void set_gravity(const Eigen::Vector2d& g) { gravity_ = g; }
   void set_baumgarte_rate(double w) { baumgarte_ = w; }
@@ -139,6 +146,10 @@ class Linkage {
     bool guided = false;  ///< a's body is on a prismatic guide: one row, along the direction
     int rows() const { return rotary || guided ? 1 : 2; }
   };
+  struct Motor {
+    PointRef a;
+    double angle0, speed, slope, flywheel;
+  };
   /// The first row of drive i (the drives' rows follow the joints').
   int drive_row(int i) const;
   /// A guide with play's walls and friction on its point: added to Q, and their dissipated
@@ -168,6 +179,7 @@ class Linkage {
   std::vector<Revolute> revolutes_;
   std::vector<Prismatic> prismatics_;
   std::vector<Drive> drives_;
+  std::vector<Motor> motors_;
   std::vector<ClearanceJoint> clearance_;
   Eigen::Vector2d gravity_ = Eigen::Vector2d::Zero();
   double baumgarte_ = 0.0;

@@ -152,18 +152,22 @@ void Reader::read_rotary_drive(const ActuatorMotion& motion) {
   }
   if (!p.has("linkage.actuator.speed"))
     throw InputError("linkage.actuator.speed",
-                     "expected the crank speed [rad/s] of a \"crank_speed\" drive in the part file "
-                     "(linkage.actuator.speed)");
+                     "expected the crank speed [rad/s] of a \"crank_speed\" or \"motor\" drive in "
+                     "the part file (linkage.actuator.speed)");
   const double w = m.crank_speed = p.number("linkage.actuator.speed");
   if (!(std::abs(w) > 0.0) || !std::isfinite(w))
     throw InputError("linkage.actuator.speed", "expected a finite non-zero crank speed [rad/s]");
+  if (m.drive == LinkageDrive::motor)
+    return m.linkage.add_motor(a, angle0, w, read_positive(p, "linkage.actuator.motor_slope"),
+                               read_positive(p, "linkage.actuator.flywheel_inertia", true));
   m.linkage.add_rotary_drive(a, angle0, [w](double t) { return DriveSample{w * t, w, 0.0}; });
 }
 
 void Reader::read_actuator() {
   m.motion = read_motion(p, "motion");
   m.drive = read_choice<LinkageDrive>(p, "linkage.actuator.kind");
-  if (m.drive != LinkageDrive::crank_speed && m.motion.shape == ActuatorMotion::Shape::step)
+  const bool commanded = m.drive == LinkageDrive::linear || m.drive == LinkageDrive::crank_angle;
+  if (commanded && m.motion.shape == ActuatorMotion::Shape::step)
     throw InputError("motion.shape", "expected a shape with a velocity (not \"step\")");
   if (m.drive != LinkageDrive::linear) return read_rotary_drive(m.motion);
   const Vec3 dir = p.vec3("linkage.actuator.direction");

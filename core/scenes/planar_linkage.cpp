@@ -83,7 +83,8 @@ class PlanarLinkageScene final : public Scene {
   std::span<const int> audit_offsets() const override { return audit_; }
   PeriodicInputs periodic_inputs() const override {
     PeriodicInputs in;
-    if (m_.drive != LinkageDrive::crank_speed && m_.motion.is_waveform())
+    if ((m_.drive == LinkageDrive::linear || m_.drive == LinkageDrive::crank_angle) &&
+        m_.motion.is_waveform())
       in.command = periodic_input(m_.motion.wave);
     return in;
   }
@@ -109,7 +110,7 @@ class PlanarLinkageScene final : public Scene {
       dxdt[i] = x[n_ + i];
       dxdt[n_ + i] = s.qdd[i];
     }
-    dxdt[2 * n_] = s.constraint_power;
+    dxdt[2 * n_] = s.constraint_power + s.motor_power;
     dxdt[2 * n_ + 1] = s.dissipation;
   }
 
@@ -220,7 +221,8 @@ void PlanarLinkageScene::drive_outputs(double t, const Eigen::VectorXd& Q,
                                        SignalFrame& f) const {
   if (rotary()) {
     f.set(SignalId::crank_angle, m_.linkage.point(m_.actuator, Q, Qd).angle);
-    f.set(SignalId::driving_torque, s.drive_forces[0]);
+    f.set(SignalId::driving_torque,
+          m_.drive == LinkageDrive::motor ? s.motor_torques[0] : s.drive_forces[0]);
   } else {
     const ActuatorMotion::Sample a = m_.motion.at(t);
     f.set(SignalId::actuator_position, a.position);
@@ -235,7 +237,7 @@ void PlanarLinkageScene::drive_outputs(double t, const Eigen::VectorXd& Q,
 }
 
 double PlanarLinkageScene::drive_speed() const {
-  if (m_.drive == LinkageDrive::crank_speed)
+  if (m_.drive == LinkageDrive::crank_speed || m_.drive == LinkageDrive::motor)
     return std::abs(m_.crank_speed) * m_.drive_radius;
   double speed = 0.0;
   const double end = std::max(m_.motion.duration(), 1e-3);
