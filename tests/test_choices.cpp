@@ -91,10 +91,10 @@ TEST_CASE("every menu is one line of the catalogue of menus, listed by rodend ch
       CHECK(!i.description.empty());
     }
   }
-  // the 28 of the core, then the batch runner's 4 (history precisions, sensor sets, design
+  // the 29 of the core, then the batch runner's 4 (history precisions, sensor sets, design
   // methods, distributions)
-  CHECK(core_menus().size() == 28);
-  CHECK(all_menus().size() == 32);
+  CHECK(core_menus().size() == 29);
+  CHECK(all_menus().size() == 33);
   // the menus scene files name: each leaf's catalogue resolves to the menu's names
   CHECK(parameter_catalogue("outer_bodies") == std::vector<std::string>{"fixed", "free"});
   CHECK(parameter_catalogue("normal_laws").size() == normal_laws().size());
