@@ -161,6 +161,11 @@ with tempfile.TemporaryDirectory() as tmp:
     cap = Image.open(os.path.join(out, "polar_relative_position.png")).text.get("Description", "")
     check("the 9 of 12 cases with the largest peak contact force" in cap,
           f"designed: polar figure caption {cap!r}")
+    # so does every figure of one curve per case (a curve and a legend line per sample would
+    # bury the axes), and says so
+    cap = Image.open(os.path.join(out, "eccentricity_force.png")).text.get("Description", "")
+    check("the 9 of 12 cases with the largest peak contact force" in cap,
+          f"designed: eccentricity figure caption {cap!r}")
     # its report before any analysis: the answers section says how to get them
     r = run(["report", designed])
     with open(os.path.join(designed, "report.html"), encoding="utf-8") as f:
