@@ -751,6 +751,22 @@ def test_morris_plane_labels():
     plt.close(fig)
 
 
+def test_quantile_open_ends():
+    """A 5 % quantile's 95 % interval from 60 points has no lower end (rank 0: 0.95^60 > 0.025):
+    the table shows the upper end and says why the lower is missing (main: a blank cell),
+    and from 72 points both ends (0.95^72 < 0.025 <= 0.95^71)."""
+    from rodend.analysis import stats, table
+    doc = {"bootstrap": 20, "confidence": 0.95}
+    for n, whole in ((60, False), (71, False), (72, True)):
+        d = stats.distribution(np.linspace(1.0, 2.0, n), 0.95, 20, 1)
+        lines = table._spread("y", {"units": "1", "distribution": d}, doc)
+        row = next(line for line in lines if line.strip().startswith("5 % quantile"))
+        iv = d["quantile_intervals"]["0.05"]
+        check((iv[0] is not None) == whole, f"{n} points: the 5 % quantile's interval {iv}")
+        said = f"{n} points are too few for a 95 % interval's end" in row and "[none, " in row
+        check(said != whole, f"{n} points: 5 % quantile row {row!r}")
+
+
 def test_morris_spread(tmp):
     """A Morris design's spread over its points: y = x on U(0, 1) with 4 levels takes the
     values 0, 1/3, 2/3, 1 equally often, so the mean is 1/2 and P(y > 0.5) = 1/2 up to the
@@ -799,6 +815,7 @@ def main():
         test_ranking(tmp)
         test_morris_spread(tmp)
         test_morris_plane_labels()
+        test_quantile_open_ends()
         test_bad_input(tmp)
         test_bootstrap_confidence(tmp)
         test_no_write_through_links(tmp)
