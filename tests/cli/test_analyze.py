@@ -747,7 +747,8 @@ def test_morris_plane_labels():
     check("2 factor(s) below 5% of the largest μ*\nnot labelled" in ax.get_xlabel(),
           f"σ–μ* panel: the unlabelled factors not said under the axes: {ax.get_xlabel()!r}")
     b, page = ax.xaxis.label.get_window_extent(r), fig.bbox
-    check(page.x0 <= b.x0 and b.x1 <= page.x1, f"σ–μ* panel: its x label outside the figure {b}")
+    check(page.x0 <= b.x0 and b.x1 <= page.x1,
+          f"σ–μ* panel: its x label outside the figure {b}")
     plt.close(fig)
 
 

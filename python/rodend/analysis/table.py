@@ -49,8 +49,9 @@ def _spread(m, r, doc):
     rows += [(f"{float(p) * 100:g} % quantile", v, (d.get("quantile_intervals") or {}).get(p))
              for p, v in d["quantiles"].items()]
     for name, v, iv in rows:
+        iv = dp.scaled(iv, si)
         lines.append(f"    {name:<22}{dp.g(dp.scaled(v, si), 11)}  "
-                     f"{_open_ends(dp.scaled(iv, si), d['n'], doc) or dp.interval(dp.scaled(iv, si))}")
+                     f"{_open_ends(iv, d['n'], doc) or dp.interval(iv)}")
     for e in r.get("exceedance", []):
         name = f"P(> {dp.g(dp.scaled(e['threshold'], si))}{dp.suffix(si)})"
         lines.append(f"    {name:<22}{dp.g(e['probability'], 11)}  "
