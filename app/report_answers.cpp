@@ -42,13 +42,16 @@ std::string unit_suffix(const std::string& u) {
   return u.empty() || u == "1" ? std::string() : " " + u;
 }
 
-/// "3710 [2898, 4796]": a value and its interval (when there is one), scaled.
+/// "3710 [2898, 4796]": a value and its interval (when there is one), scaled; an end the
+/// analysis could not give (null: a quantile's order statistic beyond too few points) is
+/// "none", never a blank.
 std::string with_interval(const Json& value, const Json& iv, double f) {
   std::string out = short_number(num(value) * f);
-  if (iv.is_array() && iv.size() == 2 && iv[0].is_number() && iv[1].is_number())
-    out += " <span class=\"iv\">[" + short_number(iv[0].get<double>() * f) + ", " +
-           short_number(iv[1].get<double>() * f) + "]</span>";
-  return out;
+  if (!iv.is_array() || iv.size() != 2 || (!iv[0].is_number() && !iv[1].is_number())) return out;
+  const auto end = [f](const Json& e) {
+    return e.is_number() ? short_number(e.get<double>() * f) : std::string("none");
+  };
+  return out + " <span class=\"iv\">[" + end(iv[0]) + ", " + end(iv[1]) + "]</span>";
 }
 
 std::string short_key(const std::string& k) {
@@ -176,7 +179,8 @@ void write_answers(std::ostream& h, const fs::path& dir) {
   // --bootstrap 0 the bootstrap intervals (std, ranking, a Morris spread) are absent
   char level[32];
   std::snprintf(level, sizeof level, "%.10g %%", num(doc.value("confidence", Json())) * 100);
-  std::string levels = std::string(level) + " intervals in brackets";
+  std::string levels =
+      std::string(level) + " intervals in brackets (none: an end too few points cannot give)";
   if (num(doc.value("bootstrap", Json())) == 0)
     levels += " (no intervals from a bootstrap: bootstrap 0)";
   h << "<h2 id=\"answers\">Answers</h2>\n";
