@@ -88,12 +88,25 @@ void spread_row(std::ostream& h, const std::string& m, const Json& r) {
   h << "</td></tr>\n";
 }
 
+/// A quantile interval with an end the analysis could not give (null) among the metrics.
+bool open_end(const Json& metrics) {
+  for (const auto& [m, r] : metrics.items()) {
+    const Json d = r.value("distribution", Json());
+    if (!d.is_object()) continue;
+    const Json qi = d.value("quantile_intervals", Json::object());  // kept: items() refers to it
+    for (const auto& [p, iv] : qi.items())
+      if (iv.is_array() && iv.size() == 2 && iv[0].is_number() != iv[1].is_number()) return true;
+  }
+  return false;
+}
+
 /// level: "95 % intervals in brackets", as analyze prints it.
 void spread_table(std::ostream& h, const Json& metrics, const std::string& level) {
   h << "<div class=\"wide\"><table><tr><th>metric</th><th>mean</th><th>std</th><th>5 %</th>"
        "<th>50 %</th><th>95 %</th><th>exceedance</th></tr>\n";
   for (const auto& [m, r] : metrics.items()) spread_row(h, m, r);
   h << "</table></div>\n<p class=\"note\">" << escape(level) << ".";
+  if (open_end(metrics)) h << " An interval's end is none where too few points give it.";
   for (const auto& [m, r] : metrics.items()) {
     const std::string sample = text(r.value("distribution", Json::object()), "sample");
     if (!sample.empty()) {
@@ -179,8 +192,7 @@ void write_answers(std::ostream& h, const fs::path& dir) {
   // --bootstrap 0 the bootstrap intervals (std, ranking, a Morris spread) are absent
   char level[32];
   std::snprintf(level, sizeof level, "%.10g %%", num(doc.value("confidence", Json())) * 100);
-  std::string levels =
-      std::string(level) + " intervals in brackets (none: an end too few points cannot give)";
+  std::string levels = std::string(level) + " intervals in brackets";
   if (num(doc.value("bootstrap", Json())) == 0)
     levels += " (no intervals from a bootstrap: bootstrap 0)";
   h << "<h2 id=\"answers\">Answers</h2>\n";

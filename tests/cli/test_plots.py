@@ -180,7 +180,7 @@ with tempfile.TemporaryDirectory() as tmp:
     with open(os.path.join(designed, "report.html"), encoding="utf-8") as f:
         html = f.read()
     check(a.returncode == 0 and r.returncode == 0 and '<span class="iv">[none, ' in html
-          and "none: an end too few points cannot give" in html,
+          and "An interval's end is none where too few points give it." in html,
           f"designed: the quantile's missing end not shown as none ({a.returncode} {a.stderr})")
 
     # a scene without a mechanism, one case, no grid
