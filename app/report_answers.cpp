@@ -42,13 +42,16 @@ std::string unit_suffix(const std::string& u) {
   return u.empty() || u == "1" ? std::string() : " " + u;
 }
 
-/// "3710 [2898, 4796]": a value and its interval (when there is one), scaled.
+/// "3710 [2898, 4796]": a value and its interval (when there is one), scaled; an end the
+/// analysis could not give (null: a quantile's order statistic beyond too few points) is
+/// "none", never a blank.
 std::string with_interval(const Json& value, const Json& iv, double f) {
   std::string out = short_number(num(value) * f);
-  if (iv.is_array() && iv.size() == 2 && iv[0].is_number() && iv[1].is_number())
-    out += " <span class=\"iv\">[" + short_number(iv[0].get<double>() * f) + ", " +
-           short_number(iv[1].get<double>() * f) + "]</span>";
-  return out;
+  if (!iv.is_array() || iv.size() != 2 || (!iv[0].is_number() && !iv[1].is_number())) return out;
+  const auto end = [f](const Json& e) {
+    return e.is_number() ? short_number(e.get<double>() * f) : std::string("none");
+  };
+  return out + " <span class=\"iv\">[" + end(iv[0]) + ", " + end(iv[1]) + "]</span>";
 }
 
 std::string short_key(const std::string& k) {
@@ -85,12 +88,25 @@ void spread_row(std::ostream& h, const std::string& m, const Json& r) {
   h << "</td></tr>\n";
 }
 
+/// A quantile interval with an end the analysis could not give (null) among the metrics.
+bool open_end(const Json& metrics) {
+  for (const auto& [m, r] : metrics.items()) {
+    const Json d = r.value("distribution", Json());
+    if (!d.is_object()) continue;
+    const Json qi = d.value("quantile_intervals", Json::object());  // kept: items() refers to it
+    for (const auto& [p, iv] : qi.items())
+      if (iv.is_array() && iv.size() == 2 && iv[0].is_number() != iv[1].is_number()) return true;
+  }
+  return false;
+}
+
 /// level: "95 % intervals in brackets", as analyze prints it.
 void spread_table(std::ostream& h, const Json& metrics, const std::string& level) {
   h << "<div class=\"wide\"><table><tr><th>metric</th><th>mean</th><th>std</th><th>5 %</th>"
        "<th>50 %</th><th>95 %</th><th>exceedance</th></tr>\n";
   for (const auto& [m, r] : metrics.items()) spread_row(h, m, r);
   h << "</table></div>\n<p class=\"note\">" << escape(level) << ".";
+  if (open_end(metrics)) h << " An interval's end is none where too few points give it.";
   for (const auto& [m, r] : metrics.items()) {
     const std::string sample = text(r.value("distribution", Json::object()), "sample");
     if (!sample.empty()) {

@@ -8,6 +8,7 @@ slider_crank_figures.py, input_figures.py) registers each of its figures with
 @figure(stem, what); plot_study.py draws them in its ORDER.
 """
 import math
+import textwrap
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -196,6 +197,21 @@ def is_designed(study):
     return "design.sample" in study.summary
 
 
+# figures of one point per case (every sample of a design is drawn): the others draw one curve
+# (or panel) per case and a legend line naming it
+SAMPLE_FIGURES = {"first_impact_force", "bode", "free_play_loop"}
+
+
+def drawn_cases(study, cases, stem):
+    """(the cases figure `stem` draws, a note saying which or ""): a designed study's figures
+    of one curve per case draw the readable_cases (a curve and a legend line for each of a
+    hundred samples, each line naming every factor, would bury the axes); the note goes into
+    the figure's title and caption (title())."""
+    if stem in SAMPLE_FIGURES or not is_designed(study):
+        return cases, ""
+    return readable_cases(study, cases)
+
+
 def json_key(d):
     return tuple(sorted((k, format_value(v)) for k, v in d.items()))
 
@@ -204,6 +220,10 @@ SHOW_TITLES = True        # --no-title: figures without their titles (for public
 
 
 def title(study, text):
+    """The figure's title: what it shows (the caption's sentence), with study.cases_note (which
+    cases it draws, drawn_cases) when there is one, then the study's name, scenes and size."""
+    note = getattr(study, "cases_note", "")
+    text = f"{text},\n{note}" if note else text
     return f"{text}\nstudy {study.name} ({', '.join(study.scenes)}, {len(study.cases())} case(s))"
 
 
@@ -219,11 +239,14 @@ def set_axes_title(ax, text, **kw):
         ax.set_title(text, **kw)
 
 
+LEGEND_LINE = 110        # characters: a longer case label is wrapped onto several lines
+
+
 def case_legend(fig, cases, style, extra=()):
     """A figure legend below the axes naming each case's grid coordinates (plus extra
     (handle, label) entries)."""
     handles = [Line2D([], [], color=style(c), ls=style.ls(c), lw=2) for c in cases]
-    labels = [c.label for c in cases]
+    labels = [textwrap.fill(c.label, LEGEND_LINE) for c in cases]   # a design's many factors
     for h, l in list(style.scene_entries()) + list(extra):
         handles.append(h)
         labels.append(l)
@@ -237,7 +260,7 @@ def bottom_legend(fig, handles, labels):
     layout keeps the axes out of the band, so the figure is saved as it is laid out (no
     bbox_inches="tight", which would draw everything twice).
     """
-    longest = max((len(l) for l in labels), default=10)
+    longest = max((len(line) for l in labels for line in l.split("\n")), default=10)
     ncol = max(1, min(len(labels), int(90 // max(longest, 1))))
     leg = fig.legend(handles, labels, loc="lower center", bbox_to_anchor=(0.5, 0.0),
                      ncol=ncol, fontsize="small", frameon=False)

@@ -14,7 +14,7 @@ Figures (file stem: what, thesis figure):
   polar_relative_position  ball centre relative to the socket, xy-plane, clearance circle (5.4, 5.11, 6.15)
   polar_force_wear         peak contact force and time-integrated wear per contact-angle bin (5.5, 6.29)
                            (both: at most 9 cases, those of the largest peak contact force, said in
-                           the title)
+                           the title; on a designed study, every figure of one curve per case too)
   surface_angle            surface angle and its difference to the first case (5.17)
   trajectories_xy_xz       xy and xz trajectories when the ball leaves the xy-plane (5.18-5.20)
   first_impact_force       summary metric first_impact_peak_force against the first numeric grid axis (5.15);
@@ -149,8 +149,9 @@ def main(argv=None):
     style = figure_kit.Style(study)
     status = 0
     for stem, what, fn in figures():
+        drawn, study.cases_note = figure_kit.drawn_cases(study, cases, stem)
         try:
-            fig = fn(study, cases, style)
+            fig = fn(study, drawn, style)
         except figure_kit.Skip as e:
             print(f"skip {what}: {e}")
             continue

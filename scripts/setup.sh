@@ -98,10 +98,14 @@ if [ "${RODEND_PYTHON_VENV:-1}" = 1 ] && [ "$build_dir" = build ] && [ "$python_
     # the Jupyter kernel "rodend": this .venv's python, for examples/study.ipynb (which names
     # it) and any notebook; registered for this user (~/.local/share/jupyter/kernels/rodend,
     # where every Jupyter of the user looks; written again on each set-up: the last clone set
-    # up is the one it runs). RODEND_JUPYTER_KERNEL=0 skips it.
+    # up is the one it runs). RODEND_JUPYTER_KERNEL=0 skips it. PYDEVD_DISABLE_FILE_VALIDATION:
+    # without it every start of the kernel prints the debugger's four-line warning on Python
+    # 3.11's frozen modules ("may make the debugger miss breakpoints") under jupyter-execute
+    # and in Jupyter's log, which says nothing about rodend.
     if [ "${RODEND_JUPYTER_KERNEL:-1}" = 1 ]; then
       if .venv/bin/python -m ipykernel install --user --name rodend \
-        --display-name "Python (rodend: $(pwd))" >.venv/kernel-install.log 2>&1; then
+        --display-name "Python (rodend: $(pwd))" --env PYDEVD_DISABLE_FILE_VALIDATION 1 \
+        >.venv/kernel-install.log 2>&1; then
         echo "setup: Jupyter kernel 'rodend' runs $(pwd)/.venv/bin/python" >&2
       else
         echo "setup: registering the Jupyter kernel failed (see .venv/kernel-install.log)" >&2

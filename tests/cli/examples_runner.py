@@ -39,7 +39,8 @@ def register_kernel(python, folder, env):
     """`python -m ipykernel install --prefix FOLDER --name rodend`, as setup.sh does with
     --user; returns the JUPYTER_PATH entry that finds it."""
     r = subprocess.run([python, "-m", "ipykernel", "install", "--prefix", folder, "--name",
-                        "rodend", "--display-name", "Python (rodend)"],
+                        "rodend", "--display-name", "Python (rodend)",
+                        "--env", "PYDEVD_DISABLE_FILE_VALIDATION", "1"],
                        capture_output=True, text=True, env=env, timeout=300)
     if r.returncode != 0:
         raise RuntimeError(f"ipykernel install failed: {r.stderr[-2000:]}")

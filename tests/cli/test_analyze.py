@@ -715,6 +715,59 @@ def test_ranking(tmp):
           f"correlated: chaos {r['chaos']}, ranking {r['ranking']}")
 
 
+def test_morris_plane_labels():
+    """The σ–μ* panel: every label inside the axes, none over another text. The case a
+    screening gives: the largest μ* with a small σ (bottom right, where a label drawn on the
+    point's right was clipped and the note on unlabelled factors was written over it)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from rodend.analysis import factor_figures as ff
+    keys = ["parameters.contact.clearance", "parameters.contact.stiffness_scale",
+            "parameters.hinge.constant_moment", "parameters.a", "parameters.b"]
+    star = np.array([4351.0, 3029.0, 3372.0, 0.002, 0.001])
+    sigma = np.array([173.0, 129.0, 4769.0, 0.002, 0.001])
+    err = np.vstack([0.03 * star, 0.03 * star])
+    fig, ax = plt.subplots(figsize=(4.2, 4.0))
+    ff._plane(ax, keys, star, sigma, err, "N")
+    fig.tight_layout()
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    box = ax.get_window_extent(r)
+    texts = [t for t in ax.texts if t.get_text()]
+    check(len(texts) == 3, f"σ–μ* panel: {len(texts)} labels, expected the 3 large factors")
+    for t in texts:
+        b = t.get_window_extent(r)
+        check(box.x0 <= b.x0 and b.x1 <= box.x1 and box.y0 <= b.y0 and b.y1 <= box.y1,
+              f"σ–μ* panel: label {t.get_text()!r} outside the axes ({b} in {box})")
+    for i, s in enumerate(texts):
+        for t in texts[i + 1:]:
+            check(not s.get_window_extent(r).overlaps(t.get_window_extent(r)),
+                  f"σ–μ* panel: {s.get_text()!r} over {t.get_text()!r}")
+    check("2 factor(s) below 5% of the largest μ*\nnot labelled" in ax.get_xlabel(),
+          f"σ–μ* panel: the unlabelled factors not said under the axes: {ax.get_xlabel()!r}")
+    b, page = ax.xaxis.label.get_window_extent(r), fig.bbox
+    check(page.x0 <= b.x0 and b.x1 <= page.x1,
+          f"σ–μ* panel: its x label outside the figure {b}")
+    plt.close(fig)
+
+
+def test_quantile_open_ends():
+    """A 5 % quantile's 95 % interval from 60 points has no lower end (rank 0: 0.95^60 > 0.025):
+    the table shows the upper end and says why the lower is missing (main: a blank cell),
+    and from 72 points both ends (0.95^72 < 0.025 <= 0.95^71)."""
+    from rodend.analysis import stats, table
+    doc = {"bootstrap": 20, "confidence": 0.95}
+    for n, whole in ((60, False), (71, False), (72, True)):
+        d = stats.distribution(np.linspace(1.0, 2.0, n), 0.95, 20, 1)
+        lines = table._spread("y", {"units": "1", "distribution": d}, doc)
+        row = next(line for line in lines if line.strip().startswith("5 % quantile"))
+        iv = d["quantile_intervals"]["0.05"]
+        check((iv[0] is not None) == whole, f"{n} points: the 5 % quantile's interval {iv}")
+        said = f"{n} points are too few for a 95 % interval's end" in row and "[none, " in row
+        check(said != whole, f"{n} points: 5 % quantile row {row!r}")
+
+
 def test_morris_spread(tmp):
     """A Morris design's spread over its points: y = x on U(0, 1) with 4 levels takes the
     values 0, 1/3, 2/3, 1 equally often, so the mean is 1/2 and P(y > 0.5) = 1/2 up to the
@@ -762,6 +815,8 @@ def main():
         test_bands_corrupt(tmp)
         test_ranking(tmp)
         test_morris_spread(tmp)
+        test_morris_plane_labels()
+        test_quantile_open_ends()
         test_bad_input(tmp)
         test_bootstrap_confidence(tmp)
         test_no_write_through_links(tmp)

@@ -33,7 +33,8 @@ What is checked, and how a piece of documentation opts out:
 - The pointers of `rodend --help` and of every subcommand's `--help`: paths
   as above, `README.md#anchor` / `docs/x.md#anchor` and `README "Section"` / `docs/x.md
   "Section"` must name a heading of that document.
-- No "issue N" in README.md, docs/, app/, python/rodend/ or the help texts (check_issue_mentions).
+- No "issue N" in README.md, docs/, app/, python/rodend/, studies/, examples/ or the help texts
+  (check_issue_mentions).
 Before checking the documents, the checker is run on a document with one fault of each kind and
 on a help text with a dangling pointer of each kind, and must report every one, so this test
 can fail.
@@ -444,8 +445,11 @@ ISSUE = re.compile(r"\bissues? (?:\d+|#\d+)|\bthe issue's\b", re.I)
 def issue_mentions(repo, help_text):
     """Docs, help texts and the Python package's text speak of the software, not of the
     project's issues: "issue 31", "issues 18", "the issue's" in README.md, docs/*.md, app/,
-    python/rodend/ and rodend's help texts, each reported with its file and line."""
+    python/rodend/, the shipped studies (their descriptions head the report), the examples and
+    rodend's help texts, each reported with its file and line."""
     files = [os.path.join(repo, "README.md")] + sorted(glob.glob(os.path.join(repo, "docs", "*.md")))
+    files += sorted(glob.glob(os.path.join(repo, "studies", "*.json")))
+    files += sorted(glob.glob(os.path.join(repo, "examples", "*.*")))
     files += sorted(glob.glob(os.path.join(repo, "app", "*.[ch]pp")))
     files += sorted(glob.glob(os.path.join(repo, "python", "rodend", "**", "*.py"), recursive=True))
     found = []

@@ -161,6 +161,11 @@ with tempfile.TemporaryDirectory() as tmp:
     cap = Image.open(os.path.join(out, "polar_relative_position.png")).text.get("Description", "")
     check("the 9 of 12 cases with the largest peak contact force" in cap,
           f"designed: polar figure caption {cap!r}")
+    # so does every figure of one curve per case (a curve and a legend line per sample would
+    # bury the axes), and says so
+    cap = Image.open(os.path.join(out, "eccentricity_force.png")).text.get("Description", "")
+    check("the 9 of 12 cases with the largest peak contact force" in cap,
+          f"designed: eccentricity figure caption {cap!r}")
     # its report before any analysis: the answers section says how to get them
     r = run(["report", designed])
     with open(os.path.join(designed, "report.html"), encoding="utf-8") as f:
@@ -168,6 +173,15 @@ with tempfile.TemporaryDirectory() as tmp:
     check(r.returncode == 0 and "No analysis yet: <code>rodend analyze" in html and
           html.index("<h2>Answers") < html.index("<h2>Figures"),
           f"designed: the report does not point to rodend analyze ({r.returncode} {r.stderr})")
+    # after the analysis: 12 points give a 5 % quantile no lower end at 95 % (0.95^12 > 0.025);
+    # the answers show "none" there, not a blank
+    a = run(["analyze", designed, "--no-plots", "--metric", "first_impact_speed"])
+    r = run(["report", designed])
+    with open(os.path.join(designed, "report.html"), encoding="utf-8") as f:
+        html = f.read()
+    check(a.returncode == 0 and r.returncode == 0 and '<span class="iv">[none, ' in html
+          and "An interval's end is none where too few points give it." in html,
+          f"designed: the quantile's missing end not shown as none ({a.returncode} {a.stderr})")
 
     # a scene without a mechanism, one case, no grid
     drop = simulate(tmp, {

@@ -104,15 +104,16 @@ def _plane(ax, keys, star, sigma, err, shown):
     ax.plot([0, m], [0, m], "k:", lw=0.7, label="σ = μ*")
     big = star >= LABELLED * star.max()
     for k, xv, yv, b in zip(keys, star, sigma, big):
-        if b:
-            ax.annotate(dp.short(k), (xv, yv), fontsize=7, xytext=(3, 3),
-                        textcoords="offset points")
+        if b:   # a point in the right part of the axes is labelled on its left: never clipped
+            left = xv > 0.55 * top_x
+            ax.annotate(dp.short(k), (xv, yv), fontsize=7, xytext=(-3 if left else 3, 3),
+                        textcoords="offset points", ha="right" if left else "left")
     ax.set_xlim(0, top_x)
     ax.set_ylim(0, top_y)
-    ax.set_xlabel(f"μ* [{shown}]", fontsize=8)
+    # the unlabelled factors are said under the axes, where no point or label can be
+    note = "" if big.all() else (f"\n{int((~big).sum())} factor(s) below {LABELLED:.0%} of the "
+                                 "largest μ*\nnot labelled (the bars name them)")
+    ax.set_xlabel(f"μ* [{shown}]{note}", fontsize=8)
     ax.set_ylabel(f"σ [{shown}]", fontsize=8)
     ax.tick_params(labelsize=7)
-    if not big.all():
-        ax.text(0.98, 0.02, f"{int((~big).sum())} factor(s) below {LABELLED:.0%} of the "
-                "largest μ* not labelled", transform=ax.transAxes, ha="right", fontsize=6)
     ax.legend(fontsize=7, loc="upper left")

@@ -49,13 +49,25 @@ def _spread(m, r, doc):
     rows += [(f"{float(p) * 100:g} % quantile", v, (d.get("quantile_intervals") or {}).get(p))
              for p, v in d["quantiles"].items()]
     for name, v, iv in rows:
+        iv = dp.scaled(iv, si)
         lines.append(f"    {name:<22}{dp.g(dp.scaled(v, si), 11)}  "
-                     f"{dp.interval(dp.scaled(iv, si))}")
+                     f"{_open_ends(iv, d['n'], doc) or dp.interval(iv)}")
     for e in r.get("exceedance", []):
         name = f"P(> {dp.g(dp.scaled(e['threshold'], si))}{dp.suffix(si)})"
         lines.append(f"    {name:<22}{dp.g(e['probability'], 11)}  "
                      f"{dp.interval(e.get('interval'))}  ({e['exceed']} of {e['n']})")
     return lines
+
+
+def _open_ends(iv, n, doc):
+    """A quantile's order-statistic interval with an end no rank of the n points gives (a 5 %
+    quantile's lower end below 72 points at 95 %): the end that exists and why the other is
+    missing, instead of a blank ("" when both ends exist, or there is no interval)."""
+    if not iv or (iv[0] is not None and iv[1] is not None):
+        return ""
+    lo = "none" if iv[0] is None else dp.g(iv[0])
+    hi = "none" if iv[1] is None else dp.g(iv[1])
+    return f"[{lo}, {hi}]  ({n} points are too few for a {_level(doc)} interval's end)"
 
 
 def _extras(r):
