@@ -447,6 +447,7 @@ std::unique_ptr<Stepper> make_odeint_stepper(ScaledSystem& sys, const Integrator
     case IntegratorMethod::rosenbrock4:
       return std::make_unique<Rosenbrock4Stepper>(sys, s);
     case IntegratorMethod::cvode_bdf:
+    case IntegratorMethod::cvode_bdf3:
     case IntegratorMethod::cvode_adams:
       return nullptr;  // make_cvode_stepper
   }
@@ -455,7 +456,8 @@ std::unique_ptr<Stepper> make_odeint_stepper(ScaledSystem& sys, const Integrator
 
 std::unique_ptr<Stepper> make_stepper(ScaledSystem& sys, const Scene& scene,
                                       const IntegratorSettings& s) {
-  if (s.method == IntegratorMethod::cvode_bdf || s.method == IntegratorMethod::cvode_adams)
+  if (s.method == IntegratorMethod::cvode_bdf || s.method == IntegratorMethod::cvode_bdf3 ||
+      s.method == IntegratorMethod::cvode_adams)
     return make_cvode_stepper(sys, scene, s);
   if (auto st = make_odeint_stepper(sys, s)) return st;
   throw InputError("integrator.method",

@@ -146,7 +146,7 @@ TEST_CASE("the names of choices are those studies and results files use", "[choi
                                  "energy_residual_limit", "actuator_saturation", "internal_error"});
   CHECK(choice_strings<IntegratorMethod>() ==
         std::vector<std::string>{"rk4", "dopri5", "cash_karp54", "fehlberg78", "bulirsch_stoer",
-                                 "rosenbrock4", "cvode_bdf", "cvode_adams"});
+                                 "rosenbrock4", "cvode_bdf", "cvode_adams", "cvode_bdf3"});
   CHECK(choice_strings<ContactOnset>() == std::vector<std::string>{"locate", "step-end"});
   CHECK(choice_strings<FrictionLawKind>() ==
         std::vector<std::string>{"thesis", "ambrosio", "coulomb", "none"});

@@ -1,5 +1,6 @@
 // Internal to core: SUNDIALS CVODE in the integrator menu, BDF (stiff, Newton with a dense LU,
-// ours) and Adams (non-stiff, fixed-point iteration), on the same scaled right-hand side, one
+// ours; of order up to 5, or up to 3 as cvode_bdf3) and Adams (non-stiff, fixed-point
+// iteration), on the same scaled right-hand side, one
 // internal step at a time (CV_ONE_STEP), with CVODE's dense output and its own root finding
 // for contact onset (the penetration of each contact, crossing zero upwards). In stages:
 //   core/cvode/setup.cpp      CVODE's objects, its tolerances and limits, the BDF's linear

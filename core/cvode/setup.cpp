@@ -21,7 +21,7 @@ CvodeStepper::CvodeStepper(ScaledSystem& sys, const Scene& scene, const Integrat
     : sys_(sys), scene_(scene), s_(s), n_(static_cast<sunindextype>(sys.scale.size())) {
   create();
   set_tolerances_and_limits();
-  if (s.method == IntegratorMethod::cvode_bdf)
+  if (s.method != IntegratorMethod::cvode_adams)
     attach_newton_lu();
   else
     attach_fixed_point();
@@ -33,7 +33,7 @@ void CvodeStepper::create() {
   if (SUNContext_Create(nullptr, &h_.ctx) != 0) fail("cannot create a SUNDIALS context");
   h_.y = N_VNew_Serial(n_, h_.ctx);
   h_.tmp = N_VNew_Serial(n_, h_.ctx);
-  const bool bdf = s_.method == IntegratorMethod::cvode_bdf;
+  const bool bdf = s_.method != IntegratorMethod::cvode_adams;
   h_.mem = CVodeCreate(bdf ? CV_BDF : CV_ADAMS, h_.ctx);
   if (!h_.y || !h_.tmp || !h_.mem) throw std::bad_alloc();  // only an allocation fails here
   use_fast_ops(h_.y);  // before CVodeInit: CVODE's vectors are clones of y
@@ -71,7 +71,15 @@ void CvodeStepper::attach_newton_lu() {
   // 4578, 5355, 7139, 9251; actuator 5905, 5641, 8679, 17914 -> 5064, 5663, 7189, 11087,
   // errors of the same order. Without it the step count jumped with round-off (the
   // kinematic 1e-7 took 7121 or 12454 steps depending on the LU's rounding).
-  check(CVodeSetStabLimDet(h_.mem, SUNTRUE), "CVodeSetStabLimDet");
+  if (s_.method == IntegratorMethod::cvode_bdf) {
+    check(CVodeSetStabLimDet(h_.mem, SUNTRUE), "CVodeSetStabLimDet");
+    return;
+  }
+  // cvode_bdf3: orders 1-3 only, where the detection never acted on the thesis cycle (runs with
+  // and without it bit-identical at order 3) and cost 6 % of the case (Debian's library is
+  // built without optimisation). Kinematic thesis cycle at 1e-6 (docs/performance.md, "CVODE's
+  // own settings"): 222.4 M -> 190.4 M instructions, work-precision error 6.8e-4 -> 1.0e-3.
+  check(CVodeSetMaxOrd(h_.mem, 3), "CVodeSetMaxOrd");
 }
 
 /// Adams: fixed-point iteration (no Jacobian).
