@@ -378,14 +378,14 @@ TEST_CASE("the summary has one header line and one line per case", "[results]") 
   std::string header =
       "case_id,case_index,scene,parameters.contact.clearance,status,message,t_reached_s,"
       "wall_time_s,"
-      "steps_accepted,steps_rejected,rhs_calls,started_utc,finished_utc";
+      "steps_accepted,steps_rejected,rhs_calls,friction_switches,started_utc,finished_utc";
   for (const MetricSpec& m : metric_catalogue()) header += "," + std::string(m.name);
   CHECK(lines[0] == header);
 
   // first row: the id, index, scene, the coordinate as the shortest decimal that reads back as
   // the same double (5e-4 is 0.0005, not %.17g's 0.00050000000000000001), empty message
   CHECK(lines[1].rfind(rows[0].id + ",0," + study.cases[0].scene +
-                           ",0.0005,ok,,0.25,1.5,12345678901,17,98765,"
+                           ",0.0005,ok,,0.25,1.5,12345678901,17,98765,0,"
                            "2024-05-01T10:00:00Z,2024-05-01T10:00:02Z,",
                        0) == 0);
   // every metric reads back exactly (0.125 i + 1e-17 needs 17 digits for i = 0 only)
