@@ -116,17 +116,16 @@ void Reader::read_joint(const std::string& name) {
 
 void Reader::read_actuator() {
   m.motion = read_motion(p, "motion");
-  if (m.motion.shape == ActuatorMotion::Shape::step)
+  if (read_choice<MotionShape>(p, "motion.shape") == MotionShape::step)
     throw InputError("motion.shape", "expected a shape with a velocity (not \"step\")");
   const Vec3 dir = p.vec3("linkage.actuator.direction");
   if (!(dir.head<2>().norm() > 0.0) || dir.z() != 0.0)
     throw InputError("linkage.actuator.direction",
                      "expected a non-zero direction in the plane (z = 0)");
-  const ActuatorMotion motion = m.motion;
   m.linkage.add_drive(point("linkage.actuator.point"), ground_point("linkage.actuator.rest"),
-                      dir.head<2>(), [motion](double t) {
-                        const ActuatorMotion::Sample s = motion.at(t);
-                        return DriveSample{s.position, s.velocity, s.acceleration};
+                      dir.head<2>(), [motion = m.motion](double t) {
+                        const Input::Sample s = motion->at(t);
+                        return DriveSample{s.value, s.rate, s.acceleration};
                       });
 }
 

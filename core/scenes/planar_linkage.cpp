@@ -71,7 +71,7 @@ class PlanarLinkageScene final : public Scene {
   std::span<const int> audit_offsets() const override { return audit_; }
   PeriodicInputs periodic_inputs() const override {
     PeriodicInputs in;
-    if (m_.motion.is_waveform()) in.command = periodic_input(m_.motion.wave);
+    in.command = m_.motion->periodic();
     return in;
   }
 
@@ -169,9 +169,9 @@ void PlanarLinkageScene::outputs(double t, const double* x, const DiscreteState&
                                  SignalFrame& f) const {
   const Eigen::VectorXd Q = q(x), Qd = qd(x);
   const linkage::LinkageDynamics s = m_.linkage.dynamics(t, Q, Qd, d.contacts);
-  const ActuatorMotion::Sample a = m_.motion.at(t);
-  f.set(SignalId::actuator_position, a.position);
-  f.set(SignalId::actuator_velocity, a.velocity);
+  const Input::Sample a = m_.motion->at(t);
+  f.set(SignalId::actuator_position, a.value);
+  f.set(SignalId::actuator_velocity, a.rate);
   const linkage::GlobalPoint o = m_.linkage.point(m_.output, Q, Qd);
   f.set(SignalId::surface_angle, o.angle - angle0_);
   f.set(SignalId::surface_rate, o.angular_velocity);
@@ -202,9 +202,9 @@ void PlanarLinkageScene::state_scale(double* s) const {
   // positions on the smallest clearance (0.1 mm without one), angles on it over the body's
   // size; rates on the actuator's largest speed over its motion
   double speed = 0.0;
-  const double end = std::max(m_.motion.duration(), 1e-3);
+  const double end = std::max(m_.motion->end_time(), 1e-3);
   for (int k = 0; k <= 256; ++k)
-    speed = std::max(speed, std::abs(m_.motion.at(end * k / 256).velocity));
+    speed = std::max(speed, std::abs(m_.motion->at(end * k / 256).rate));
   if (!(speed > 0.0)) speed = 1e-3;
   for (int b = 0; b < m_.linkage.body_count(); ++b) {
     const int o = m_.linkage.body_offset(b), k = m_.linkage.body(b).coordinate_count();
