@@ -8,6 +8,7 @@
 #include "core/scene.hpp"
 #include "core/scenes/drivers.hpp"
 #include "core/scenes/parts.hpp"
+#include "core/scenes/profile.hpp"
 #include "core/scenes/rod_end_scene.hpp"
 
 namespace rodend {
