@@ -53,10 +53,14 @@ InputPtr test_waveform(WaveformKind kind) {
   const WavePeriods w{3.0, 2};
   const ChirpSweep c{1.0, 8.0, 1.5};
   switch (kind) {
-    case WaveformKind::sine: return std::make_shared<SineWave>(l, w);
-    case WaveformKind::triangle: return std::make_shared<TriangleWave>(l, w);
-    case WaveformKind::linear_chirp: return std::make_shared<LinearChirp>(l, c);
-    case WaveformKind::log_chirp: return std::make_shared<LogChirp>(l, c);
+    case WaveformKind::sine:
+      return std::make_shared<SineWave>(l, w);
+    case WaveformKind::triangle:
+      return std::make_shared<TriangleWave>(l, w);
+    case WaveformKind::linear_chirp:
+      return std::make_shared<LinearChirp>(l, c);
+    case WaveformKind::log_chirp:
+      return std::make_shared<LogChirp>(l, c);
   }
   return nullptr;
 }

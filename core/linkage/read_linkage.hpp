@@ -19,7 +19,7 @@ struct LinkageModel {
   std::vector<std::string> clearance_joint_names;  ///< in clearance-joint order
   Eigen::VectorXd initial_guess;                   ///< the bodies' origin and angle, modes 0
   PointRef output;                                 ///< linkage.output: the shaft's point
-  InputPtr motion;                               ///< the actuator's displacement
+  InputPtr motion;                                 ///< the actuator's displacement
   double length_scale = 0.0;        ///< the smallest clearance, else 0.1 mm [m] (state scales)
   std::vector<double> body_radius;  ///< largest point distance from each body's origin [m]
 };

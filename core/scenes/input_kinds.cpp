@@ -34,7 +34,9 @@ double Input::integral(double t) const {
   return sum * h / 3.0;
 }
 
-InputPtr NoInput::read(const InputKeys&) { return std::make_shared<NoInput>(); }
+InputPtr NoInput::read(const InputKeys&) {
+  return std::make_shared<NoInput>();
+}
 std::pair<std::string_view, std::string_view> NoInput::range_keys() const {
   return {"kind", "kind"};
 }
@@ -82,7 +84,9 @@ Input::Sample SinusoidInput::at(double t) const {
   const double w = kTwoPi * f_;
   return {a_ * std::sin(kTwoPi * f_ * t), a_ * w * std::cos(w * t), -a_ * w * w * std::sin(w * t)};
 }
-double SinusoidInput::value(double t, double) const { return a_ * std::sin(kTwoPi * f_ * t); }
+double SinusoidInput::value(double t, double) const {
+  return a_ * std::sin(kTwoPi * f_ * t);
+}
 double SinusoidInput::integral(double t) const {
   const double w = kTwoPi * f_;
   return w > 0.0 ? a_ * (1.0 - std::cos(w * t)) / w : 0.0;
@@ -98,7 +102,9 @@ Input::Sample SumInput::at(double t) const {
   const Sample a = a_->at(t), b = b_->at(t);
   return {a.value + b.value, a.rate + b.rate, a.acceleration + b.acceleration};
 }
-double SumInput::end_time() const { return std::max(a_->end_time(), b_->end_time()); }
+double SumInput::end_time() const {
+  return std::max(a_->end_time(), b_->end_time());
+}
 std::pair<double, double> SumInput::range() const {
   const auto [alo, ahi] = a_->range();
   const auto [blo, bhi] = b_->range();

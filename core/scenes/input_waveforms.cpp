@@ -109,8 +109,7 @@ InputPtr LinearChirp::read(const InputKeys& in) {
 Input::Sample LinearChirp::inside(double tau) const {
   const ChirpSweep& c = sweep();
   const double df = (c.end_frequency - c.start_frequency) / c.duration;
-  return sinusoid(c.start_frequency * tau + 0.5 * df * tau * tau, c.start_frequency + df * tau,
-                  df);
+  return sinusoid(c.start_frequency * tau + 0.5 * df * tau * tau, c.start_frequency + df * tau, df);
 }
 
 LogChirp::LogChirp(const WaveformLevel& l, const ChirpSweep& c)

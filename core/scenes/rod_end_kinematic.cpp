@@ -48,8 +48,7 @@ class RodEndKinematicScene final : public RodEndScene<RodEndKinematicScene, 0> {
   template <class S>
   void rhs(double t, const S* x, const DiscreteState& d, S* dxdt) const {
     const Input::Sample m = motion_->at(t);
-    const Mech::EvalT<S> e =
-        mech_.evaluate(t, S(m.value), S(m.rate), x + kMech, d.contacts[0]);
+    const Mech::EvalT<S> e = mech_.evaluate(t, S(m.value), S(m.rate), x + kMech, d.contacts[0]);
     mech_.derivatives(e, x + kMech, dxdt + kMech);
     dxdt[kWork] = mech_.input_power(e);
     dxdt[kDissipated] = mech_.dissipated_power(e);

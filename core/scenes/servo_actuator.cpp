@@ -73,13 +73,13 @@ void check_command_within_stroke(const Input& m, const ServoActuatorParams& a,
   const double lo = std::min(0.0, m.range().first), hi = std::max(0.0, m.range().second);
   const auto [lo_key, hi_key] = m.range_keys();
   if (hi >= a.half_stroke)
-    throw InputError(prefix + "." + std::string(hi_key),
-                     "the command " + format_number(hi) + " m is outside the piston stroke +-" +
-                         format_number(a.half_stroke) + " m");
+    throw InputError(prefix + "." + std::string(hi_key), "the command " + format_number(hi) +
+                                                             " m is outside the piston stroke +-" +
+                                                             format_number(a.half_stroke) + " m");
   if (-lo >= a.half_stroke)
-    throw InputError(prefix + "." + std::string(lo_key),
-                     "the command " + format_number(lo) + " m is outside the piston stroke +-" +
-                         format_number(a.half_stroke) + " m");
+    throw InputError(prefix + "." + std::string(lo_key), "the command " + format_number(lo) +
+                                                             " m is outside the piston stroke +-" +
+                                                             format_number(a.half_stroke) + " m");
 }
 
 template <class S>
