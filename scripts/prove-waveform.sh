@@ -45,15 +45,16 @@ InputPtr ThrowawayWave::read(const InputKeys& in) {
 
 Input::Sample ThrowawayWave::inside(double tau) const {
   const double A = level().amplitude, f = periods().frequency, phase = kTwoPi * f * tau;
-  return {level().offset + 0.5 * A * (1.0 - std::cos(phase)), 0.5 * A * kTwoPi * f * std::sin(phase),
-          0.5 * A * kTwoPi * kTwoPi * f * f * std::cos(phase)};
+  const double c = std::cos(phase), s = std::sin(phase);
+  return {level().offset + 0.5 * A * (1.0 - c), 0.5 * A * kTwoPi * f * s,
+          0.5 * A * kTwoPi * kTwoPi * f * f * c};
 }
 
 }  // namespace rodend
 CPP
 prove_lines prove-waveform core/scenes/waveforms.def 1 0
 prove_lines prove-waveform core/scenes/input_waveforms.hpp 10 0
-prove_lines prove-waveform core/scenes/input_waveforms.cpp 11 0
+prove_lines prove-waveform core/scenes/input_waveforms.cpp 12 0
 prove_changed prove-waveform " M core/scenes/input_waveforms.cpp" " M core/scenes/input_waveforms.hpp" \
   " M core/scenes/waveforms.def"
 }
