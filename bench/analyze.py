@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Benchmark of rodend analyze (issue 30; not a test): the time and peak memory of the analysis
+"""Benchmark of rodend analyze (not a test): the time and peak memory of the analysis
 of a synthetic 1e4-case results folder, and the interval widths the Ishigami function gets
 with the number of cases (the table of docs/uncertainty.md).
 

@@ -1,4 +1,4 @@
-// rodend-eigen: the stiffness that limits the explicit methods in sustained contact (issue 20).
+// rodend-eigen: the stiffness that limits the explicit methods in sustained contact.
 // For each mechanism scene with its defaults (thesis cycle, clearance 0.5 mm): the state at a
 // ladder of times (dopri5 1e-10 up to each), and there the eigenvalues of the Jacobian
 // (Scene::jacobian, in the driver's scaled variables z = x / scale: the same spectrum) with the
@@ -7,7 +7,7 @@
 //
 //   ./build/bench/rodend-eigen [scene ...]
 //
-// With --breakaway (issue 34): rod-end-actuator under the hinge-moment study's -100 N m
+// With --breakaway: rod-end-actuator under the hinge-moment study's -100 N m
 // (stroke +-60 mm, cvode_bdf 1e-8 up to t = 0.6049 s, where the ball creeps in loaded
 // contact), the ball's tangential velocity then set to give each slip speed of a ladder across
 // the thesis friction law's blends, and there the eigenvalue with the largest real part (an

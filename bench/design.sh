@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Resolving a large sampled design (issue 30): `rodend run --dry-run` of a 1e5-point Sobol'
+# Resolving a large sampled design: `rodend run --dry-run` of a 1e5-point Sobol'
 # design over four factors of rod-end-actuator (every case resolved, its scene built and
 # checked, its id computed, and the table printed), wall time and peak RSS, REPEATS times.
 #   bash bench/design.sh [BUILD_DIR]        (REPEATS=3, SIZE=100000 by default)

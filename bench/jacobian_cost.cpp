@@ -2,7 +2,7 @@
 // jacobian()) or by the default forward differences (Scene::jacobian), at a state in loaded
 // contact: the scene under a -100 N m hinge moment, cvode_bdf 1e-8 up to t = 0.2 s. Run it under
 // callgrind with `count` Jacobians and with none; the difference over `count` is the cost of one
-// (issue 34):
+// Jacobian:
 //
 //   valgrind --tool=callgrind ./build/bench/rodend-jacobian rod-end-kinematic exact 1000
 //   valgrind --tool=callgrind ./build/bench/rodend-jacobian rod-end-kinematic fd 1000

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Peak memory flat in the number of cases (issue 16 item 6): peak RSS of a real run of 16 and
+# Peak memory flat in the number of cases: peak RSS of a real run of 16 and
 # of 4,096 gravity-drop cases of the same size (one thread), and time and peak RSS of
 # --dry-run (validation of every case) for 1e4, 1e5 (and, with --large, 1e6) rod-end-kinematic
 # cases. Figures from /usr/bin/time -v. Usage: bench/memory.sh [build-dir] [--large]
@@ -35,7 +35,7 @@ run_grid 4096 > "$work/peak.txt"
 read -r rss4096 wall4096 < "$work/peak.txt"
 echo "run, gravity-drop, 16 cases:    peak RSS ${rss16} kB (wall ${wall16})"
 echo "run, gravity-drop, 4096 cases:  peak RSS ${rss4096} kB (wall ${wall4096})"
-awk -v a="$rss16" -v b="$rss4096" 'BEGIN {printf "4096 / 16 cases peak RSS: %.3f (issue 16: < 1.20)\n", b / a}'
+awk -v a="$rss16" -v b="$rss4096" 'BEGIN {printf "4096 / 16 cases peak RSS: %.3f (target: < 1.20)\n", b / a}'
 
 # rod-end-kinematic: 100 clearances x m hinge moments
 dry() {

@@ -1,4 +1,4 @@
-"""Benchmark (not a test): rodend.open_results on a 10,000-case study (issue 35 item 4).
+"""Benchmark (not a test): rodend.open_results on a 10,000-case study.
 
 Builds, or resumes, a 100 x 100 product grid over the gravity-drop scene (contact clearance x
 restitution) with a tiny end time (2 ms sampled every 0.1 ms: 21 samples a case) through

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Work-precision of the stiff and explicit methods on one thesis cycle (issue 20): for each
+"""Work-precision of the stiff and explicit methods on one thesis cycle: for each
 scene and configuration (method:tolerance), one run of the thesis cycle (2.4 s, clearance 0.5 mm,
 the scene's defaults, samples every 1 ms), its error on the converging metrics against a tight
 reference, its steps, right-hand-side calls and, with --callgrind, its instructions (whole run,

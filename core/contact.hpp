@@ -40,7 +40,7 @@ namespace rodend {
 struct ContactLatch {
   bool in_contact = false;    ///< a contact episode is under way
   double impact_speed = 0.0;  ///< approach speed delta'^- latched at onset [m/s]
-  bool slipping = false;      ///< friction.mode stick-slip: the slipping branch (else stuck)
+  bool slipping = false;  ///< friction.mode stick-slip or switch: the slipping branch (else stuck)
 };
 
 /// A normal-contact law F = F_el (1 + chi delta'/delta'^-): it supplies chi(c_r).
@@ -88,7 +88,8 @@ class FrictionLaw {
 bool needs_ordered_speeds(FrictionLawKind law);
 
 /// How a law is applied (friction.mode), from core/laws/friction_modes.def: smooth (the law as
-/// it is) or stick-slip (stuck and slipping branches, latched by the driver).
+/// it is), stick-slip (stuck and slipping branches, latched by the driver) or switch (stuck:
+/// the force that holds the slip at zero, core/contact_stick.hpp; slipping: the law).
 #define RODEND_CHOICE_ENUM FrictionMode
 #define RODEND_CHOICE_FILE "core/laws/friction_modes.def"
 #include "core/choice.hpp"
@@ -117,6 +118,12 @@ struct FrictionBranches {
 };
 FrictionBranches make_friction_branches(std::shared_ptr<const FrictionLaw> law,
                                         const FrictionParams& p);
+
+struct ClearanceContactModel;
+/// Sets the contact's friction.mode `mode` for its law m.friction (parameters `p`): smooth
+/// leaves it as it is; stick-slip sets its branches and switch speed v_st; switch those and
+/// the zero-velocity stick with its static limit, the law's largest mu (at v_st or v_dyn).
+void set_friction_mode(ClearanceContactModel& m, FrictionMode mode, const FrictionParams& p);
 
 /// Cubic blend of thesis eq. 3.10.
 double smooth_step(double x, double x0, double f0, double x1, double f1);
@@ -153,6 +160,16 @@ struct ClearanceContactModel {
   /// them [m/s].
   FrictionBranches branches;
   double switch_speed = 0.0;
+  /// friction.mode switch: a stuck contact holds its slip velocity at zero (the scene computes
+  /// the force that does, core/contact_stick.hpp, up to static_limit F_n); slipping, the
+  /// slipping branch (or the law, without a drop). switch_speed is then the slip speed below
+  /// which it may stick again and above which a stuck contact that exceeded the limit slips.
+  bool stick = false;
+  double static_limit = 0.0;  ///< mu of the static limit: the law's largest, at v_st or v_dyn [-]
+  /// The law a slipping contact of the switch mode uses: the slipping branch, or the law.
+  const FrictionLaw* slipping_law() const {
+    return branches.slipping ? branches.slipping.get() : friction.get();
+  }
   /// Worn surfaces (core/wear.hpp), fixed for a run; null: as manufactured. With them the
   /// penetration is |e| - c(n), c(n) the local clearance in the contact direction n, and the
   /// normal force acts along the gradient of that penetration (see evaluate_contact).
@@ -199,6 +216,9 @@ struct ContactEvalT {
   S damping_power = 0.0;    ///< power dissipated by hysteresis damping [W], >= 0
   S friction_power = 0.0;   ///< power dissipated by friction [W], >= 0
   S local_clearance = 0.0;  ///< clearance in the contact direction, worn surfaces included [m]
+  /// friction.mode switch, stuck: the force that holds the slip over the static limit
+  /// mu F_n (core/contact_stick.hpp); above 1 the contact slides at the limit [-]. 0 otherwise.
+  double stick_demand = 0.0;
 
   Vec3T<S> force_on_ball() const { return normal_force_on_ball + friction_on_ball; }
 };
@@ -208,9 +228,12 @@ using ContactEval = ContactEvalT<double>;
 struct ContactGap {
   double penetration;
   double penetration_rate;
-  /// friction.mode stick-slip, in contact: the branch the slip speed calls for (1 slipping: above
-  /// the switch speed; 0 stuck); -1 without branches or out of contact.
+  /// friction.mode stick-slip or switch, in contact: the branch the slip speed calls for (1
+  /// slipping: above the switch speed; 0 stuck); -1 without branches or out of contact.
   int slipping = -1;
+  /// friction.mode switch: a slipping contact sticks only if the force that holds it is within
+  /// the static limit too (Scene::stick_demand), and a stuck one slips above the switch speed.
+  bool stick = false;
 };
 ContactGap contact_gap(const ClearanceContactModel& m, const BodyKinematics& ball,
                        const BodyKinematics& socket);

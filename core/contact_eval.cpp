@@ -13,8 +13,10 @@ ContactGap contact_gap(const ClearanceContactModel& m, const BodyKinematics& bal
   const auto p = contact_detail::penetration(m, ball, socket);
   if (p.centred) return {-p.clearance, 0.0};
   ContactGap g{p.value(), p.rate(ball, socket)};
-  if (m.branches.stuck && g.penetration > 0.0)  // friction.mode stick-slip: the branch due
+  if ((m.branches.stuck || m.stick) && g.penetration > 0.0) {  // stick-slip, switch: the branch
     g.slipping = contact_detail::slip_velocity(m, ball, socket, p.normal).norm() > m.switch_speed;
+    g.stick = m.stick;
+  }
   return g;
 }
 

@@ -148,9 +148,13 @@ ContactEvalT<S> evaluate(const ClearanceContactModel& m, const BodyKinematicsT<S
   const Vec3T<S> r_socket = m.socket_radius() * c.normal;
   const Vec3T<S> v_t = slip_velocity(m, ball, socket, c.normal);
   c.slip_speed = v_t.norm();
-  const FrictionLaw* law = !m.branches.stuck ? m.friction.get()
-                           : latch.slipping  ? m.branches.slipping.get()
-                                             : m.branches.stuck.get();
+  // switch, stuck in an episode: no law (the scene adds the force that holds the slip,
+  // contact_stick.hpp); before the driver latched one, slipping
+  const FrictionLaw* law = m.stick
+                               ? (latch.slipping || !latch.in_contact ? m.slipping_law() : nullptr)
+                           : !m.branches.stuck ? m.friction.get()
+                           : latch.slipping    ? m.branches.slipping.get()
+                                               : m.branches.stuck.get();
   if (law && c.slip_speed > 0.0 && c.normal_force > 0.0) {
     const S mu = friction_coefficient(*law, c.slip_speed);
     c.friction_on_ball = -(mu * c.normal_force / c.slip_speed) * v_t;

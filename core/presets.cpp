@@ -43,7 +43,7 @@ const std::array<Entry, 12>& table() {
       {"rod-end-actuator", IntegratorPreset::fast, adaptive(IntegratorMethod::cvode_bdf, 1e-5)},
       {"rod-end-actuator", IntegratorPreset::balanced, adaptive(IntegratorMethod::cvode_bdf, 1e-7)},
       {"rod-end-actuator", IntegratorPreset::reference, adaptive(IntegratorMethod::dopri5, 1e-10)},
-      // measured (issue 21; docs/planar-slider-crank.md "Integrator presets"): the rod-slider
+      // measured (docs/planar-slider-crank.md "Integrator presets"): the rod-slider
       // clearance at 0.1, 0.3 and 0.5 mm, 10 revolutions, dopri5 at 1e-5 ... 1e-12; error of
       // peak_slider_acceleration and peak_contact_force against 1e-12, largest over the three.
       // fast: 1e-5, 0.49 % / 0.25 %, 2.0e5 RHS calls (the cheapest measured). balanced: 1e-7,

@@ -127,6 +127,13 @@ class Scene {
   // --- contacts (the driver latches their onsets) -------------------------------------------
   virtual int contact_count() const { return 0; }
   virtual ContactGap contact_gap(int /*contact*/, const double* /*x*/) const { return {-1.0, 0.0}; }
+  /// friction.mode switch (ContactGap::stick): the friction force that would hold the contact
+  /// stuck at time t and state x, over its static limit (ContactEval::stick_demand); a scene
+  /// that accepts the mode overrides it. Reads only the model, t, x and d.
+  virtual double stick_demand(int /*contact*/, double /*t*/, const double* /*x*/,
+                              const DiscreteState& /*d*/) const {
+    return 0.0;
+  }
   /// Clearance of a contact [m] (for penetration health checks).
   virtual double contact_clearance(int /*contact*/) const { return 0.0; }
   /// The smaller radius of a contact's two surfaces (the ball's, the journal's) [m]: the length

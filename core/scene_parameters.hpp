@@ -1,4 +1,4 @@
-// Scene defaults composed from part files (issue 18).
+// Scene defaults composed from part files.
 //
 // A part file (core/scenes/parts/<part>.part.json, embedded in the binary) holds the defaults of
 // one part, each leaf once with its unit and provenance (the leaf form of core/params.hpp):

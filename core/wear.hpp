@@ -1,4 +1,4 @@
-// Archard wear of the clearance contact: wear maps on the ball and the socket (issue 11).
+// Archard wear of the clearance contact: wear maps on the ball and the socket (docs/wear.md).
 //
 // The thesis stops at a wear indicator F_N v_slip (thesis §5.1). Archard's law turns it into a
 // worn-volume rate for each body:

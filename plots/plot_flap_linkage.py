@@ -14,6 +14,9 @@ labelled by its grid coordinates:
   flap_spectrum.png  amplitude spectrum of the angular acceleration over the whole periods
                      after the first (the samples are uniform: the study's sample_interval)
 
+A case's label names what differs between the cases: the joints with clearance, the flexible
+bodies, any other grid key as name=value.
+
 Prints one line per file written. Exit status 0 when drawn, 2 when RESULTS_DIR holds no case
 file with those signals (one line, no traceback). Needs Debian's numpy, h5py, matplotlib.
 """
@@ -35,19 +38,39 @@ NEEDED = ["surface_angle", "surface_angle_command", "surface_rate", "ideal_surfa
 DRIVE_HZ = "motion.frequency"
 
 
-def label(coords):
-    """Short label from the case's grid coordinates (the differing keys' last two parts)."""
-    parts = []
+def parts(coords):
+    """A case's grid coordinates as short phrases: the joints with clearance ("clearance at
+    joints 1+2"), the flexible bodies ("flexible: auxiliary_rod"), any other key as name=value
+    (its last two parts)."""
+    joints, flexible, other = [], [], []
     for key, value in coords.items():
-        name = ".".join(key.split(".")[-2:])
-        if isinstance(value, str) and value == "ideal":
-            continue
-        parts.append(f"{name}={value}")
-    return ", ".join(parts) or "default"
+        name = key.split(".")
+        if key.startswith("parameters.linkage.joints.") and name[-1] == "model":
+            if value == "clearance":
+                joints.append(name[-2].replace("joint_", ""))
+        elif key.startswith("parameters.linkage.bodies.") and name[-1] == "kind":
+            if value == "flexible":
+                flexible.append(name[-2])
+        else:
+            other.append(f"{'.'.join(name[-2:])}={value}")
+    out = other
+    if any(k.endswith(".model") for k in coords):
+        out = ["clearance at joint" + ("s " if len(joints) > 1 else " ") + "+".join(joints)
+               if joints else "no clearance"] + out
+    if any(k.endswith(".kind") for k in coords):
+        out.append("flexible: " + ", ".join(flexible) if flexible else "rigid")
+    return out
+
+
+def labels(all_coords):
+    """One label per case: its phrases that are not the same in every case."""
+    phrased = [parts(c) for c in all_coords]
+    common = set.intersection(*(set(p) for p in phrased)) if len(phrased) > 1 else set()
+    return [", ".join(x for x in p if x not in common) or "default" for p in phrased]
 
 
 def read_cases(results):
-    cases = []
+    cases, coords = [], []
     for path in sorted(glob.glob(os.path.join(results, "cases", "*.h5"))):
         with h5py.File(path, "r") as h:
             if "signals" not in h or not all(n in h["signals"] for n in NEEDED):
@@ -56,8 +79,9 @@ def read_cases(results):
             params = json.loads(h.attrs["parameters_json"])
             freq = params.get(DRIVE_HZ, {})
             freq = freq.get("value", freq) if isinstance(freq, dict) else freq
-            cases.append((label(json.loads(h.attrs["coordinates_json"])), float(freq), sig))
-    return cases
+            coords.append(json.loads(h.attrs["coordinates_json"]))
+            cases.append((float(freq), sig))
+    return [(lab, freq, sig) for lab, (freq, sig) in zip(labels(coords), cases)]
 
 
 def last_period(sig, freq):

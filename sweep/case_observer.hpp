@@ -16,7 +16,7 @@
 
 namespace rodend {
 
-/// Interrupting a case in flight (the Python module's run_case, issue 35 item 2): once set, the
+/// Interrupting a case in flight (the Python module's run_case): once set, the
 /// case's next sample throws CaseInterrupted, which is no std::exception, so that no handler of
 /// a case takes it for the case's failure; nothing of the case is recorded. Set from a signal
 /// handler (lock-free); the batch runner never sets it (its cases in flight finish).

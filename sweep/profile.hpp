@@ -1,4 +1,4 @@
-// Profiles from data files in studies (issue 31 item 1; docs/inputs.md "Profiles from data").
+// Profiles from data files in studies (docs/inputs.md "Profiles from data").
 // A parameter group `<input>.profile` (motion, command, hinge) names a file when its input's
 // selector (`<input>.shape` or `<input>.kind`) is "profile". The study reads each file once,
 // into immutable data every case naming it shares (ParameterSet::attach); the file's content,
@@ -65,7 +65,7 @@ std::vector<std::string> profiles_in_use(const ParameterSet& p);
 
 /// Whether an axis of a grid (its keys) may bring a profile into use: it sets a profile key, an
 /// input's selector (`*.shape`, `*.kind`) or the scene. When it cannot, and no base draft uses
-/// one, the grid's cases skip the profile lookups (issue 19: fast validation of large grids).
+/// one, the grid's cases skip the profile lookups (fast validation of large grids).
 bool profiles_possible_keys(const std::vector<std::string>& axis_keys);
 
 /// Reads (through `store`) and attaches the data of every profile in use.

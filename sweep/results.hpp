@@ -260,7 +260,7 @@ std::optional<CaseRecord> read_case_record(const std::filesystem::path& path);
 std::optional<CaseRecord> read_case_record_strict(const std::filesystem::path& path);
 
 /// The case records of a run, the rows of its summary, kept on the disk instead of in memory
-/// (issue 16 item 6: memory flat in the number of cases): an anonymous file in the results
+/// (memory flat in the number of cases): an anonymous file in the results
 /// directory (unlinked as soon as it is created, so that nothing is left behind, even by a
 /// crash) to which each record is appended when its case completes, in any order, and an
 /// offset per case. Read back in case order (slot order), whichever order the records came in.

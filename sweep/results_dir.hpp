@@ -1,4 +1,4 @@
-// The results directory of a study, owned by rodend (issue 19).
+// The results directory of a study, owned by rodend.
 //
 // - Ownership: rodend writes a marker file (`.rodend`) into a results directory when it creates
 //   it. A non-empty directory without the marker is refused (rodend never overwrites or deletes

@@ -122,6 +122,7 @@ CaseRecord run_single_case(const CaseSpec& spec, History& history) {
   rec.steps_accepted = r.stats.steps_accepted;
   rec.steps_rejected = r.stats.steps_rejected;
   rec.rhs_calls = r.stats.rhs_calls;
+  rec.friction_switches = r.stats.friction_switches;
   rec.metrics = obs.finish(r.stats);
   obs.record_wear(rec.metrics, history);
   obs.record_sensors(rec.metrics, history);

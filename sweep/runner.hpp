@@ -100,7 +100,8 @@ struct RunPlan {
   std::filesystem::path cases_dir;    ///< dir/cases
   std::filesystem::path summary_dir;  ///< dir, or dir/shard-K-of-N for a shard
   Json provenance;
-  /// the records of the complete cases, on the disk (issue 16 item 6): the summary's rows
+  /// the records of the complete cases, on the disk (memory flat in the number of cases): the
+  /// summary's rows
   std::unique_ptr<RecordSpool> spool;
   std::vector<std::size_t> todo;      ///< case indices to run, largest first (case_order.hpp)
   long in_scope = 0;                  ///< cases of this shard (all cases without shards)

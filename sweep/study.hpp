@@ -34,7 +34,7 @@
 
 namespace rodend {
 
-/// Wear evolution (study key "wear_evolution"; issue 11): a case becomes a loop of duty
+/// Wear evolution (study key "wear_evolution"): a case becomes a loop of duty
 /// cycles. Each update simulates one duty cycle (the whole run, time.end) on the worn surfaces
 /// so far, scales its wear maps by the cycles the update stands for, and adds them; it stops at
 /// a clearance or backlash limit, at max_cycles or after max_updates.
@@ -95,7 +95,7 @@ struct CaseSpec {
   Json canonical() const;
 };
 
-/// The cases of a study (issue 16 item 6: memory flat in the number of cases). A grid is held
+/// The cases of a study (memory flat in the number of cases). A grid is held
 /// as what rebuilds a case from its index (the base drafts, the axes, one 64-bit id per case),
 /// and each case is resolved when it is asked for: operator[] returns a fresh CaseSpec by value,
 /// which the caller drops when done. Cases given explicitly (a hand-built study) are held as

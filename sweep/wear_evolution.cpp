@@ -1,4 +1,4 @@
-// The wear-evolution loop (issue 11): duty cycles on surfaces worn by the cycles before.
+// The wear-evolution loop: duty cycles on surfaces worn by the cycles before.
 #include "sweep/wear_evolution.hpp"
 
 #include <algorithm>
@@ -90,6 +90,7 @@ bool run_update(const CaseSpec& spec, const Scene& base, Evolution& e, CaseRecor
   rec.steps_accepted += r.stats.steps_accepted;
   rec.steps_rejected += r.stats.steps_rejected;
   rec.rhs_calls += r.stats.rhs_calls;
+  rec.friction_switches += r.stats.friction_switches;
   rec.t_reached = r.stats.t_reached;
   if (e.updates == 0) e.first = obs.finish(r.stats);
   ++e.updates;

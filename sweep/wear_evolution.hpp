@@ -1,4 +1,4 @@
-// The wear evolution of a case (study key "wear_evolution", issue 11): duty cycles run on
+// The wear evolution of a case (study key "wear_evolution"): duty cycles run on
 // surfaces worn by the cycles before, each update scaling one cycle's wear up to many.
 #pragma once
 

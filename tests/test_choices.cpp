@@ -91,10 +91,10 @@ TEST_CASE("every menu is one line of the catalogue of menus, listed by rodend ch
       CHECK(!i.description.empty());
     }
   }
-  // the 28 of the core, then the batch runner's 4 (history precisions, sensor sets, design
+  // the 29 of the core, then the batch runner's 4 (history precisions, sensor sets, design
   // methods, distributions)
-  CHECK(core_menus().size() == 28);
-  CHECK(all_menus().size() == 32);
+  CHECK(core_menus().size() == 29);
+  CHECK(all_menus().size() == 33);
   // the menus scene files name: each leaf's catalogue resolves to the menu's names
   CHECK(parameter_catalogue("outer_bodies") == std::vector<std::string>{"fixed", "free"});
   CHECK(parameter_catalogue("normal_laws").size() == normal_laws().size());
@@ -150,7 +150,8 @@ TEST_CASE("the names of choices are those studies and results files use", "[choi
   CHECK(choice_strings<ContactOnset>() == std::vector<std::string>{"locate", "step-end"});
   CHECK(choice_strings<FrictionLawKind>() ==
         std::vector<std::string>{"thesis", "ambrosio", "coulomb", "none"});
-  CHECK(choice_strings<FrictionMode>() == std::vector<std::string>{"smooth", "stick-slip"});
+  CHECK(choice_strings<FrictionMode>() ==
+        std::vector<std::string>{"smooth", "stick-slip", "switch"});
   CHECK(choice_strings<ContactGeometry>() == std::vector<std::string>{"sphere", "cylinder"});
   CHECK(choice_strings<DampingCap>() == std::vector<std::string>{"none", "elastic"});
   CHECK(choice_strings<WearModelKind>() == std::vector<std::string>{"none", "archard"});

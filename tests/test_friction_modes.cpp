@@ -1,6 +1,7 @@
 // friction.mode: a block pressed on a wall under a ramped tangential force, with the thesis
-// friction law as one smooth function (smooth) and as latched stuck and slipping branches
-// (stick-slip, core/laws/friction_modes.def).
+// friction law as one smooth function (smooth), as latched stuck and slipping branches
+// (stick-slip) and with a stuck phase that holds the slip at zero (switch,
+// core/laws/friction_modes.def, core/contact_stick.hpp).
 #include <algorithm>
 #include <array>
 #include <catch2/catch.hpp>
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include "core/contact.hpp"
+#include "core/contact_stick.hpp"
 #include "core/integrator.hpp"
 #include "core/scene.hpp"
 
@@ -55,10 +57,7 @@ class BlockOnWall final : public Scene {
     f.static_speed = kVSt;
     f.dynamic_speed = kVDyn;
     m_.friction = make_friction_law(f);
-    if (mode == FrictionMode::stick_slip) {
-      m_.branches = make_friction_branches(m_.friction, f);
-      m_.switch_speed = kVSt;
-    }
+    set_friction_mode(m_, mode, f);
   }
   std::string_view name() const override { return "block-on-wall"; }
   Features features() const override { return Features{Feature::contact}; }
@@ -72,16 +71,34 @@ class BlockOnWall final : public Scene {
   ContactGap contact_gap(int, const double* x) const override {
     return rodend::contact_gap(m_, ball(x), wall());
   }
-  ContactEval contact(const double* x, const DiscreteState& d) const {
-    return evaluate_contact(m_, ball(x), wall(), d.contacts[0]);
+  /// The contact; stuck in the switch mode, with the force that holds it (the applied force is
+  /// the block's only other force along the wall: the normal force is left out, as above).
+  ContactEval contact(double t, const double* x, const DiscreteState& d) const {
+    const BodyKinematics b = ball(x), w = wall();
+    ContactEval c = evaluate_contact(m_, b, w, d.contacts[0]);
+    const ContactLatch& l = d.contacts[0];
+    if (m_.stick && l.in_contact && !l.slipping && c.normal_force > 0.0) {
+      const StickBody<double> block{
+          &b,           1.0 / b_.mass, Vec3::Ones(), false, Vec3(b_.force(t), 0.0, 0.0),
+          Vec3::Zero(), m_.ball_radius};
+      const StickBody<double> fixed{&w,           0.0,          Vec3::Ones(),      false,
+                                    Vec3::Zero(), Vec3::Zero(), m_.socket_radius()};
+      apply_stick(m_, c, block, fixed, stick_force(c, block, fixed));
+    }
+    return c;
+  }
+  double stick_demand(int, double t, const double* x, const DiscreteState& d) const override {
+    DiscreteState stuck = d;
+    stuck.contacts[0].slipping = false;
+    return contact(t, x, stuck).stick_demand;
   }
   void derivatives(double t, const double* x, const DiscreteState& d, double* dx) const override {
     dx[0] = x[1];
-    dx[1] = (b_.force(t) + contact(x, d).friction_on_ball.x()) / b_.mass;
+    dx[1] = (b_.force(t) + contact(t, x, d).friction_on_ball.x()) / b_.mass;
   }
   std::span<const SignalId> signals() const override { return kSignals; }
-  void outputs(double, const double* x, const DiscreteState& d, SignalFrame& f) const override {
-    const ContactEval c = contact(x, d);
+  void outputs(double t, const double* x, const DiscreteState& d, SignalFrame& f) const override {
+    const ContactEval c = contact(t, x, d);
     f.set(SignalId::body_position, Vec3(x[0], 0.0, 0.0));
     f.set(SignalId::slip_speed, c.slip_speed);
     f.set(SignalId::friction_force_vector, c.friction_on_ball);
@@ -120,14 +137,14 @@ struct Run {
   RunResult result;
   std::vector<Sample> samples;
 };
-Run run_block(FrictionMode mode, double tol, Block b = {}) {
+Run run_block(FrictionMode mode, double tol, Block b = {}, double end = 0.2) {
   const BlockOnWall scene(mode, b);
   IntegratorSettings s;
   s.method = IntegratorMethod::cvode_bdf;
   s.abs_tol = s.rel_tol = tol;
   s.max_step = 1e-3;
   Recorder rec;
-  Run r{simulate(scene, s, TimeSettings{0.2, 1e-4}, rec), {}};
+  Run r{simulate(scene, s, TimeSettings{end, 1e-4}, rec), {}};
   r.samples = std::move(rec.s);
   return r;
 }
@@ -216,4 +233,84 @@ TEST_CASE("stick-slip agrees with smooth where the smooth law is resolved",
   // both stuck again at the end, carrying the held force
   CHECK(modes.samples.back().v < kVSt);
   CHECK(modes.samples.back().friction == Approx(smooth.samples.back().friction).margin(1e-3));
+}
+
+TEST_CASE("switch: a block is held exactly stuck up to the static limit, slides, sticks again",
+          "[friction][friction_mode]") {
+  const Run r = run_block(FrictionMode::switch_model, 1e-8);
+  REQUIRE(r.result.status == RunStatus::ok);
+  // one breakaway and one re-stick, each latched once
+  CHECK(r.result.stats.friction_switches == 2);
+  double first_fast = -1.0, restuck = -1.0;
+  for (const Sample& s : r.samples) {
+    REQUIRE(s.normal == Approx(kNormal).epsilon(1e-3));
+    const double F = applied_force(s.t);
+    if (s.t < kBreakaway) {
+      // stuck: no slip but the integration's error (the held force balances the applied one,
+      // and a residual slip decays with the drift time tau = 1 ms; the error control holds the
+      // speed to its absolute tolerance, 1e-8 x the scale 1e-2 m/s = 1e-10 m/s: measured
+      // 1.3e-10), so |v| < 1e-9 m/s, x < 1e-9 m/s x 0.12 s, and the friction the applied force
+      // but for m v / tau <= 1e-7 N (the creep of stick-slip: up to 1 mm/s and 3.4e-3 N)
+      CHECK(std::abs(s.v) < 1e-9);
+      CHECK(std::abs(s.x) < 1.2e-10);
+      CHECK(s.friction == Approx(-F).margin(1e-7));
+    }
+    if (first_fast < 0.0 && s.v > kVDyn) first_fast = s.t;
+    if (s.v > kVDyn)  // slipping above v_dyn: the law's force, mu_dyn F_n
+      CHECK(s.friction == Approx(-kMuDyn * s.normal).epsilon(1e-9));
+    if (s.t > kRampEnd && restuck < 0.0 && s.v < 1e-6) restuck = s.t;
+  }
+  REQUIRE(first_fast > 0.0);
+  CHECK(first_fast > kBreakaway);
+  CHECK(first_fast < kBreakaway + 5e-3);
+  // stuck again at the end: the held force 5 N < mu_st F_n, the friction carries it, and the
+  // slip it stuck with (below v_st) has decayed with the drift time (1 ms) to nothing
+  REQUIRE(restuck > 0.0);
+  const Sample& last = r.samples.back();
+  CHECK(std::abs(last.v) < 1e-9);
+  CHECK(last.friction == Approx(-kHold).epsilon(1e-6));
+}
+
+TEST_CASE("switch: the breakaway of a linear ramp is where the ramp reaches mu_st F_n",
+          "[friction][friction_mode]") {
+  // Analytic: held stuck until F' t = mu_st F_n (t_b = 0.12 s), then the static limit holds
+  // back mu_st F_n while the block is stuck-saturated, so m v' = F' (t - t_b): v = F' (t -
+  // t_b)^2 / (2 m) and x = F' (t - t_b)^3 / (6 m), until v passes v_st (after sqrt(2 m v_st /
+  // F') = 1.41 ms) and the driver switches to slipping at that step's end. Tolerance: the
+  // integration's (cvode_bdf 1e-10) over speeds of at most 1 mm/s: 1e-9 m/s, plus the limit's
+  // onset, found inside a step to within the error control.
+  const Run r = run_block(FrictionMode::switch_model, 1e-10);
+  REQUIRE(r.result.status == RunStatus::ok);
+  const double to_vst = std::sqrt(2.0 * kMass * kVSt / kRamp);
+  int checked = 0;
+  for (const Sample& s : r.samples) {
+    if (s.t <= kBreakaway) CHECK(s.x == Approx(0.0).margin(1.2e-12));  // as above, at 1e-10
+    const double dt = s.t - kBreakaway;
+    if (dt > 0.0 && dt < 0.9 * to_vst) {
+      CHECK(s.v == Approx(kRamp * dt * dt / (2.0 * kMass)).margin(1e-8));
+      CHECK(s.x == Approx(kRamp * dt * dt * dt / (6.0 * kMass)).margin(1e-11));
+      CHECK(s.friction == Approx(-kMuSt * s.normal).epsilon(1e-9));
+      ++checked;
+    }
+  }
+  CHECK(checked >= 12);  // samples every 0.1 ms over 1.27 ms
+}
+
+TEST_CASE("switch: a slide that reverses under a force above the limit does not stick",
+          "[friction][friction_mode]") {
+  // The ramp breaks the block away at 0.12 s; at 0.13 s the force turns to -13 N, beyond the
+  // static limit 12 N: the block stops within 1 ms and slides back (to 0.14 s: about 1 mm,
+  // where the wall is flat). Its slip speed passes below v_st at a step end, but the force that
+  // would hold it (13 N) exceeds the limit: it must not stick.
+  Block b;
+  b.hold = -13.0;
+  const Run r = run_block(FrictionMode::switch_model, 1e-8, b, 0.14);
+  REQUIRE(r.result.status == RunStatus::ok);
+  CHECK(r.result.stats.friction_switches == 1);  // the breakaway only
+  const Sample& last = r.samples.back();
+  // sliding back past v_dyn (m v' = -13 N + mu_dyn F_n = -3 N for about 9 ms: -0.27 m/s), with
+  // the law's force mu_dyn F_n, now along +x
+  CHECK(last.v > kVDyn);
+  CHECK(last.x < r.samples[r.samples.size() - 2].x);
+  CHECK(last.friction == Approx(kMuDyn * last.normal).epsilon(1e-9));
 }

@@ -212,3 +212,28 @@ TEST_CASE(
     for (const Probe& p : probes) check_probe(std::string(e.name), *scene, p);
   }
 }
+
+TEST_CASE("friction.mode switch: the rod-end scenes' exact Jacobian holds a stuck contact",
+          "[jacobian][stiff][friction_mode]") {
+  // The stuck contact's force is solved from every other force on the spheres
+  // (core/contact_stick.hpp), in the same template the dual numbers differentiate: at a loaded
+  // state held stuck (the latch's default branch), the exact Jacobian must agree with central
+  // differences as strictly as the law's does.
+  for (const char* name : {"rod-end-kinematic", "rod-end-actuator"}) {
+    ParameterSet p = probe_parameters(name);
+    p.set("friction.mode", Json("switch"));
+    const auto scene = make_scene(name, p);
+    REQUIRE(scene->exact_jacobian());
+    std::vector<Probe> probes;
+    find_free_and_sticking(*scene, 0.3, probes);
+    const Probe* stuck = nullptr;
+    for (const Probe& q : probes)
+      if (q.kind.rfind("sticking", 0) == 0) stuck = &q;
+    INFO(name);
+    REQUIRE(stuck != nullptr);
+    REQUIRE_FALSE(stuck->d.contacts[0].slipping);
+    // held within the static limit there (a force that holds it, not the limit's direction)
+    CHECK(scene->stick_demand(0, stuck->t, stuck->x.data(), stuck->d) < 1.0);
+    check_probe(name, *scene, *stuck);
+  }
+}

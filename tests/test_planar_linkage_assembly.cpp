@@ -45,9 +45,11 @@ Linkage slider_crank() {
 TEST_CASE("linkage assembly: a slider-crank driven at its slider follows the closed form",
           "[planar-linkage]") {
   const Linkage k = slider_crank();
-  // 9 coordinates; 3 revolute x 2 + prismatic 2 + drive 2 = 10 rows (the guide's angle row
-  // and the drive's y row both fix the slider: the system is consistent, least-norm solves)
+  // 9 coordinates; 3 revolute x 2 + prismatic 2 + drive 1 = 9 rows: the slider is on the
+  // guide, so the drive holds its pin along the guide only (the guide holds it across; both
+  // coordinates would give 10 rows, the y row twice, and a singular dynamics solve)
   REQUIRE(k.coordinate_count() == 9);
+  CHECK(k.constraint_count() == 9);
   Eigen::VectorXd q(9);
   q << 0.0, 0.0, 1.3, 0.02, 0.05, -0.2, 0.3, 0.0, 0.0;  // rough guess: crank up, rod down
   for (const double t : {0.0, 0.05, 0.1, 0.2}) {
@@ -61,5 +63,12 @@ TEST_CASE("linkage assembly: a slider-crank driven at its slider follows the clo
     const ConstraintRows c = k.constraints(t, q, qd);
     CHECK((c.jacobian * qd + c.b1).cwiseAbs().maxCoeff() < 1e-12);
     CHECK(qd[6] == Approx(0.2 * std::cos(10.0 * t)).margin(1e-12));
+    // independent rows: the dynamics' saddle-point solve is regular, and its accelerations
+    // keep every constraint's acceleration at zero (C'' = Cq q'' + b2 = 0 on the assembled q)
+    CHECK(c.jacobian.fullPivLu().rank() == 9);
+    const LinkageDynamics d = k.dynamics(t, q, qd, {});
+    CHECK((c.jacobian * d.qdd + c.b2).cwiseAbs().maxCoeff() < 1e-9);
+    // the slider's acceleration is the drive's, -2 sin(10 t)
+    CHECK(d.qdd[6] == Approx(-2.0 * std::sin(10.0 * t)).margin(1e-9));
   }
 }

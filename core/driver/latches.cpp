@@ -61,13 +61,24 @@ void unlatch(RunState& s, int c) {
   s.ends[static_cast<std::size_t>(c)].valid = false;
 }
 
+/// The branch a latched contact in contact takes at a step end: the one its slip speed calls
+/// for (g.slipping); in friction.mode switch, a slipping contact sticks only if the force that
+/// holds it is within the static limit too (Scene::stick_demand, evaluated only then).
+bool slips(Run& run, int c, const ContactGap& g, const ContactLatch& l) {
+  if (!g.stick || !l.slipping || g.slipping == 1) return g.slipping == 1;
+  run.model.unscale(run.stepper().z_now, run.state.x);
+  return run.model.scene.stick_demand(c, run.stepper().t_now, run.state.x.data(),
+                                      run.state.discrete) > 1.0;
+}
+
 }  // namespace
 
 /// Discrete updates at the end of an accepted step: an episode ends once its contact is out
 /// of contact (unless latched a hair before touching and still approaching), a contact that
 /// penetrates unlatched starts one (step-end latching, or an onset at a restart point), and a
 /// contact in friction.mode stick-slip takes the branch its slip speed calls for (stuck to
-/// slipping above the switch speed, back below it). Returns whether an onset was latched or a
+/// slipping above the switch speed, back below it; in switch, back only if the force that holds
+/// it is within the static limit). Returns whether an onset was latched or a
 /// branch switched (the method restarts with the new force law).
 bool latch_at_step_end(Run& run) {
   RunState& s = run.state;
@@ -83,8 +94,8 @@ bool latch_at_step_end(Run& run) {
     } else if (latched(run, c) && g.penetration > 0.0) {
       touched = 1;
       ContactLatch& l = s.discrete.contacts[static_cast<std::size_t>(c)];
-      if (g.slipping >= 0 && (g.slipping == 1) != l.slipping) {
-        l.slipping = g.slipping == 1;
+      if (g.slipping >= 0 && slips(run, c, g, l) != l.slipping) {
+        l.slipping = !l.slipping;
         ++s.stats.friction_switches;
         onset = true;
       }

@@ -1,4 +1,5 @@
 // Friction laws: mu(|v_t|) in F_t = -mu F_n v_t/|v_t|.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <utility>
@@ -146,6 +147,17 @@ FrictionBranches make_friction_branches(std::shared_ptr<const FrictionLaw> law,
                                         const FrictionParams& p) {
   if (!law || !(law->coefficient(p.static_speed) > law->coefficient(p.dynamic_speed))) return {};
   return {law, std::make_shared<CappedBranch>(law, p.dynamic_speed, true)};
+}
+
+void set_friction_mode(ClearanceContactModel& m, FrictionMode mode, const FrictionParams& p) {
+  if (mode == FrictionMode::smooth) return;
+  m.branches = make_friction_branches(m.friction, p);
+  m.switch_speed = p.static_speed;
+  if (mode == FrictionMode::switch_model && m.friction) {
+    m.stick = true;
+    m.static_limit =
+        std::max(m.friction->coefficient(p.static_speed), m.friction->coefficient(p.dynamic_speed));
+  }
 }
 
 }  // namespace rodend

@@ -1,6 +1,7 @@
 // The linkage assembly's dynamics and energy (core/linkage/assembly.hpp for the equations).
 #include "core/linkage/assembly.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 #include <utility>
 
@@ -19,12 +20,21 @@ int Linkage::add_ground_point(const Eigen::Vector2d& p) {
 void Linkage::add_revolute(PointRef a, PointRef b) {
   revolutes_.push_back({a, b});
 }
-void Linkage::add_prismatic(PointRef a, PointRef on_line, const Eigen::Vector2d& axis,
-                            double angle) {
-  prismatics_.push_back({a, on_line, axis.normalized(), angle});
+void Linkage::add_prismatic(PointRef a, PointRef on_line, const Eigen::Vector2d& axis, double angle,
+                            Guide play) {
+  prismatics_.push_back({a, on_line, axis.normalized(), angle, play});
 }
 void Linkage::add_drive(PointRef a, PointRef rest, const Eigen::Vector2d& direction, DriveLaw law) {
   drives_.push_back({a, rest, direction.normalized(), std::move(law)});
+}
+void Linkage::add_rotary_drive(PointRef a, double angle0, DriveLaw law) {
+  Drive d{a, a, Eigen::Vector2d::Zero(), std::move(law)};
+  d.rotary = true;
+  d.angle0 = angle0;
+  drives_.push_back(std::move(d));
+}
+void Linkage::add_motor(PointRef a, double angle0, double speed, double slope, double flywheel) {
+  motors_.push_back({a, angle0, speed, slope, flywheel});
 }
 int Linkage::add_clearance_joint(ClearanceJoint j) {
   clearance_.push_back(std::move(j));
@@ -32,10 +42,19 @@ int Linkage::add_clearance_joint(ClearanceJoint j) {
 }
 
 void Linkage::finish() {
+  for (Drive& d : drives_)  // a guided body's point: the guide holds it across the direction
+    d.guided = !d.rotary && std::any_of(prismatics_.begin(), prismatics_.end(),
+                                        [&](const Prismatic& g) { return g.a.body == d.a.body; });
   auto ideal = std::make_shared<Linkage>(*this);
   ideal->ideal_.reset();
   for (const ClearanceJoint& j : clearance_) ideal->add_revolute(j.journal, j.bearing);
   ideal->clearance_.clear();
+  for (Prismatic& g : ideal->prismatics_) g.play = Guide{};
+  for (const Motor& m : motors_)  // the ideal linkage's motor holds its no-load speed
+    ideal->add_rotary_drive(m.a, m.angle0, [w = m.speed](double t) {
+      return DriveSample{w * t, w, 0.0};
+    });
+  ideal->motors_.clear();
   ideal->rigid_ = true;  // and every flexible body rigid: its modal amplitudes held at zero
   ideal_ = std::move(ideal);
 }
@@ -45,6 +64,10 @@ Eigen::MatrixXd Linkage::mass_matrix(const Eigen::VectorXd& q) const {
   for (int b = 0; b < body_count(); ++b) {
     const int o = body_offset(b), k = body(b).coordinate_count();
     M.block(o, o, k, k) = body(b).mass_matrix(q.segment(o, k));
+  }
+  for (const Motor& m : motors_) {  // the flywheel turns with the motor's section
+    const GlobalPoint a = point(m.a, q, Eigen::VectorXd::Zero(n_));
+    M += m.flywheel * a.angle_jacobian.transpose() * a.angle_jacobian;
   }
   return M;
 }
@@ -85,6 +108,16 @@ Eigen::VectorXd Linkage::applied_forces(const Eigen::VectorXd& q, const Eigen::V
     out.dissipation += c.damping_power + c.friction_power;
     out.contacts[i] = c;
   }
+  for (const Prismatic& g : prismatics_)
+    if (g.play.on()) add_guide_forces(g, q, qd, Q, out.dissipation);
+  for (const Motor& m : motors_) {
+    const GlobalPoint a = point(m.a, q, qd);
+    // the motor curve's torque, and the flywheel's velocity product -I (jd q') on the angle
+    const double torque = m.slope * (m.speed - a.angular_velocity);
+    Q += a.angle_jacobian.transpose() * (torque - m.flywheel * a.angle_jacobian_dot_qdot);
+    out.motor_torques.push_back(torque);
+    out.motor_power += torque * a.angular_velocity;
+  }
   return Q;
 }
 
@@ -107,6 +140,14 @@ LinkageDynamics Linkage::dynamics(double t, const Eigen::VectorXd& q, const Eige
   out.multipliers = x.tail(m);
   // the constraint forces on the bodies are -Cq^T lam; their power
   out.constraint_power = -out.multipliers.dot(c.jacobian * qd);
+  for (std::size_t i = 0; i < drives_.size(); ++i) {
+    const Drive& d = drives_[i];
+    const int r = drive_row(static_cast<int>(i));
+    // a rotary or guided drive's row is its direction's (or angle's) own: its force is -lam;
+    // the two rows of a free point: the force -lam projected on the direction
+    out.drive_forces.push_back(d.rows() == 1 ? -out.multipliers[r]
+                                             : -d.direction.dot(out.multipliers.segment<2>(r)));
+  }
   return out;
 }
 
@@ -115,6 +156,10 @@ double Linkage::kinetic_energy(const Eigen::VectorXd& q, const Eigen::VectorXd& 
   for (int b = 0; b < body_count(); ++b) {
     const int o = body_offset(b), k = body(b).coordinate_count();
     e += body(b).kinetic_energy(q.segment(o, k), qd.segment(o, k));
+  }
+  for (const Motor& m : motors_) {
+    const double w = point(m.a, q, qd).angular_velocity;
+    e += 0.5 * m.flywheel * w * w;
   }
   return e;
 }
@@ -125,7 +170,28 @@ double Linkage::potential_energy(const Eigen::VectorXd& q) const {
     const int o = body_offset(b), k = body(b).coordinate_count();
     e += body(b).potential_energy(q.segment(o, k), gravity_);
   }
+  for (const Prismatic& g : prismatics_) e += guide_potential(g, q);
   return e;
+}
+
+void Linkage::add_guide_forces(const Prismatic& j, const Eigen::VectorXd& q,
+                               const Eigen::VectorXd& qd, Eigen::VectorXd& Q,
+                               double& dissipation) const {
+  // the slider-crank's guide law: y across the line (along n), v along it
+  const GlobalPoint a = point(j.a, q, qd), o = point(j.on_line, q, qd);
+  const Eigen::Vector2d n(-j.axis.y(), j.axis.x());
+  const Guide::Force f =
+      j.play.force(n.dot(a.position - o.position), n.dot(a.velocity), j.axis.dot(a.velocity));
+  Q += a.jacobian.transpose() * (f.fy * n + f.fx * j.axis);
+  dissipation += f.dissipation;
+}
+
+double Linkage::guide_potential(const Prismatic& j, const Eigen::VectorXd& q) const {
+  if (!j.play.on()) return 0.0;
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n_);
+  const GlobalPoint a = point(j.a, q, zero), o = point(j.on_line, q, zero);
+  const Eigen::Vector2d n(-j.axis.y(), j.axis.x());
+  return j.play.force(n.dot(a.position - o.position), 0.0, 0.0).potential;
 }
 
 }  // namespace rodend::linkage

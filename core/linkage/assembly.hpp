@@ -19,6 +19,7 @@
 
 #include "core/contact.hpp"
 #include "core/linkage/body.hpp"
+#include "core/scenes/planar_slider_crank_options.hpp"
 
 namespace rodend::linkage {
 
@@ -60,6 +61,11 @@ struct ClearanceJoint {
 struct LinkageDynamics {
   Eigen::VectorXd qdd, multipliers;
   std::vector<ContactEval> contacts;  ///< per clearance joint, in order of addition
+  /// per drive, in order of addition: the force the drive applies along its direction [N], or
+  /// the torque a rotary drive applies to its body [N m] (counter-clockwise positive)
+  std::vector<double> drive_forces;
+  std::vector<double> motor_torques;  ///< per motor: its torque on its body [N m]
+  double motor_power = 0.0;           ///< the motors' power on the bodies [W]
   double dissipation = 0.0;           ///< contact damping and friction power [W]
   double constraint_power = 0.0;      ///< power of the constraint forces on the bodies [W]
 };
@@ -70,11 +76,24 @@ class Linkage {
   int add_ground_point(const Eigen::Vector2d& position);
   /// An ideal revolute joint: the two points coincide.
   void add_revolute(PointRef a, PointRef b);
-  /// An ideal prismatic guide fixed to the ground: point `a` stays on the line through ground
-  /// point `on_line` along `axis`, and a's body keeps its initial angle `angle` [rad].
-  void add_prismatic(PointRef a, PointRef on_line, const Eigen::Vector2d& axis, double angle);
-  /// A prescribed actuator displacement: point `a` at ground point `rest` + d(t) `direction`.
+  /// A prismatic guide fixed to the ground: point `a` stays on the line through ground point
+  /// `on_line` along `axis`, and a's body keeps its initial angle `angle` [rad]. With `play`
+  /// on (Guide::clearance), the point moves across the line between two walls at -+ the
+  /// play, the slider-crank's guide law (core/scenes/planar_slider_crank_options.hpp): only
+  /// the angle is a constraint, the walls and the friction along the guide are forces.
+  void add_prismatic(PointRef a, PointRef on_line, const Eigen::Vector2d& axis, double angle,
+                     Guide play = {});
+  /// A prescribed actuator displacement: point `a` at ground point `rest` + d(t) `direction`
+  /// (only along `direction` when a's body is on a prismatic guide: the guide holds it across).
   void add_drive(PointRef a, PointRef rest, const Eigen::Vector2d& direction, DriveLaw law);
+  /// A prescribed angle: the angle of point `a`'s section is `angle0` + d(t) [rad] (a crank
+  /// at constant speed, d = omega t, or any command).
+  void add_rotary_drive(PointRef a, double angle0, DriveLaw law);
+  /// A motor on the section at `a`: torque slope (speed - its angular velocity) (a linear
+  /// motor curve about the no-load `speed` [rad/s], `slope` [N m s/rad]) through a flywheel of
+  /// inertia `flywheel` [kg m^2] turning with it. The ideal linkage turns it at `speed` from
+  /// `angle0` instead (a rotary drive).
+  void add_motor(PointRef a, double angle0, double speed, double slope, double flywheel);
   int add_clearance_joint(ClearanceJoint joint);
   void set_gravity(const Eigen::Vector2d& g) { gravity_ = g; }
   void set_baumgarte_rate(double w) { baumgarte_ = w; }
@@ -85,8 +104,8 @@ class Linkage {
   int body_offset(int b) const { return offsets_[static_cast<std::size_t>(b)]; }
   const Body& body(int b) const { return *bodies_[static_cast<std::size_t>(b)]; }
   const std::vector<ClearanceJoint>& clearance_joints() const { return clearance_; }
-  /// The same linkage with every clearance joint an ideal revolute joint and every flexible
-  /// body rigid (its coordinates beyond the frame's three held at zero).
+  /// The same linkage with every clearance joint an ideal revolute joint, every guide with play
+  /// ideal and every flexible body rigid (its coordinates beyond the frame's three held at 0).
   std::shared_ptr<const Linkage> ideal() const { return ideal_; }
   /// Builds ideal() (call once, after the last add_*).
   void finish();
@@ -99,7 +118,8 @@ class Linkage {
   std::pair<BodyKinematics, BodyKinematics> joint_kinematics(int i, const Eigen::VectorXd& q,
                                                              const Eigen::VectorXd& qd) const;
   double kinetic_energy(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) const;
-  double potential_energy(const Eigen::VectorXd& q) const;  ///< bodies: gravity, elastic
+  /// The bodies' gravity and elastic energy and the guides' walls' [J].
+  double potential_energy(const Eigen::VectorXd& q) const;
 
   /// Newton on C(q, t) = 0 from q (least-norm steps); returns the final largest |C| [m or rad].
   double assemble(double t, Eigen::VectorXd& q, int iterations = 50) const;
@@ -114,12 +134,30 @@ class Linkage {
     PointRef a, on_line;
     Eigen::Vector2d axis;
     double angle;
+    Guide play;  ///< model ideal: two rows; clearance: the angle row and the walls' forces
+    int rows() const { return play.on() ? 1 : 2; }
   };
   struct Drive {
     PointRef a, rest;
     Eigen::Vector2d direction;
     DriveLaw law;
+    bool rotary = false;  ///< the angle of a's section, rest and direction unused
+    double angle0 = 0.0;  ///< the rotary drive's angle at d = 0 [rad]
+    bool guided = false;  ///< a's body is on a prismatic guide: one row, along the direction
+    int rows() const { return rotary || guided ? 1 : 2; }
   };
+  struct Motor {
+    PointRef a;
+    double angle0, speed, slope, flywheel;
+  };
+  /// The first row of drive i (the drives' rows follow the joints').
+  int drive_row(int i) const;
+  /// A guide with play's walls and friction on its point: added to Q, and their dissipated
+  /// power (the walls' damping, the friction) to `dissipation`; guide_potential: the walls'
+  /// elastic energy.
+  void add_guide_forces(const Prismatic& j, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                        Eigen::VectorXd& Q, double& dissipation) const;
+  double guide_potential(const Prismatic& j, const Eigen::VectorXd& q) const;
   void add_revolute_rows(const Revolute& j, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                          ConstraintRows& c, int row) const;
   void add_prismatic_rows(const Prismatic& j, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
@@ -141,6 +179,7 @@ class Linkage {
   std::vector<Revolute> revolutes_;
   std::vector<Prismatic> prismatics_;
   std::vector<Drive> drives_;
+  std::vector<Motor> motors_;
   std::vector<ClearanceJoint> clearance_;
   Eigen::Vector2d gravity_ = Eigen::Vector2d::Zero();
   double baumgarte_ = 0.0;

@@ -1,8 +1,12 @@
 // The linkage's ideal joints and drives as constraint rows (core/linkage/assembly.hpp), and the
 // position and velocity solves on them (assembly of the initial state, the ideal linkage).
 //   revolute a-b:   C = r_a - r_b,                 C'' = Cq q'' + (Jd q')_a - (Jd q')_b
-//   prismatic a:    C = n . (r_a - r_0), phi_a - phi_0  (n normal to the guide's axis)
+//   prismatic a:    C = n . (r_a - r_0), phi_a - phi_0  (n normal to the guide's axis; with
+//                   play only the angle row, the walls are forces)
 //   drive a:        C = r_a - r_rest - d(t) u,     b1 = -d' u,  C'' = Cq q'' + (Jd q')_a - d'' u
+//                   (a guided body's point: the row along u only, u . (r_a - r_rest) - d(t))
+//   rotary drive a: C = phi_a - phi_0 - d(t),      b1 = -d',    C'' = Cq q'' + (jd q')_a - d''
+
 #include <algorithm>
 #include <cmath>
 
@@ -11,8 +15,17 @@
 namespace rodend::linkage {
 
 int Linkage::constraint_count() const {
-  return 2 * static_cast<int>(revolutes_.size() + prismatics_.size() + drives_.size()) +
-         rigid_row_count();
+  int m = 2 * static_cast<int>(revolutes_.size()) + rigid_row_count();
+  for (const Prismatic& j : prismatics_) m += j.rows();
+  for (const Drive& j : drives_) m += j.rows();
+  return m;
+}
+
+int Linkage::drive_row(int i) const {
+  int row = 2 * static_cast<int>(revolutes_.size());
+  for (const Prismatic& j : prismatics_) row += j.rows();
+  for (int k = 0; k < i; ++k) row += drives_[static_cast<std::size_t>(k)].rows();
+  return row;
 }
 
 int Linkage::rigid_row_count() const {
@@ -65,21 +78,35 @@ void Linkage::add_prismatic_rows(const Prismatic& j, const Eigen::VectorXd& q,
                                  const Eigen::VectorXd& qd, ConstraintRows& c, int row) const {
   const GlobalPoint a = point(j.a, q, qd), o = point(j.on_line, q, qd);
   const Eigen::Vector2d n(-j.axis.y(), j.axis.x());
-  c.value[row] = n.dot(a.position - o.position);
-  c.jacobian.row(row) = n.transpose() * a.jacobian;
+  if (j.rows() == 2) {
+    c.value[row] = n.dot(a.position - o.position);
+    c.jacobian.row(row) = n.transpose() * a.jacobian;
+    c.b1[row] = 0.0;
+    c.b2[row] = n.dot(a.jacobian_dot_qdot);
+    ++row;
+  }
+  c.value[row] = a.angle - j.angle;
+  c.jacobian.row(row) = a.angle_jacobian;
   c.b1[row] = 0.0;
-  c.b2[row] = n.dot(a.jacobian_dot_qdot);
-  c.value[row + 1] = a.angle - j.angle;
-  c.jacobian.row(row + 1) = a.angle_jacobian;
-  c.b1[row + 1] = 0.0;
-  c.b2[row + 1] = a.angle_jacobian_dot_qdot;
-  c.is_angle[static_cast<std::size_t>(row + 1)] = true;
+  c.b2[row] = a.angle_jacobian_dot_qdot;
+  c.is_angle[static_cast<std::size_t>(row)] = true;
 }
 
 void Linkage::add_drive_rows(double t, const Drive& j, const Eigen::VectorXd& q,
                              const Eigen::VectorXd& qd, ConstraintRows& c, int row) const {
   const GlobalPoint a = point(j.a, q, qd), r = point(j.rest, q, qd);
   const DriveSample d = j.law(t);
+  if (j.rotary || j.guided) {  // one row: the section's angle, or the point along u
+    const Eigen::Vector2d& u = j.direction;
+    c.value[row] =
+        j.rotary ? a.angle - j.angle0 - d.value : u.dot(a.position - r.position) - d.value;
+    c.jacobian.row(row) = j.rotary ? a.angle_jacobian : u.transpose() * a.jacobian;
+    c.b1[row] = -d.rate;
+    c.b2[row] =
+        (j.rotary ? a.angle_jacobian_dot_qdot : u.dot(a.jacobian_dot_qdot)) - d.acceleration;
+    c.is_angle[static_cast<std::size_t>(row)] = j.rotary;
+    return;
+  }
   c.value.segment<2>(row) = a.position - r.position - d.value * j.direction;
   c.jacobian.middleRows(row, 2) = a.jacobian;
   c.b1.segment<2>(row) = -d.rate * j.direction;
@@ -97,8 +124,9 @@ ConstraintRows Linkage::constraints(double t, const Eigen::VectorXd& q,
   c.is_angle.assign(static_cast<std::size_t>(m), false);
   int row = 0;
   for (const Revolute& j : revolutes_) add_revolute_rows(j, q, qd, c, (row += 2) - 2);
-  for (const Prismatic& j : prismatics_) add_prismatic_rows(j, q, qd, c, (row += 2) - 2);
-  for (const Drive& j : drives_) add_drive_rows(t, j, q, qd, c, (row += 2) - 2);
+  for (const Prismatic& j : prismatics_)
+    add_prismatic_rows(j, q, qd, c, (row += j.rows()) - j.rows());
+  for (const Drive& j : drives_) add_drive_rows(t, j, q, qd, c, (row += j.rows()) - j.rows());
   add_rigid_rows(q, c, row);
   return c;
 }

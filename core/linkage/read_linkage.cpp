@@ -2,6 +2,7 @@
 #include "core/linkage/read_linkage.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <memory>
 
@@ -57,7 +58,11 @@ struct Reader {
 
   void read_bodies();
   void read_joint(const std::string& name);
+  void read_prismatic(const std::string& k, PointRef a, JointModel model);
+  /// The guide's play: the slider-crank's guide law with the keys under `k` (Guide::read's).
+  Guide read_play(const std::string& k, PointRef a) const;
   void read_actuator();
+  void read_rotary_drive(const InputPtr& motion);
 };
 
 void Reader::read_bodies() {
@@ -91,17 +96,7 @@ void Reader::read_joint(const std::string& name) {
   const JointType type = read_choice<JointType>(p, k + ".type");
   const JointModel model = read_choice<JointModel>(p, k + ".model");
   const PointRef a = point(k + ".a");
-  if (type == JointType::prismatic) {
-    if (a.body < 0) throw InputError(k + ".a", "expected a point of a body, not of the ground");
-    if (model != JointModel::ideal)
-      throw InputError(k + ".model", "expected \"ideal\" for a prismatic guide");
-    const Vec3 axis = p.vec3(k + ".axis");
-    if (!(axis.head<2>().norm() > 0.0) || axis.z() != 0.0)
-      throw InputError(k + ".axis", "expected a non-zero direction in the plane (z = 0)");
-    const double angle = m.initial_guess[m.linkage.body_offset(a.body) + 2];
-    m.linkage.add_prismatic(a, ground_point(k + ".b"), axis.head<2>(), angle);
-    return;
-  }
+  if (type == JointType::prismatic) return read_prismatic(k, a, model);
   const PointRef b = point(k + ".b");
   if (model == JointModel::ideal) return m.linkage.add_revolute(a, b);
   if (a.body < 0) throw InputError(k + ".a", "expected the journal on a body, not the ground");
@@ -114,16 +109,79 @@ void Reader::read_joint(const std::string& name) {
   m.clearance_joint_names.push_back(name);
 }
 
+void Reader::read_prismatic(const std::string& k, PointRef a, JointModel model) {
+  if (a.body < 0) throw InputError(k + ".a", "expected a point of a body, not of the ground");
+  const Vec3 axis = p.vec3(k + ".axis");
+  if (!(axis.head<2>().norm() > 0.0) || axis.z() != 0.0)
+    throw InputError(k + ".axis", "expected a non-zero direction in the plane (z = 0)");
+  const double angle = m.initial_guess[m.linkage.body_offset(a.body) + 2];
+  const Guide play = model == JointModel::clearance ? read_play(k, a) : Guide{};
+  m.linkage.add_prismatic(a, ground_point(k + ".b"), axis.head<2>(), angle, play);
+  if (m.slider.body == -2) {
+    m.slider = a;
+    m.slider_axis = axis.head<2>().normalized();
+  }
+}
+
+Guide Reader::read_play(const std::string& k, PointRef a) const {
+  Guide g;
+  g.model = GuideModel::clearance;
+  g.clearance = read_positive(p, k + ".clearance");
+  g.stiffness = read_positive(p, k + ".stiffness");
+  // the body's mass: its mass matrix's translation entry (at the initial guess)
+  const Body& body = m.linkage.body(a.body);
+  const double mass = body.mass_matrix(
+      m.initial_guess.segment(m.linkage.body_offset(a.body), body.coordinate_count()))(0, 0);
+  g.damping = 2.0 * read_positive(p, k + ".damping_ratio", true) * std::sqrt(g.stiffness * mass);
+  g.friction = read_positive(p, k + ".friction_coefficient", true);
+  g.speed = read_positive(p, k + ".friction_speed");
+  return g;
+}
+
+void Reader::read_rotary_drive(const InputPtr& motion) {
+  const PointRef a = m.actuator = point("linkage.actuator.point");
+  if (a.body < 0) throw InputError("linkage.actuator.point", "expected a point of a body");
+  const double angle0 = m.initial_guess[m.linkage.body_offset(a.body) + 2];
+  m.drive_radius = m.body_radius[static_cast<std::size_t>(a.body)];
+  if (m.drive == LinkageDrive::crank_angle) {
+    m.linkage.add_rotary_drive(a, angle0, [motion](double t) {
+      const Input::Sample s = motion->at(t);
+      return DriveSample{s.value, s.rate, s.acceleration};
+    });
+    return;
+  }
+  if (!p.has("linkage.actuator.speed"))
+    throw InputError("linkage.actuator.speed",
+                     "expected the crank speed [rad/s] of a \"crank_speed\" or \"motor\" drive in "
+                     "the part file (linkage.actuator.speed)");
+  const double w = m.crank_speed = p.number("linkage.actuator.speed");
+  if (!(std::abs(w) > 0.0) || !std::isfinite(w))
+    throw InputError("linkage.actuator.speed", "expected a finite non-zero crank speed [rad/s]");
+  if (m.drive == LinkageDrive::motor)
+    return m.linkage.add_motor(a, angle0, w, read_positive(p, "linkage.actuator.motor_slope"),
+                               read_positive(p, "linkage.actuator.flywheel_inertia", true));
+  m.linkage.add_rotary_drive(a, angle0, [w](double t) { return DriveSample{w * t, w, 0.0}; });
+}
+
 void Reader::read_actuator() {
   m.motion = read_motion(p, "motion");
-  if (read_choice<MotionShape>(p, "motion.shape") == MotionShape::step)
+  m.drive = read_choice<LinkageDrive>(p, "linkage.actuator.kind");
+  const bool commanded = m.drive == LinkageDrive::linear || m.drive == LinkageDrive::crank_angle;
+  if (commanded && read_choice<MotionShape>(p, "motion.shape") == MotionShape::step)
     throw InputError("motion.shape", "expected a shape with a velocity (not \"step\")");
+  if (m.drive != LinkageDrive::linear) return read_rotary_drive(m.motion);
   const Vec3 dir = p.vec3("linkage.actuator.direction");
   if (!(dir.head<2>().norm() > 0.0) || dir.z() != 0.0)
     throw InputError("linkage.actuator.direction",
                      "expected a non-zero direction in the plane (z = 0)");
-  m.linkage.add_drive(point("linkage.actuator.point"), ground_point("linkage.actuator.rest"),
-                      dir.head<2>(), [motion = m.motion](double t) {
+  const PointRef a = m.actuator = point("linkage.actuator.point");
+  if (a.body >= 0 && a.body == m.slider.body &&
+      !(std::abs(m.slider_axis.dot(dir.head<2>().normalized())) > 1e-6))
+    throw InputError("linkage.actuator.direction",
+                     "expected a direction along the guide of the driven body (the guide holds "
+                     "it across), not normal to it");
+  m.linkage.add_drive(a, ground_point("linkage.actuator.rest"), dir.head<2>(),
+                      [motion = m.motion](double t) {
                         const Input::Sample s = motion->at(t);
                         return DriveSample{s.value, s.rate, s.acceleration};
                       });

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/linkage/assembly.hpp"
+#include "core/linkage/linkage_choices.hpp"
 #include "core/params.hpp"
 #include "core/scenes/drivers.hpp"
 
@@ -20,6 +21,12 @@ struct LinkageModel {
   Eigen::VectorXd initial_guess;                   ///< the bodies' origin and angle, modes 0
   PointRef output;                                 ///< linkage.output: the shaft's point
   InputPtr motion;                                 ///< the actuator's displacement
+  LinkageDrive drive = LinkageDrive::linear;       ///< linkage.actuator.kind
+  PointRef actuator;                               ///< linkage.actuator.point
+  double crank_speed = 0.0;   ///< linkage.actuator.speed of a crank_speed drive [rad/s]
+  double drive_radius = 0.0;  ///< a rotary drive's body's radius (body_radius) [m]
+  PointRef slider{-2, 0};     ///< the first prismatic guide's point (body -2: none)
+  Eigen::Vector2d slider_axis = Eigen::Vector2d::UnitX();  ///< and its direction
   double length_scale = 0.0;        ///< the smallest clearance, else 0.1 mm [m] (state scales)
   std::vector<double> body_radius;  ///< largest point distance from each body's origin [m]
 };

@@ -55,7 +55,8 @@ double read_hertz_coefficient(const ParameterSet& p, const std::string& prefix,
 }
 
 /// The friction law of a clearance contact, keys under `fprefix`.
-void read_friction(const ParameterSet& p, const std::string& fprefix, ClearanceContactModel& m) {
+void read_friction(const ParameterSet& p, const std::string& fprefix, ClearanceContactModel& m,
+                   bool holds_stick) {
   FrictionParams f;
   const std::string law = p.text(fprefix + ".law");
   const auto kind = choice_from_name<FrictionLawKind>(law);
@@ -69,17 +70,19 @@ void read_friction(const ParameterSet& p, const std::string& fprefix, ClearanceC
   if (needs_ordered_speeds(f.law) && !(f.dynamic_speed > f.static_speed))
     throw InputError(fprefix + ".dynamic_speed", "expected dynamic_speed > static_speed");
   m.friction = make_friction_law(f);
-  if (read_choice<FrictionMode>(p, fprefix + ".mode") == FrictionMode::stick_slip) {
-    m.branches = make_friction_branches(m.friction, f);
-    m.switch_speed = f.static_speed;
-  }
+  const FrictionMode mode = read_choice<FrictionMode>(p, fprefix + ".mode");
+  if (mode == FrictionMode::switch_model && !holds_stick)
+    throw InputError(fprefix + ".mode",
+                     "the mode 'switch' needs a scene that computes a stuck contact's force "
+                     "(the rod-end scenes); expected 'smooth' or 'stick-slip'");
+  set_friction_mode(m, mode, f);
 }
 
 }  // namespace
 
 ClearanceContactModel read_clearance_contact(const ParameterSet& p, const std::string& prefix,
                                              const std::string& fprefix,
-                                             const std::string& clearance_path) {
+                                             const std::string& clearance_path, bool holds_stick) {
   ClearanceContactModel m;
   m.ball_radius = read_positive(p, prefix + ".ball_radius");
   const std::string cpath = clearance_path.empty() ? prefix + ".clearance" : clearance_path;
@@ -119,7 +122,7 @@ ClearanceContactModel read_clearance_contact(const ParameterSet& p, const std::s
   if (!damping_cap) throw InputError(prefix + ".damping_cap", "unknown damping cap '" + cap + "'");
   m.damping_cap = *damping_cap;
 
-  read_friction(p, fprefix, m);
+  read_friction(p, fprefix, m, holds_stick);
   return m;
 }
 

@@ -21,10 +21,12 @@ RigidBodyParams read_body(const ParameterSet& p, const std::string& prefix);
 /// `<friction_prefix>`. `geometry` "sphere" (Hertz, ball in a conformal socket) or "cylinder"
 /// (pin in a bearing of length `bearing_length`, read only then). The clearance is read from
 /// `clearance_path` when given (scenes with several joints sharing one contact block), else
-/// from `<prefix>.clearance`.
+/// from `<prefix>.clearance`. `holds_stick`: the scene computes the force of a stuck contact
+/// (core/contact_stick.hpp), so friction.mode switch is accepted (else an InputError).
 ClearanceContactModel read_clearance_contact(const ParameterSet& p, const std::string& prefix,
                                              const std::string& friction_prefix,
-                                             const std::string& clearance_path = {});
+                                             const std::string& clearance_path = {},
+                                             bool holds_stick = false);
 
 /// A 3-D spring under `<prefix>` (stiffness, damping, rotational_stiffness, rotational_damping),
 /// all >= 0.

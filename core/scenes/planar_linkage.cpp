@@ -25,11 +25,17 @@ namespace {
 using linkage::LinkageModel;
 
 constexpr auto kLinkageSignals =
-    concat(SignalId::time, SignalId::actuator_position, SignalId::actuator_velocity,
-           SignalId::surface_angle, SignalId::surface_angle_command, SignalId::surface_rate,
-           SignalId::surface_acceleration, SignalId::ideal_surface_rate,
+    concat(SignalId::time, SignalId::surface_angle, SignalId::surface_angle_command,
+           SignalId::surface_rate, SignalId::surface_acceleration, SignalId::ideal_surface_rate,
            SignalId::ideal_surface_acceleration, SignalId::constraint_drift,
            SignalId::linkage_joint_forces, kEnergyAudit);
+/// The drive's signals: a linear actuator's displacement, a rotary drive's angle and torque.
+constexpr auto kLinearDriveSignals =
+    concat(SignalId::actuator_position, SignalId::actuator_velocity);
+constexpr auto kRotaryDriveSignals = concat(SignalId::crank_angle, SignalId::driving_torque);
+/// The first prismatic guide's point along the guide (from the guide's ground point).
+constexpr auto kSliderSignals =
+    concat(SignalId::slider_position, SignalId::slider_velocity, SignalId::slider_acceleration);
 
 /// The output point's angle, rate and acceleration.
 struct Output {
@@ -42,6 +48,12 @@ class PlanarLinkageScene final : public Scene {
     n_ = m_.linkage.coordinate_count();
     initial_assembly();
     signals_.assign(kLinkageSignals.begin(), kLinkageSignals.end());
+    if (rotary())
+      signals_.insert(signals_.end(), kRotaryDriveSignals.begin(), kRotaryDriveSignals.end());
+    else
+      signals_.insert(signals_.end(), kLinearDriveSignals.begin(), kLinearDriveSignals.end());
+    if (m_.slider.body >= 0)
+      signals_.insert(signals_.end(), kSliderSignals.begin(), kSliderSignals.end());
     if (contact_count() > 0) {
       signals_.insert(signals_.end(), kContactSignals.begin(), kContactSignals.end());
       signals_.push_back(SignalId::relative_velocity);
@@ -71,7 +83,8 @@ class PlanarLinkageScene final : public Scene {
   std::span<const int> audit_offsets() const override { return audit_; }
   PeriodicInputs periodic_inputs() const override {
     PeriodicInputs in;
-    in.command = m_.motion->periodic();
+    if (m_.drive == LinkageDrive::linear || m_.drive == LinkageDrive::crank_angle)
+      in.command = m_.motion->periodic();
     return in;
   }
 
@@ -96,7 +109,7 @@ class PlanarLinkageScene final : public Scene {
       dxdt[i] = x[n_ + i];
       dxdt[n_ + i] = s.qdd[i];
     }
-    dxdt[2 * n_] = s.constraint_power;
+    dxdt[2 * n_] = s.constraint_power + s.motor_power;
     dxdt[2 * n_ + 1] = s.dissipation;
   }
 
@@ -124,7 +137,13 @@ class PlanarLinkageScene final : public Scene {
     return friction ? evaluate_contact(joint(c).model, journal, bearing, latch)
                     : evaluate_normal_contact(joint(c).model, journal, bearing, latch);
   }
+  bool rotary() const { return m_.drive != LinkageDrive::linear; }
   void initial_assembly();
+  /// The drive's and the slider's signals.
+  void drive_outputs(double t, const Eigen::VectorXd& Q, const Eigen::VectorXd& Qd,
+                     const linkage::LinkageDynamics& s, SignalFrame& f) const;
+  /// The drive's largest speed: the actuator's [m/s], a rotary drive's at its body's radius.
+  double drive_speed() const;
   /// The ideal linkage's output at t, assembled from q (NaN when it is not determined).
   Output ideal_output(double t, const Eigen::VectorXd& q) const;
 
@@ -169,9 +188,7 @@ void PlanarLinkageScene::outputs(double t, const double* x, const DiscreteState&
                                  SignalFrame& f) const {
   const Eigen::VectorXd Q = q(x), Qd = qd(x);
   const linkage::LinkageDynamics s = m_.linkage.dynamics(t, Q, Qd, d.contacts);
-  const Input::Sample a = m_.motion->at(t);
-  f.set(SignalId::actuator_position, a.value);
-  f.set(SignalId::actuator_velocity, a.rate);
+  drive_outputs(t, Q, Qd, s, f);
   const linkage::GlobalPoint o = m_.linkage.point(m_.output, Q, Qd);
   f.set(SignalId::surface_angle, o.angle - angle0_);
   f.set(SignalId::surface_rate, o.angular_velocity);
@@ -198,13 +215,40 @@ void PlanarLinkageScene::outputs(double t, const double* x, const DiscreteState&
   write_energy_signals(f, energy(t, x, d), initial_mechanical_);
 }
 
-void PlanarLinkageScene::state_scale(double* s) const {
-  // positions on the smallest clearance (0.1 mm without one), angles on it over the body's
-  // size; rates on the actuator's largest speed over its motion
+void PlanarLinkageScene::drive_outputs(double t, const Eigen::VectorXd& Q,
+                                       const Eigen::VectorXd& Qd, const linkage::LinkageDynamics& s,
+                                       SignalFrame& f) const {
+  if (rotary()) {
+    f.set(SignalId::crank_angle, m_.linkage.point(m_.actuator, Q, Qd).angle);
+    f.set(SignalId::driving_torque,
+          m_.drive == LinkageDrive::motor ? s.motor_torques[0] : s.drive_forces[0]);
+  } else {
+    const Input::Sample a = m_.motion->at(t);
+    f.set(SignalId::actuator_position, a.value);
+    f.set(SignalId::actuator_velocity, a.rate);
+  }
+  if (m_.slider.body < 0) return;
+  const linkage::GlobalPoint p = m_.linkage.point(m_.slider, Q, Qd);
+  const Eigen::Vector2d& u = m_.slider_axis;
+  f.set(SignalId::slider_position, u.dot(p.position));
+  f.set(SignalId::slider_velocity, u.dot(p.velocity));
+  f.set(SignalId::slider_acceleration, u.dot(p.jacobian * s.qdd + p.jacobian_dot_qdot));
+}
+
+double PlanarLinkageScene::drive_speed() const {
+  if (m_.drive == LinkageDrive::crank_speed || m_.drive == LinkageDrive::motor)
+    return std::abs(m_.crank_speed) * m_.drive_radius;
   double speed = 0.0;
   const double end = std::max(m_.motion->end_time(), 1e-3);
   for (int k = 0; k <= 256; ++k)
     speed = std::max(speed, std::abs(m_.motion->at(end * k / 256).rate));
+  return rotary() ? speed * m_.drive_radius : speed;
+}
+
+void PlanarLinkageScene::state_scale(double* s) const {
+  // positions on the smallest clearance (0.1 mm without one), angles on it over the body's
+  // size; rates on the drive's largest speed (a rotary drive's at its body's radius)
+  double speed = drive_speed();
   if (!(speed > 0.0)) speed = 1e-3;
   for (int b = 0; b < m_.linkage.body_count(); ++b) {
     const int o = m_.linkage.body_offset(b), k = m_.linkage.body(b).coordinate_count();

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/contact_eval.hpp"
+#include "core/contact_stick.hpp"
 #include "core/scenes/contact_length_scale.hpp"
 #include "core/scenes/parts.hpp"
 
@@ -69,7 +70,7 @@ RodEndMechanism::RodEndMechanism(const ParameterSet& p)
     : geometry_(read_geometry(p)),
       ball_(read_body(p, "ball")),
       socket_(read_body(p, "socket")),
-      contact_(read_clearance_contact(p, "contact", "friction")),
+      contact_(read_clearance_contact(p, "contact", "friction", {}, true)),
       slider_spring_(read_spring(p, "slider_spring")),
       crank_spring_(read_spring(p, "crank_spring")),
       hinge_(read_hinge(p, "hinge")),
@@ -99,8 +100,7 @@ void RodEndMechanism::check_closure(const Input& motion, const std::string& key,
   // both stroke shapes rise monotonically), so it spans [-retraction, extension] over the whole
   // profile (a waveform spans offset -+ amplitude: Input::range): when both ends close,
   // every instant does, and the scan below (which finds the first offending time) is needed only
-  // when one does not. This keeps the check cheap when a large grid is validated (issue 19, fast
-  // validation).
+  // when one does not. This keeps the check cheap when a large grid is validated.
   {
     const double margin = 1e-6 * geometry_.max_rod();
     const auto [lo, hi] = motion.range();
@@ -292,7 +292,32 @@ RodEndMechanism::EvalT<S> RodEndMechanism::evaluate(double t, const S& u, const 
   const Vec3T<S> arm = e.crank_anchor.p_W - geometry_.crank_pivot();
   e.crank_torque = arm.cross(-e.crank_spring.force_on_body).z() - e.crank_spring.moment_on_body.z();
   e.hinge_moment = hinge_at(*hinge_, t, e.theta);
+  if (contact_.stick && latch.in_contact && !latch.slipping && e.contact.normal_force > 0.0)
+    hold_stuck_contact(e);
   return e;
+}
+
+template <class S>
+void RodEndMechanism::hold_stuck_contact(EvalT<S>& e) const {
+  // the other forces and moments on each sphere, as derivatives() sums them (the contact's
+  // holds its normal force and, on worn surfaces, that force's moments)
+  StickBody<S> ball{
+      &e.ball,
+      1.0 / ball_.mass,
+      ball_.inertia,
+      true,
+      ball_.mass * gravity_ + e.contact.normal_force_on_ball + e.crank_spring.force_on_body,
+      e.contact.moment_on_ball + e.crank_spring.moment_on_body,
+      contact_.ball_radius};
+  StickBody<S> socket{
+      &e.socket,
+      1.0 / socket_.mass,
+      socket_.inertia,
+      true,
+      socket_.mass * gravity_ - e.contact.normal_force_on_ball + e.slider_spring.force_on_body,
+      e.contact.moment_on_socket + e.slider_spring.moment_on_body,
+      contact_.socket_radius()};
+  apply_stick(contact_, e.contact, ball, socket, stick_force(e.contact, ball, socket));
 }
 
 RodEndMechanism::Eval RodEndMechanism::evaluate_state(double t, double u, double u_dot,

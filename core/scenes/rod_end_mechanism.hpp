@@ -105,6 +105,7 @@ class RodEndMechanism {
   double surface_acceleration(const Eval& e) const;
 
   ContactGap gap(const double* x) const;
+
   /// The contact alone at the mechanism state x (the driver's peak location).
   ContactSnapshot contact_snapshot(const double* x, const ContactLatch& l) const;
 
@@ -151,6 +152,10 @@ class RodEndMechanism {
   /// The bodies, theta, the rod and both springs' anchors of evaluate().
   template <class S>
   void kinematics(const S& u, const S& u_dot, const S* x, EvalT<S>& e) const;
+  /// friction.mode switch, stuck: the friction force that holds the contact's slip at zero
+  /// (core/contact_stick.hpp) from the other forces evaluate() found, added to e.contact.
+  template <class S>
+  void hold_stuck_contact(EvalT<S>& e) const;
 
   SliderCrank geometry_;
   RigidBodyParams ball_, socket_;

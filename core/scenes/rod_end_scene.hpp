@@ -55,6 +55,11 @@ class RodEndScene : public OneContactScene<RodEndScene<Derived, kOwnStates>> {
   }
   const ClearanceContactModel& contact() const { return mech_.contact(); }
   ContactGap contact_gap(int, const double* x) const override { return mech_.gap(x + kMech); }
+  double stick_demand(int, double t, const double* x, const DiscreteState& d) const override {
+    ContactLatch stuck = d.contacts[0];
+    stuck.slipping = false;
+    return self().mechanism_eval(t, x, stuck).contact.stick_demand;
+  }
   ContactSnapshot contact_snapshot(int, double, const double* x,
                                    const DiscreteState& d) const override {
     return mech_.contact_snapshot(x + kMech, d.contacts[0]);

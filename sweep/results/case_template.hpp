@@ -1,4 +1,4 @@
-// A case file's HDF5 image built once and patched per case (issue 33: the serial section).
+// A case file's HDF5 image built once and patched per case (the serial section).
 //
 // HDF5 builds case files under one process-wide lock (sweep/results/), and building one
 // (datasets, attributes, dimension scales, the chunks copied in) took 12-16 ms a case, a fifth

@@ -140,7 +140,7 @@ Handle sink_access(const Context& cx, SinkTarget& target) {
   // closing the file closes whatever of it is still open (an error path), so that HDF5 never
   // keeps it open past the life of `target`
   cx.ok(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG), "cannot create the file");
-  // memory that does not grow with the file (issue 16 item 6): a metadata cache of a fixed
+  // memory that does not grow with the file: a metadata cache of a fixed
   // 1 MiB (its adaptive default grows with the global heap's collections, which hold a
   // summary's strings)
   H5AC_cache_config_t mdc{};

@@ -1,6 +1,6 @@
 // Files HDF5 writes to the disk: the sink driver.
 //
-// summary.h5 grows with the number of cases, so it is not built in memory (issue 16 item 6):
+// summary.h5 grows with the number of cases, so it is not built in memory:
 // HDF5 writes it, block of rows by block of rows, through a minimal virtual file driver
 // straight into the temporary file of an AtomicFile. The driver never reports a failed write to
 // HDF5 (HDF5 1.10 cannot close a file whose writes failed, and crashed at exit on it): the

@@ -4,13 +4,13 @@
 // units (not for text) and long_name, case_index the dimension scale of the others, attribute
 // columns = JSON array of the names in order; root attribute summary_csv_crc32 (int64): the CRC-32
 // of the summary.csv written with it) and summary.csv (one header line, one line per case, numbers
-// as the shortest decimal that reads back as the same double). Schema 1 (before issue 22) named the
+// as the shortest decimal that reads back as the same double). Schema 1 named the
 // attributes unit and description and had no dimension scales; readers accept both. All string
 //
-// Written as a stream (issue 16 item 6): the rows come from a RecordSpool on the disk, a block
-// at a time, and each block goes to summary.csv and to the columns of
-// summary.h5 (datasets of the final size, written by hyperslabs through the sink driver) before
-// the next is read: the memory it takes does not grow with the number of cases.
+// Written as a stream (memory flat in the number of cases): the rows come from a RecordSpool on the
+// disk, a block at a time, and each block goes to summary.csv and to the columns of summary.h5
+// (datasets of the final size, written by hyperslabs through the sink driver) before the next is
+// read: the memory it takes does not grow with the number of cases.
 #include <hdf5.h>
 #include <libdeflate.h>
 #include <sys/stat.h>

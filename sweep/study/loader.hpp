@@ -227,8 +227,8 @@ std::vector<SignalId> scene_signals(const Scene& scene, SignalSelection& sel, co
 void check_history_size(const TimeSettings& t, const std::vector<SignalId>& signals);
 
 // bases.cpp, presets.cpp, resolve.cpp
-/// What rebuilds a case from its grid index (issue 16 item 6): the base draft and signals of
-/// each scene, the axes, and one 64-bit id per case once validated.
+/// What rebuilds a case from its grid index (memory flat in the number of cases): the base draft
+/// and signals of each scene, the axes, and one 64-bit id per case once validated.
 struct Grid {
   std::vector<Axis> axes;
   SceneAxis scene_axis;

@@ -45,6 +45,7 @@ RECORD_COLUMNS = (
     "steps_accepted",
     "steps_rejected",
     "rhs_calls",
+    "friction_switches",
     "started_utc",
     "finished_utc",
 )
