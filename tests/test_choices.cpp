@@ -113,10 +113,10 @@ TEST_CASE("the waveforms are one list inside both menus that offer them", "[choi
     const auto i = static_cast<std::size_t>(w);
     CHECK(choice_names(MotionShape{})[3 + i] == choice_name(w));
     CHECK(choice_names(HingeMomentKind{})[3 + i] == choice_name(w));
-    Waveform wave;
-    wave.kind = w;
-    // the catalogue's single-frequency column: sine and triangle
-    CHECK(wave.single_frequency() == (w == WaveformKind::sine || w == WaveformKind::triangle));
+    // the class of its line: sine and triangle have one frequency (a periodic input)
+    const ParameterSet p = ParameterSet::defaults_for("servo-actuator");
+    const bool periodic = make_input(w, InputKeys{p, "command"})->periodic().has_value();
+    CHECK(periodic == (w == WaveformKind::sine || w == WaveformKind::triangle));
   }
 }
 

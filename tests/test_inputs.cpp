@@ -7,11 +7,13 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <complex>
+#include <memory>
 #include <numbers>
 #include <string>
 
 #include "core/errors.hpp"
 #include "core/scenes/drivers.hpp"
+#include "core/scenes/input_kinds.hpp"
 #include "core/scenes/servo_actuator.hpp"
 #include "core/scenes/slider_crank.hpp"
 #include "fixture.hpp"
@@ -44,21 +46,38 @@ PeriodicMetrics run_periodic(const ParameterSet& p, const IntegratorSettings& s,
 
 }  // namespace
 
+/// Each waveform of the catalogue, as its class makes it: A = 2, offset 0.5, from 0.1 s; 3 Hz
+/// over 2 periods, or swept from 1 to 8 Hz over 1.5 s.
+InputPtr test_waveform(WaveformKind kind) {
+  const WaveformLevel l{2.0, 0.5, 0.1};
+  const WavePeriods w{3.0, 2};
+  const ChirpSweep c{1.0, 8.0, 1.5};
+  switch (kind) {
+    case WaveformKind::sine:
+      return std::make_shared<SineWave>(l, w);
+    case WaveformKind::triangle:
+      return std::make_shared<TriangleWave>(l, w);
+    case WaveformKind::linear_chirp:
+      return std::make_shared<LinearChirp>(l, c);
+    case WaveformKind::log_chirp:
+      return std::make_shared<LogChirp>(l, c);
+  }
+  return nullptr;
+}
+
 TEST_CASE("waveforms: values, derivatives and windows", "[inputs]") {
-  for (auto kind : {Waveform::Kind::sine, Waveform::Kind::linear_chirp, Waveform::Kind::log_chirp,
-                    Waveform::Kind::triangle}) {
-    Waveform w;
-    w.kind = kind;
-    w.amplitude = 2.0, w.offset = 0.5, w.frequency = 3.0, w.cycles = 2, w.start_time = 0.1;
-    w.start_frequency = 1.0, w.end_frequency = 8.0, w.chirp_duration = 1.5;
-    CAPTURE(static_cast<int>(kind));
+  for (WaveformKind kind : choice_values<WaveformKind>()) {
+    const InputPtr in = test_waveform(kind);
+    REQUIRE(in);
+    const Input& w = *in;
+    CAPTURE(choice_name(kind));
     // offset before the start, the end value after the end (offset after whole periods),
     // continuous at both
     CHECK(w.at(0.05).value == 0.5);
     CHECK(w.at(0.1).value == Approx(0.5).margin(1e-12));
     CHECK(w.at(w.end_time() + 1e-3).value == Approx(w.at(w.end_time()).value).margin(1e-12));
     CHECK(w.at(w.end_time() + 1e-3).rate == 0.0);
-    if (w.single_frequency()) CHECK(w.at(w.end_time()).value == Approx(0.5).margin(1e-9));
+    if (w.periodic()) CHECK(w.at(w.end_time()).value == Approx(0.5).margin(1e-9));
     // the rate is the derivative of the value (central differences, away from the triangle's
     // corners), the acceleration that of the rate
     const double h = 1e-6;
@@ -69,48 +88,66 @@ TEST_CASE("waveforms: values, derivatives and windows", "[inputs]") {
       const double dd = (w.at(t + h).rate - w.at(t - h).rate) / (2 * h);
       CHECK(w.at(t).acceleration == Approx(dd).epsilon(1e-5).margin(1e-3));
     }
+    // the integral (a closed form, or Simpson's rule on 4096 intervals: its error at the
+    // triangle's corners is of order (t/4096)^2 times the slope's jump, ~1e-6) against the
+    // midpoint rule on 2e5 intervals (error ~ (t/2e5)^2 |w''| t / 24, below 1e-9 here)
+    for (double t : {0.3, 0.9, 2.0}) {
+      CAPTURE(t);
+      const int n = 200000;
+      double sum = 0.0;
+      for (int i = 0; i < n; ++i) sum += w.at((i + 0.5) * t / n).value;
+      CHECK(w.integral(t) == Approx(sum * t / n).epsilon(1e-6).margin(1e-5));
+    }
   }
   // a chirp's instantaneous frequency: the rate's peak is 2 pi A f(t); the end frequency reached
-  Waveform c;
-  c.kind = Waveform::Kind::log_chirp;
-  c.amplitude = 1.0, c.start_frequency = 1.0, c.end_frequency = 16.0, c.chirp_duration = 4.0;
+  const LogChirp c({1.0, 0.0, 0.0}, {1.0, 16.0, 4.0});
   // at tau = D/2 the log chirp runs at sqrt(f0 f1) = 4 Hz: w' = 2 pi f A cos(phase)
   const auto s = c.at(2.0);
   const double f = std::abs(s.rate) / (2 * kPi * std::sqrt(1.0 - s.value * s.value));
   CHECK(f == Approx(4.0).epsilon(1e-9));
   // the triangle reaches +-A at a quarter and three quarters of a period
-  Waveform t;
-  t.kind = Waveform::Kind::triangle;
-  t.amplitude = 3.0, t.frequency = 0.5;
+  const TriangleWave t({3.0, 0.0, 0.0}, {0.5, 1});
   CHECK(t.at(0.5).value == Approx(3.0));
   CHECK(t.at(1.5).value == Approx(-3.0));
 }
 
-TEST_CASE("log chirp: ln(f1/f0) read once gives the values of computing it per call", "[inputs]") {
-  // read_waveform keeps ln(f1/f0) with the frequencies it is of; at() must give bit for bit
-  // what it gives when computing it at every call (a waveform built by hand), and recompute
-  // it when the frequencies change
+TEST_CASE("inputs: the one reader makes each kind's class from its keys", "[inputs]") {
+  // a log chirp read from the parameters gives bit for bit the one made from the same numbers
   ParameterSet p = ParameterSet::defaults_for("servo-actuator");
   p.set("command.shape", "log-chirp");
   p.set("command.start_frequency", 0.5);
   p.set("command.end_frequency", 12.0);
   p.set("command.chirp_duration", 3.0);
-  const ActuatorMotion m = read_motion(p, "command");
-  Waveform by_hand = m.wave;
-  by_hand.log_ratio = 0.0;  // what a waveform built field by field holds
-  by_hand.log_ratio_of[0] = by_hand.log_ratio_of[1] = 0.0;
-  REQUIRE(m.wave.kind == Waveform::Kind::log_chirp);
+  const InputPtr read = read_motion(p, "command");
+  REQUIRE(dynamic_cast<const LogChirp*>(read.get()));
+  const WaveformLevel l{p.number("command.amplitude"), p.number("command.offset"),
+                        p.number("command.start_time")};
+  const LogChirp by_hand(l, {0.5, 12.0, 3.0});
+  const LogChirp other(l, {0.5, 6.0, 3.0});
   for (double t : {0.0, 0.37, 1.2, 2.9}) {
     CAPTURE(t);
-    CHECK(m.wave.at(t).value == by_hand.at(t).value);
-    CHECK(m.wave.at(t).rate == by_hand.at(t).rate);
-    CHECK(m.wave.at(t).acceleration == by_hand.at(t).acceleration);
+    CHECK(read->at(t).value == by_hand.at(t).value);
+    CHECK(read->at(t).rate == by_hand.at(t).rate);
+    CHECK(read->at(t).acceleration == by_hand.at(t).acceleration);
   }
-  Waveform changed = m.wave;
-  changed.end_frequency = 6.0;
-  by_hand.end_frequency = 6.0;
-  CHECK(changed.at(1.7).value == by_hand.at(1.7).value);
-  CHECK(changed.at(1.7).value != m.wave.at(1.7).value);
+  CHECK(other.at(1.7).value != by_hand.at(1.7).value);
+  // each menu's line names the class its kind is made by
+  p.set("command.shape", "minimum-jerk");
+  CHECK(dynamic_cast<const MinimumJerkStroke*>(read_motion(p, "command").get()));
+  ParameterSet h = ParameterSet::defaults_for("rod-end-actuator");
+  h.set("hinge.kind", "proportional");
+  h.set("hinge.stiffness", 40.0);
+  const InputPtr hinge = read_hinge(h, "hinge");
+  CHECK(dynamic_cast<const ProportionalInput*>(hinge.get()));
+  CHECK(hinge->value(0.3, 0.25) == -10.0);
+  CHECK(hinge->slope() == -40.0);
+  // the sine term adds to the kind
+  h.set("hinge.sine_amplitude", 5.0);
+  h.set("hinge.sine_frequency", 2.0);
+  CHECK(read_hinge(h, "hinge")->value(0.125, 0.25) == Approx(5.0 - 10.0));
+  ParameterSet b = ParameterSet::defaults_for("free-body");
+  b.set("force.kind", "triangle");
+  CHECK(dynamic_cast<const TriangleWave*>(read_load(b, "force").shape.get()));
 }
 
 TEST_CASE("waveform catalogues: one list for the command and the hinge moment", "[inputs]") {
@@ -120,9 +157,13 @@ TEST_CASE("waveform catalogues: one list for the command and the hinge moment", 
   // three strokes or loads of their own, the waveforms, then a profile from data (profile.hpp)
   REQUIRE(shapes.size() == 4 + waves.size());
   REQUIRE(kinds.size() == 4 + waves.size());
+  // and the free body's loads: constant, ramp, then the waveforms
+  const auto loads = choice_names(LoadKind{});
+  REQUIRE(loads.size() == 2 + waves.size());
   for (std::size_t i = 0; i < waves.size(); ++i) {
     CHECK(shapes[3 + i] == waves[i]);
     CHECK(kinds[3 + i] == waves[i]);
+    CHECK(loads[2 + i] == waves[i]);
   }
   CHECK(shapes.back() == "profile");
   CHECK(kinds.back() == "profile");

@@ -14,6 +14,7 @@ using std::isnan;
 
 #include "core/errors.hpp"
 #include "core/scenes/drivers.hpp"
+#include "core/scenes/input_kinds.hpp"
 #include "fixture.hpp"
 #include "sweep/profile.hpp"
 #include "sweep/runner.hpp"
@@ -31,19 +32,19 @@ constexpr double kProfileReproduceRel = 1.5e-4;
 
 /// The thesis stroke of the scenes (core/scenes/parts/stroke.part.json): +-60 mm, 1 s strokes,
 /// 0.2 s holds, one cycle (2.4 s), raised-cosine.
-ActuatorMotion thesis_stroke() {
-  ActuatorMotion m;
+RaisedCosineStroke thesis_stroke() {
+  StrokeParams m;
   m.extension = m.retraction = 0.06;
-  return m;
+  return RaisedCosineStroke(m);
 }
 
 /// Writes `motion` sampled every `h` seconds over [0, end] as a profile CSV.
-void write_stroke_csv(const fs::path& file, const ActuatorMotion& motion, double h, double end) {
+void write_stroke_csv(const fs::path& file, const Input& motion, double h, double end) {
   std::ofstream out(file);
   out << "# the built-in raised-cosine stroke sampled every " << h << " s\n";
   out << "time [s],position [m]\n" << std::setprecision(17);
   const long n = std::lround(end / h);
-  for (long i = 0; i <= n; ++i) out << i * h << "," << motion.at(i * h).position << "\n";
+  for (long i = 0; i <= n; ++i) out << i * h << "," << motion.at(i * h).value << "\n";
 }
 
 Study load(const fs::path& dir, const Json& doc) {
@@ -128,17 +129,19 @@ TEST_CASE("profile interpolants: linear and pchip against boost and the data", "
 TEST_CASE("profiles: a sampled raised-cosine stroke reproduces the stroke", "[profiles]") {
   TempDir dir("profiles");
   const double h = 1e-3;
-  const ActuatorMotion stroke = thesis_stroke();
+  const RaisedCosineStroke stroke = thesis_stroke();
   write_stroke_csv(dir.path() / "stroke.csv", stroke, h, 2.4);
   const Study built_in = load(dir.path(), stroke_study("", ""));
   const Study sampled = load(dir.path(), stroke_study("stroke.csv", "pchip"));
   // the interpolation error of the sampling, measured between the samples
-  const ActuatorMotion& m = stroke;
-  const ProfileInput in = read_motion(sampled.cases[0].parameters, "motion").profile;
+  const Input& m = stroke;
+  const InputPtr read = read_motion(sampled.cases[0].parameters, "motion");
+  REQUIRE(dynamic_cast<const ProfileFromFile*>(read.get()));
+  const ProfileInput& in = dynamic_cast<const ProfileFromFile&>(*read).profile();
   double pos_err = 0.0, rate_err = 0.0;
   for (double t = 0.0; t <= 2.4; t += h / 7.3) {
-    pos_err = std::max(pos_err, std::abs(in.at(t).value - m.at(t).position));
-    rate_err = std::max(rate_err, std::abs(in.at(t).rate - m.at(t).velocity));
+    pos_err = std::max(pos_err, std::abs(in.at(t).value - m.at(t).value));
+    rate_err = std::max(rate_err, std::abs(in.at(t).rate - m.at(t).rate));
   }
   measured("pchip position error of h = 1 ms [m]", pos_err, 2e-9);
   measured("pchip rate error of h = 1 ms [m/s]", rate_err, 1.2e-5);
@@ -244,11 +247,11 @@ TEST_CASE("profiles: a hinge moment from a file and the past-the-end rules", "[p
                                     "is at 1 s, before the run's end"));
   doc["parameters"]["hinge.profile.past_end"] = "repeat";
   const Study s = load(dir.path(), doc);
-  const HingeMoment hm = read_hinge(s.cases[0].parameters, "hinge");
-  CHECK(hm.at(0.25, 0.0) == Approx(50.0));
-  CHECK(hm.at(1.25, 0.0) == Approx(50.0));
+  const InputPtr hm = read_hinge(s.cases[0].parameters, "hinge");
+  CHECK(hm->value(0.25, 0.0) == Approx(50.0));
+  CHECK(hm->value(1.25, 0.0) == Approx(50.0));
   doc["parameters"]["hinge.profile.past_end"] = "hold";
-  CHECK(read_hinge(load(dir.path(), doc).cases[0].parameters, "hinge").at(2.0, 0.0) == 0.0);
+  CHECK(read_hinge(load(dir.path(), doc).cases[0].parameters, "hinge")->value(2.0, 0.0) == 0.0);
 }
 
 TEST_CASE("profiles: an HDF5 profile reads as its CSV twin", "[profiles]") {

@@ -188,9 +188,9 @@ TEST_CASE("rod-end kinematic: thesis §5.1 physics on the 0 -> +50 mm -> 0 profi
   // A step frame carries the step signals (kStepSignals), not the actuator's rate or the
   // springs' forces: the windows come from the prescribed motion at each frame's time, and the
   // spring's sign is checked on the samples, which carry every signal.
-  const ActuatorMotion motion = read_motion(p, "motion");
+  const InputPtr motion = read_motion(p, "motion");
   const auto rate = [&](const Track& track, std::size_t i) {
-    return motion.at(track.time(i)).velocity;
+    return motion->at(track.time(i)).rate;
   };
   const Track& sa = rec.samples;
 

@@ -62,7 +62,7 @@ struct Reader {
   /// The guide's play: the slider-crank's guide law with the keys under `k` (Guide::read's).
   Guide read_play(const std::string& k, PointRef a) const;
   void read_actuator();
-  void read_rotary_drive(const ActuatorMotion& motion);
+  void read_rotary_drive(const InputPtr& motion);
 };
 
 void Reader::read_bodies() {
@@ -138,15 +138,15 @@ Guide Reader::read_play(const std::string& k, PointRef a) const {
   return g;
 }
 
-void Reader::read_rotary_drive(const ActuatorMotion& motion) {
+void Reader::read_rotary_drive(const InputPtr& motion) {
   const PointRef a = m.actuator = point("linkage.actuator.point");
   if (a.body < 0) throw InputError("linkage.actuator.point", "expected a point of a body");
   const double angle0 = m.initial_guess[m.linkage.body_offset(a.body) + 2];
   m.drive_radius = m.body_radius[static_cast<std::size_t>(a.body)];
   if (m.drive == LinkageDrive::crank_angle) {
     m.linkage.add_rotary_drive(a, angle0, [motion](double t) {
-      const ActuatorMotion::Sample s = motion.at(t);
-      return DriveSample{s.position, s.velocity, s.acceleration};
+      const Input::Sample s = motion->at(t);
+      return DriveSample{s.value, s.rate, s.acceleration};
     });
     return;
   }
@@ -167,24 +167,24 @@ void Reader::read_actuator() {
   m.motion = read_motion(p, "motion");
   m.drive = read_choice<LinkageDrive>(p, "linkage.actuator.kind");
   const bool commanded = m.drive == LinkageDrive::linear || m.drive == LinkageDrive::crank_angle;
-  if (commanded && m.motion.shape == ActuatorMotion::Shape::step)
+  if (commanded && read_choice<MotionShape>(p, "motion.shape") == MotionShape::step)
     throw InputError("motion.shape", "expected a shape with a velocity (not \"step\")");
   if (m.drive != LinkageDrive::linear) return read_rotary_drive(m.motion);
   const Vec3 dir = p.vec3("linkage.actuator.direction");
   if (!(dir.head<2>().norm() > 0.0) || dir.z() != 0.0)
     throw InputError("linkage.actuator.direction",
                      "expected a non-zero direction in the plane (z = 0)");
-  const ActuatorMotion motion = m.motion;
   const PointRef a = m.actuator = point("linkage.actuator.point");
   if (a.body >= 0 && a.body == m.slider.body &&
       !(std::abs(m.slider_axis.dot(dir.head<2>().normalized())) > 1e-6))
     throw InputError("linkage.actuator.direction",
                      "expected a direction along the guide of the driven body (the guide holds "
                      "it across), not normal to it");
-  m.linkage.add_drive(a, ground_point("linkage.actuator.rest"), dir.head<2>(), [motion](double t) {
-    const ActuatorMotion::Sample s = motion.at(t);
-    return DriveSample{s.position, s.velocity, s.acceleration};
-  });
+  m.linkage.add_drive(a, ground_point("linkage.actuator.rest"), dir.head<2>(),
+                      [motion = m.motion](double t) {
+                        const Input::Sample s = motion->at(t);
+                        return DriveSample{s.value, s.rate, s.acceleration};
+                      });
 }
 
 }  // namespace

@@ -20,7 +20,7 @@ struct LinkageModel {
   std::vector<std::string> clearance_joint_names;  ///< in clearance-joint order
   Eigen::VectorXd initial_guess;                   ///< the bodies' origin and angle, modes 0
   PointRef output;                                 ///< linkage.output: the shaft's point
-  ActuatorMotion motion;                           ///< the actuator's displacement
+  InputPtr motion;                                 ///< the actuator's displacement
   LinkageDrive drive = LinkageDrive::linear;       ///< linkage.actuator.kind
   PointRef actuator;                               ///< linkage.actuator.point
   double crank_speed = 0.0;   ///< linkage.actuator.speed of a crank_speed drive [rad/s]

@@ -1,10 +1,12 @@
-// Scene free-body: one 6-DOF body under a prescribed force and moment, each constant,
-// sinusoidal or a ramp (thesis §3.3, the 6DOF-block validation). No contact, no gravity.
+// Scene free-body: one 6-DOF body under a prescribed force and moment, each a vector amplitude
+// times an input of unit amplitude: constant, a ramp or a waveform (core/scenes/load_kinds.def;
+// thesis §3.3, the 6DOF-block validation). No contact, no gravity.
 //
 // State: body (13) | input work [J] (1).
 #include <array>
 
 #include "core/scene.hpp"
+#include "core/scenes/drivers.hpp"
 #include "core/scenes/parts.hpp"
 
 namespace rodend {
@@ -83,7 +85,7 @@ class FreeBodyScene final : public Scene {
     return 0.5 * body_.mass * v0_.squaredNorm() + 0.5 * w0_.dot(body_.inertia.cwiseProduct(w0_));
   }
   RigidBodyParams body_;
-  LoadProfile force_, moment_;
+  Load force_, moment_;
   Vec3 p0_, v0_, w0_;
   Quat q0_;
 };

@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <numbers>
 
 namespace rodend {
 
@@ -134,42 +133,6 @@ Spring3DParams read_spring(const ParameterSet& p, const std::string& prefix) {
   s.rotational_stiffness = read_positive(p, prefix + ".rotational_stiffness", true);
   s.rotational_damping = read_positive(p, prefix + ".rotational_damping", true);
   return s;
-}
-
-LoadProfile read_load(const ParameterSet& p, const std::string& prefix) {
-  LoadProfile l;
-  l.kind = read_choice<LoadKind>(p, prefix + ".kind");
-  l.amplitude = p.vec3(prefix + ".amplitude");
-  l.frequency = read_positive(p, prefix + ".frequency", true);
-  l.ramp_time = read_positive(p, prefix + ".ramp_time");
-  l.body_frame = read_choice<LoadFrame>(p, prefix + ".frame") == LoadFrame::body;
-  return l;
-}
-
-Vec3 LoadProfile::at(double t) const {
-  switch (kind) {
-    case Kind::constant:
-      return amplitude;
-    case Kind::sine:
-      return amplitude * std::sin(2.0 * std::numbers::pi * frequency * t);
-    case Kind::ramp:
-      return amplitude * (t / ramp_time);
-  }
-  return Vec3::Zero();
-}
-
-Vec3 LoadProfile::integral(double t) const {
-  switch (kind) {
-    case Kind::constant:
-      return amplitude * t;
-    case Kind::sine: {
-      const double w = 2.0 * std::numbers::pi * frequency;
-      return w > 0.0 ? Vec3(amplitude * (1.0 - std::cos(w * t)) / w) : Vec3::Zero();
-    }
-    case Kind::ramp:
-      return amplitude * (0.5 * t * t / ramp_time);
-  }
-  return Vec3::Zero();
 }
 
 }  // namespace rodend

@@ -48,30 +48,6 @@ E read_choice(const ParameterSet& p, const std::string& path) {
   throw InputError(path, choice_expected<E>(name));
 }
 
-/// A load history: `<prefix>.kind` in {constant, sine, ramp}, `<prefix>.amplitude` (3 numbers),
-/// `<prefix>.frequency` [Hz] for sine, `<prefix>.ramp_time` [s] for ramp.
-///   constant: A;  sine: A sin(2 pi f t);  ramp: A t / T
-#define RODEND_CHOICE_ENUM LoadKind
-#define RODEND_CHOICE_FILE "core/scenes/load_kinds.def"
-#include "core/choice.hpp"
-/// The frame a load's amplitude is given in (`<prefix>.frame`).
-#define RODEND_CHOICE_ENUM LoadFrame
-#define RODEND_CHOICE_FILE "core/scenes/load_frames.def"
-#include "core/choice.hpp"
-
-struct LoadProfile {
-  using Kind = LoadKind;  ///< the menu core/scenes/load_kinds.def
-  Kind kind = Kind::constant;
-  Vec3 amplitude = Vec3::Zero();
-  double frequency = 0.0;   ///< [Hz]
-  double ramp_time = 1.0;   ///< [s]
-  bool body_frame = false;  ///< the amplitude is in the body frame (else inertial)
-  Vec3 at(double t) const;
-  /// Time integral of at() from 0 to t (for closed forms in tests).
-  Vec3 integral(double t) const;
-};
-LoadProfile read_load(const ParameterSet& p, const std::string& prefix);
-
 }  // namespace rodend
 
 namespace rodend {

@@ -83,9 +83,8 @@ class PlanarLinkageScene final : public Scene {
   std::span<const int> audit_offsets() const override { return audit_; }
   PeriodicInputs periodic_inputs() const override {
     PeriodicInputs in;
-    if ((m_.drive == LinkageDrive::linear || m_.drive == LinkageDrive::crank_angle) &&
-        m_.motion.is_waveform())
-      in.command = periodic_input(m_.motion.wave);
+    if (m_.drive == LinkageDrive::linear || m_.drive == LinkageDrive::crank_angle)
+      in.command = m_.motion->periodic();
     return in;
   }
 
@@ -224,9 +223,9 @@ void PlanarLinkageScene::drive_outputs(double t, const Eigen::VectorXd& Q,
     f.set(SignalId::driving_torque,
           m_.drive == LinkageDrive::motor ? s.motor_torques[0] : s.drive_forces[0]);
   } else {
-    const ActuatorMotion::Sample a = m_.motion.at(t);
-    f.set(SignalId::actuator_position, a.position);
-    f.set(SignalId::actuator_velocity, a.velocity);
+    const Input::Sample a = m_.motion->at(t);
+    f.set(SignalId::actuator_position, a.value);
+    f.set(SignalId::actuator_velocity, a.rate);
   }
   if (m_.slider.body < 0) return;
   const linkage::GlobalPoint p = m_.linkage.point(m_.slider, Q, Qd);
@@ -240,9 +239,9 @@ double PlanarLinkageScene::drive_speed() const {
   if (m_.drive == LinkageDrive::crank_speed || m_.drive == LinkageDrive::motor)
     return std::abs(m_.crank_speed) * m_.drive_radius;
   double speed = 0.0;
-  const double end = std::max(m_.motion.duration(), 1e-3);
+  const double end = std::max(m_.motion->end_time(), 1e-3);
   for (int k = 0; k <= 256; ++k)
-    speed = std::max(speed, std::abs(m_.motion.at(end * k / 256).velocity));
+    speed = std::max(speed, std::abs(m_.motion->at(end * k / 256).rate));
   return rotary() ? speed * m_.drive_radius : speed;
 }
 

@@ -7,6 +7,7 @@
 // (core/wear.hpp). The layout, contact and wear are RodEndScene's (rod_end_scene.hpp).
 #include "core/scene.hpp"
 #include "core/scenes/drivers.hpp"
+#include "core/scenes/input_kinds.hpp"
 #include "core/scenes/parts.hpp"
 #include "core/scenes/rod_end_scene.hpp"
 #include "core/scenes/servo_actuator.hpp"
@@ -25,12 +26,11 @@ class RodEndActuatorScene final : public RodEndScene<RodEndActuatorScene, ServoA
       : RodEndScene(p, kActuatorSignals),
         act_(read_servo_actuator(p, "actuator")),
         command_(read_motion(p, "motion")) {
-    check_command_within_stroke(command_, act_.params(), "motion");
+    check_command_within_stroke(*command_, act_.params(), "motion");
     // the piston cannot take the mechanism beyond its stroke: check closure over the stroke
-    ActuatorMotion full = command_;
-    full.shape = ActuatorMotion::Shape::raised_cosine;
+    StrokeParams full = read_stroke_params(InputKeys{p, "motion"});
     full.extension = full.retraction = act_.params().half_stroke;
-    mech_.check_closure(full, "actuator.half_stroke");
+    mech_.check_closure(RaisedCosineStroke(full), "actuator.half_stroke");
     double x[kStates + 1];
     initial_state(x);
     initial_energy_ = energy(0.0, x, DiscreteState{{ContactLatch{}}}).mechanical;
@@ -39,8 +39,8 @@ class RodEndActuatorScene final : public RodEndScene<RodEndActuatorScene, ServoA
   std::string_view name() const override { return "rod-end-actuator"; }
   PeriodicInputs periodic_inputs() const override {
     PeriodicInputs in;
-    if (command_.is_waveform()) in.command = periodic_input(command_.wave);
-    if (mech_.hinge().is_waveform()) in.load = periodic_input(mech_.hinge().wave);
+    in.command = command_->periodic();
+    in.load = mech_.hinge().periodic();
     return in;
   }
   Features features() const override {
@@ -66,7 +66,7 @@ class RodEndActuatorScene final : public RodEndScene<RodEndActuatorScene, ServoA
   EvalT<S> evaluate(double t, const S* x, const ContactLatch& l) const {
     const S u = x[kAct + ServoActuator::kPos], u_dot = x[kAct + ServoActuator::kVel];
     EvalT<S> e{mech_.evaluate(t, u, u_dot, x + kMech, l),
-               act_.evaluate(command_.at(t).position, x + kAct), S(0.0)};
+               act_.evaluate(command_->at(t).value, x + kAct), S(0.0)};
     // the slider spring pulls the rod end with the opposite of its force on the socket
     e.external_force = -mech_.rod_axial_force(e.mech);
     return e;
@@ -129,7 +129,7 @@ class RodEndActuatorScene final : public RodEndScene<RodEndActuatorScene, ServoA
   }
 
   ServoActuator act_;
-  ActuatorMotion command_;
+  InputPtr command_;
 };
 
 }  // namespace

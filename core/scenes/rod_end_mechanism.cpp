@@ -90,7 +90,7 @@ RodEndMechanism::RodEndMechanism(const ParameterSet& p)
   }
 }
 
-void RodEndMechanism::check_closure(const ActuatorMotion& motion, const std::string& key,
+void RodEndMechanism::check_closure(const Input& motion, const std::string& key,
                                     const std::string& short_key) const {
   // scan the whole profile finely: the extremes are at the ends of the strokes, but a scan
   // also reports the first offending time
@@ -98,24 +98,22 @@ void RodEndMechanism::check_closure(const ActuatorMotion& motion, const std::str
   // whole profile and the scan stays bounded for any cycle count (up to the 1e6 allowed)
   // the rod extension is monotonic within each stroke and constant in the holds (drivers.cpp:
   // both stroke shapes rise monotonically), so it spans [-retraction, extension] over the whole
-  // profile (a waveform spans offset -+ amplitude: ActuatorMotion::range): when both ends close,
+  // profile (a waveform spans offset -+ amplitude: Input::range): when both ends close,
   // every instant does, and the scan below (which finds the first offending time) is needed only
   // when one does not. This keeps the check cheap when a large grid is validated.
   {
     const double margin = 1e-6 * geometry_.max_rod();
     const auto [lo, hi] = motion.range();
-    const double shortest = geometry_.rod_zero() + lo;
-    const double longest = geometry_.rod_zero() + hi;
+    // the range with the start, 0
+    const double shortest = geometry_.rod_zero() + std::min(0.0, lo);
+    const double longest = geometry_.rod_zero() + std::max(0.0, hi);
     if (shortest > geometry_.min_rod() + margin && longest < geometry_.max_rod() - margin) return;
   }
-  ActuatorMotion scanned = motion;
-  scanned.cycles = std::min(motion.cycles, 2);
-  // a waveform is scanned over its whole window (its cycles are not repeats of a stroke)
-  const double T = scanned.is_stroke() ? scanned.duration() : motion.duration();
-  const int n = scanned.is_stroke() ? 20000 * scanned.cycles : 200000;
+  // a stroke's cycles after the second repeat it; a waveform is scanned over its whole window
+  const auto [T, n] = motion.scan();
   for (int i = 0; i <= n; ++i) {
     const double t = T * i / n;
-    const double l = geometry_.rod_zero() + scanned.at(t).position;
+    const double l = geometry_.rod_zero() + motion.at(t).value;
     // a margin keeps d(rod angle)/dl (which divides by sin alpha) finite
     const double margin = 1e-6 * geometry_.max_rod();
     if (l <= geometry_.min_rod() + margin || l >= geometry_.max_rod() - margin) {
@@ -242,14 +240,14 @@ ContactSnapshot RodEndMechanism::contact_snapshot(const double* x, const Contact
 
 namespace {
 
-/// The hinge moment at (t, theta), and for a dual its derivative through HingeMoment::slope
+/// The hinge moment at (t, theta), and for a dual its derivative through Input::slope
 /// (without a call when there is none).
-double hinge_at(const HingeMoment& h, double t, double theta) {
-  return h.is_zero() ? 0.0 : h.at(t, theta);
+double hinge_at(const Input& h, double t, double theta) {
+  return h.is_zero() ? 0.0 : h.value(t, theta);
 }
 template <int N>
-Dual<N> hinge_at(const HingeMoment& h, double t, const Dual<N>& theta) {
-  return Dual<N>::chain(theta, h.is_zero() ? 0.0 : h.at(t, theta.v), h.slope());
+Dual<N> hinge_at(const Input& h, double t, const Dual<N>& theta) {
+  return Dual<N>::chain(theta, h.is_zero() ? 0.0 : h.value(t, theta.v), h.slope());
 }
 
 }  // namespace
@@ -293,7 +291,7 @@ RodEndMechanism::EvalT<S> RodEndMechanism::evaluate(double t, const S& u, const 
   // do work (the hinge bearing takes the rest) (thesis eq. 4.12-4.14 in vector form)
   const Vec3T<S> arm = e.crank_anchor.p_W - geometry_.crank_pivot();
   e.crank_torque = arm.cross(-e.crank_spring.force_on_body).z() - e.crank_spring.moment_on_body.z();
-  e.hinge_moment = hinge_at(hinge_, t, e.theta);
+  e.hinge_moment = hinge_at(*hinge_, t, e.theta);
   if (contact_.stick && latch.in_contact && !latch.slipping && e.contact.normal_force > 0.0)
     hold_stuck_contact(e);
   return e;
@@ -328,7 +326,7 @@ RodEndMechanism::Eval RodEndMechanism::evaluate_state(double t, double u, double
   Eval e;
   kinematics(u, u_dot, x, e);
   e.contact = evaluate_contact(contact_, e.ball, e.socket, latch);
-  e.hinge_moment = hinge_at(hinge_, t, e.theta);
+  e.hinge_moment = hinge_at(*hinge_, t, e.theta);
   return e;
 }
 

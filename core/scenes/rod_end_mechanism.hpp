@@ -116,7 +116,7 @@ class RodEndMechanism {
 
   /// What the mechanism brings to a rod-end scene: the mechanism, its contact and, with a wear
   /// model, wear.
-  const HingeMoment& hinge() const { return hinge_; }
+  const Input& hinge() const { return *hinge_; }
   /// Whether the exact Jacobian applies (not on worn surfaces, which are read in double only).
   bool exact_jacobian() const { return !contact_.worn; }
   Features features() const {
@@ -145,7 +145,7 @@ class RodEndMechanism {
   /// Checks that the mechanism closes over a rod-extension history; throws InputError naming
   /// `key` with the offending time and rod length (or `short_key`, if given, when the rod is too
   /// short: the retraction, not the extension, is then the value to change).
-  void check_closure(const ActuatorMotion& motion, const std::string& key,
+  void check_closure(const Input& motion, const std::string& key,
                      const std::string& short_key = {}) const;
 
  private:
@@ -163,7 +163,7 @@ class RodEndMechanism {
   Spring3DParams slider_spring_, crank_spring_;
   double surface_inertia_ = 0.0;  ///< m (s/3)^2 + I about the hinge [kg m^2] (eq. 4.15-4.16)
   double surface_damping_ = 0.0;  ///< c [N m s/rad]
-  HingeMoment hinge_;
+  InputPtr hinge_;
   Vec3 gravity_;
   double misalignment_z_ = 0.0;  ///< socket offset along z [m]
   std::optional<WearModel> wear_;

@@ -1,5 +1,6 @@
 #include "core/scenes/servo_actuator.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -66,23 +67,19 @@ ServoActuatorParams read_servo_actuator(const ParameterSet& p, const std::string
   return a;
 }
 
-void check_command_within_stroke(const ActuatorMotion& m, const ServoActuatorParams& a,
+void check_command_within_stroke(const Input& m, const ServoActuatorParams& a,
                                  const std::string& prefix) {
-  const auto [lo, hi] = m.range();
-  const bool wave = m.is_waveform();
-  const bool data = m.shape == ActuatorMotion::Shape::profile;
+  // the range with the start, 0
+  const double lo = std::min(0.0, m.range().first), hi = std::max(0.0, m.range().second);
+  const auto [lo_key, hi_key] = m.range_keys();
   if (hi >= a.half_stroke)
-    throw InputError(prefix + (data   ? ".profile.file"
-                               : wave ? ".amplitude"
-                                      : ".extension"),
-                     "the command " + format_number(hi) + " m is outside the piston stroke +-" +
-                         format_number(a.half_stroke) + " m");
+    throw InputError(prefix + "." + std::string(hi_key), "the command " + format_number(hi) +
+                                                             " m is outside the piston stroke +-" +
+                                                             format_number(a.half_stroke) + " m");
   if (-lo >= a.half_stroke)
-    throw InputError(prefix + (data   ? ".profile.file"
-                               : wave ? ".amplitude"
-                                      : ".retraction"),
-                     "the command " + format_number(lo) + " m is outside the piston stroke +-" +
-                         format_number(a.half_stroke) + " m");
+    throw InputError(prefix + "." + std::string(lo_key), "the command " + format_number(lo) +
+                                                             " m is outside the piston stroke +-" +
+                                                             format_number(a.half_stroke) + " m");
 }
 
 template <class S>

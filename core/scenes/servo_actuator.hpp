@@ -73,10 +73,11 @@ struct ServoActuatorParams {
 /// modulus <= 0 and other non-physical values.
 ServoActuatorParams read_servo_actuator(const ParameterSet& p, const std::string& prefix);
 
-struct ActuatorMotion;
+class Input;
 /// Rejects a command that leaves the piston stroke, naming the key under `prefix` of the
-/// offending extreme (extension, retraction, or a waveform's amplitude).
-void check_command_within_stroke(const ActuatorMotion& m, const ServoActuatorParams& a,
+/// offending extreme (Input::range_keys: extension, retraction, a waveform's amplitude, a
+/// profile's file).
+void check_command_within_stroke(const Input& m, const ServoActuatorParams& a,
                                  const std::string& prefix);
 
 class ServoActuator {

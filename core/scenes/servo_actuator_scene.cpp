@@ -30,13 +30,13 @@ class ServoActuatorScene final : public Scene {
         motion_(read_motion(p, "command")),
         load_mass_(read_positive(p, "load.equivalent_mass", true)),
         load_force_(p.number("load.external_force")) {
-    check_command_within_stroke(motion_, act_.params(), "command");
+    check_command_within_stroke(*motion_, act_.params(), "command");
   }
 
   std::string_view name() const override { return "servo-actuator"; }
   PeriodicInputs periodic_inputs() const override {
     PeriodicInputs in;
-    if (motion_.is_waveform()) in.command = periodic_input(motion_.wave);
+    in.command = motion_->periodic();
     return in;
   }
   Features features() const override { return Features{Feature::actuator, Feature::energy_audit}; }
@@ -52,7 +52,7 @@ class ServoActuatorScene final : public Scene {
   std::span<const int> audit_offsets() const override { return kAudit; }
 
   void derivatives(double t, const double* x, const DiscreteState&, double* dxdt) const override {
-    const auto e = act_.evaluate(motion_.at(t).position, x + kAct);
+    const auto e = act_.evaluate(motion_->at(t).value, x + kAct);
     act_.derivatives(e, x + kAct, load_force_, load_mass_, dxdt + kAct);
     // input: what the hydraulics deliver to the piston, by the long route (net supply power
     // less orifice, leakage and compression), plus the external force's work
@@ -67,7 +67,7 @@ class ServoActuatorScene final : public Scene {
     return {act_.mechanical_energy(x + kAct, load_mass_), x[kWork], x[kDissipated]};
   }
   void outputs(double t, const double* x, const DiscreteState& d, SignalFrame& f) const override {
-    const auto e = act_.evaluate(motion_.at(t).position, x + kAct);
+    const auto e = act_.evaluate(motion_->at(t).value, x + kAct);
     act_.outputs(e, x + kAct, load_force_, f);
     const double v = x[kAct + ServoActuator::kVel];
     f.set(SignalId::kinetic_energy, 0.5 * (act_.params().piston_mass + load_mass_) * v * v);
@@ -76,7 +76,7 @@ class ServoActuatorScene final : public Scene {
 
  private:
   ServoActuator act_;
-  ActuatorMotion motion_;
+  InputPtr motion_;
   double load_mass_, load_force_;
 };
 

@@ -54,11 +54,23 @@ Json as_doubles(const Json& j) {
   return j;
 }
 
-/// Parameters added after results were stored, with the value that gives what came before
-/// (its name from its catalogue): left out of the id at that value, so the ids of earlier runs
-/// hold.
-const std::pair<std::string_view, std::string_view> kIdentityDefaults[] = {
+/// Parameters added after results were stored, with the value that gives what came before (a
+/// name from its catalogue, or a number): left out of the id at that value, so the ids of earlier
+/// runs hold.
+const std::pair<std::string_view, Json> kIdentityDefaults[] = {
     {"friction.mode", choice_name(FrictionMode::smooth)},  // the law as one function
+    // the free body's loads took the waveforms' keys: at these values a sine load is the
+    // A sin(2 pi f t) from t = 0 of before, and the chirps' keys are unused by the earlier kinds
+    {"force.start_time", 0.0},
+    {"force.cycles", 1e6},
+    {"force.start_frequency", 0.5},
+    {"force.end_frequency", 5.0},
+    {"force.chirp_duration", 2.0},
+    {"moment.start_time", 0.0},
+    {"moment.cycles", 1e6},
+    {"moment.start_frequency", 0.5},
+    {"moment.end_frequency", 5.0},
+    {"moment.chirp_duration", 2.0},
 };
 
 /// Whether a parameter is left out of the id at one of its values (a grid over it: no template).
@@ -71,7 +83,7 @@ Json parameter_identity(const ParameterSet& p) {
   Json values = as_doubles(identity_values(p));
   for (const auto& [key, value] : kIdentityDefaults) {
     const auto it = values.find(std::string(key));
-    if (it != values.end() && it->is_string() && it->get<std::string>() == value) values.erase(it);
+    if (it != values.end() && *it == as_doubles(value)) values.erase(it);
   }
   return values;
 }
