@@ -51,8 +51,13 @@ namespace {
 constexpr std::size_t summary_rows = 50;    ///< rows of the summary shown (all: summary.csv)
 constexpr std::size_t summary_metrics = 8;  ///< metric columns shown when no analysis names them
 
+/// A summary cell to six significant digits: a table a person reads (the metrics' own accuracy is
+/// coarser than that); every digit is in summary.csv, which the note under the heading names.
 std::string number(double v) {
-  return std::isnan(v) ? std::string() : shortest_decimal(v);
+  if (std::isnan(v)) return std::string();
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
 }
 
 using report::escape;
@@ -123,8 +128,9 @@ void write_summary_table(std::ostream& h, const SummaryTable& t, const fs::path&
   h << "<h2>Summary</h2>\n<p class=\"note\">" << (rows < t.rows ? "The first " : "The ") << rows
     << " of " << t.rows << " case(s), the grid axes and key metrics: " << cols.size() << " of "
     << t.columns.size()
-    << " columns. The whole table is <code>summary.csv</code> (and <code>summary.h5</code>) "
-       "in the results folder.</p>\n<div class=\"wide\"><table><tr>";
+    << " columns, numbers to six significant digits. The whole table, every digit, is "
+       "<code>summary.csv</code> (and <code>summary.h5</code>) in the results folder.</p>\n<div "
+       "class=\"wide\"><table><tr>";
   for (const std::string& c : cols) {
     const auto u = t.units.find(c);
     h << "<th>" << escape(c);
