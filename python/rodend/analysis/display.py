@@ -7,8 +7,9 @@ DISPLAY = {"rad": ("mrad", 1e3), "m": ("mm", 1e3)}
 
 
 def unit(si):
-    """(shown unit, factor from SI) of an SI unit."""
-    return DISPLAY.get(si or "", (si or "", 1.0))
+    """(shown unit, factor from SI) of an SI unit; a product shown with a middle dot (N*m -> N·m),
+    as the figures of plots/ write it."""
+    return DISPLAY.get(si or "", ((si or "").replace("*", "·"), 1.0))
 
 
 def scaled(value, si):
